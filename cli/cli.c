@@ -1,0 +1,115 @@
+#include "cli.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "builtin_scenes.h"
+
+int c5_cli_int(const char *opt, const char *s, long lo, long hi, long *out, c5_err *err)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (!*s || *end || errno || v < lo || v > hi)
+        return c5_fail(err, "%s: expected an integer in [%ld, %ld], got '%s'", opt, lo, hi, s);
+    *out = v;
+    return 0;
+}
+
+int c5_cli_double(const char *opt, const char *s, double lo, double hi, double *out, c5_err *err)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (!*s || *end || errno || !isfinite(v) || v < lo || v > hi)
+        return c5_fail(err, "%s: expected a number in [%g, %g], got '%s'", opt, lo, hi, s);
+    *out = v;
+    return 0;
+}
+
+int c5_cli_size(const char *opt, const char *s, int *w, int *h, c5_err *err)
+{
+    char buf[64];
+    const char *x = strchr(s, 'x');
+    long a, b;
+    if (!x || (size_t)(x - s) >= sizeof buf)
+        return c5_fail(err, "%s: expected WxH, got '%s'", opt, s);
+    memcpy(buf, s, (size_t)(x - s));
+    buf[x - s] = 0;
+    if (c5_cli_int(opt, buf, 1, C5_MAX_IMAGE_DIM, &a, err) || c5_cli_int(opt, x + 1, 1, C5_MAX_IMAGE_DIM, &b, err))
+        return -1;
+    *w = (int)a;
+    *h = (int)b;
+    return 0;
+}
+
+int c5_cli_load_scene(const char *arg, c5_scene *s, char *label, size_t label_len, c5_err *err)
+{
+    const char *json = c5_builtin_scene_json(arg);
+    if (json) {
+        snprintf(label, label_len, "built-in scene %s", arg);
+        return c5_scene_parse(json, NULL, label, s, err);
+    }
+    size_t n = strlen(arg);
+    if (n < 5 || strcmp(arg + n - 5, ".json") != 0)
+        return c5_fail(err, "'%s' is neither a built-in scene (see 'cube5 scenes') nor a .json file", arg);
+    snprintf(label, label_len, "%s", arg);
+    return c5_scene_load_file(arg, s, err);
+}
+
+int c5_cli_replace_volume(c5_scene *s, const char *arg, c5_err *err)
+{
+    long idx = 0;
+    const char *path = arg, *eq = strchr(arg, '=');
+    if (eq && eq > arg && eq - arg < 4) {
+        char num[4] = {0};
+        memcpy(num, arg, (size_t)(eq - arg));
+        if (c5_cli_int("--volume", num, 0, C5_MAX_VOLUMES - 1, &idx, err) != 0)
+            return -1;
+        path = eq + 1;
+    }
+    if (idx >= s->n_volumes)
+        return c5_fail(err, "--volume: the scene has %d volume(s), no volume %ld", s->n_volumes, idx);
+    if (strlen(path) >= sizeof s->volumes[0].path)
+        return c5_fail(err, "--volume: path too long");
+    c5_volume_desc *d = &s->volumes[idx];
+    long off[3] = {d->offset[0], d->offset[1], d->offset[2]};
+    memset(d, 0, sizeof *d);
+    d->kind = C5_SRC_FILE;
+    strcpy(d->path, path);
+    memcpy(d->offset, off, sizeof off);
+    return 0;
+}
+
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err)
+{
+    if (same_file(out, scene_arg))
+        return c5_fail(err, "%s: is the scene file; refusing to overwrite an input", out);
+    for (int i = 0; i < s->n_volumes; i++)
+        if (s->volumes[i].kind == C5_SRC_FILE && same_file(out, s->volumes[i].path))
+            return c5_fail(err, "%s: is an input volume; refusing to overwrite an input", out);
+    return 0;
+}
+
+void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len)
+{
+    if (n <= 1) {
+        snprintf(buf, len, "%s", out);
+        return;
+    }
+    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    if (!dot || (slash && dot < slash))
+        dot = out + strlen(out);
+    snprintf(buf, len, "%.*s_%04d%s", (int)(dot - out), out, i, dot);
+}

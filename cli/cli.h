@@ -1,0 +1,29 @@
+/* Shared by the cube5 subcommands: option parsing, scene resolution, output safety. */
+#ifndef C5_CLI_H
+#define C5_CLI_H
+
+#include "err.h"
+#include "scene.h"
+
+/* Strict number parsing of option values: the whole string, in range, else an error
+ * naming the option. */
+int c5_cli_int(const char *opt, const char *s, long lo, long hi, long *out, c5_err *err);
+int c5_cli_double(const char *opt, const char *s, double lo, double hi, double *out, c5_err *err);
+/* "WxH" */
+int c5_cli_size(const char *opt, const char *s, int *w, int *h, c5_err *err);
+
+/* A built-in scene name or a .json file. `label` receives "built-in scene NAME" or the path. */
+int c5_cli_load_scene(const char *arg, c5_scene *s, char *label, size_t label_len, c5_err *err);
+/* "--volume [I=]FILE": replaces the source of volume I (default 0) with the file. */
+int c5_cli_replace_volume(c5_scene *s, const char *arg, c5_err *err);
+
+/* Refuses an output path that names one of the inputs (scene file, volume files). */
+int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err);
+/* OUT for frame i of n: OUT itself when n == 1, else BASE_0007.EXT. */
+void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);
+
+typedef int (*c5_cmd_fn)(int argc, char **argv);
+int c5_cmd_render(int argc, char **argv);
+int c5_cmd_scenes(int argc, char **argv);
+
+#endif

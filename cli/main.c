@@ -1,0 +1,39 @@
+/* cube5: the command-line tool. One subcommand per job; `cube5 CMD --help` for each. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const struct {
+    const char *name;
+    c5_cmd_fn fn;
+    const char *summary;
+} cmds[] = {
+    {"render", c5_cmd_render, "render a scene with the reference renderer (cref)"},
+    {"scenes", c5_cmd_scenes, "list the built-in scenes"},
+};
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: cube5 COMMAND [ARGS]\n\ncommands:\n");
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
+        fprintf(f, "  %-8s %s\n", cmds[i].name, cmds[i].summary);
+    fprintf(f, "  %-8s %s\n", "help", "this text; 'cube5 COMMAND --help' for a command");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    if (!strcmp(argv[1], "help") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        usage(stdout);
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
+        if (!strcmp(argv[1], cmds[i].name))
+            return cmds[i].fn(argc - 1, argv + 1);
+    fprintf(stderr, "cube5: error: unknown command '%s' (see 'cube5 help')\n", argv[1]);
+    return 2;
+}

@@ -1,0 +1,138 @@
+#include "generators.h"
+
+#include <math.h>
+
+#include "rng.h"
+
+double c5_marschner_lobb(double x, double y, double z, double f_m, double alpha)
+{
+    double r = sqrt(x * x + y * y);
+    double rho_r = cos(2 * M_PI * f_m * cos(M_PI * r / 2));
+    return (1 - sin(M_PI * z / 2) + alpha * (1 + rho_r)) / (2 * (1 + alpha));
+}
+
+void c5_marschner_lobb_grad(double x, double y, double z, double f_m, double alpha, double g[3])
+{
+    double r = sqrt(x * x + y * y);
+    double k = 1 / (2 * (1 + alpha));
+    /* d rho_r / dr; zero on the axis, where the field is smooth and symmetric. */
+    double drdr = M_PI * M_PI * f_m * sin(M_PI * r / 2) * sin(2 * M_PI * f_m * cos(M_PI * r / 2));
+    double s = r > 0 ? k * alpha * drdr / r : 0;
+    g[0] = s * x;
+    g[1] = s * y;
+    g[2] = -k * (M_PI / 2) * cos(M_PI * z / 2);
+}
+
+static uint8_t quantise(double unit)
+{
+    double v = floor(unit * 255 + 0.5);
+    return (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : v);
+}
+
+static double smoothstep(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return t * t * (3 - 2 * t);
+}
+
+/* CT-like stand-in: a bright ellipsoidal shell (bone) around smooth Gaussian blobs of
+ * mid-range tissue, so that a CT transfer function shows both. */
+typedef struct {
+    double c[3], inv_s2, amp;
+} blob;
+
+static double blobs_value(double p[3], const blob *b, int n)
+{
+    double d = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) / 0.92;
+    double shell = smoothstep(0.80, 0.86, d) * (1 - smoothstep(0.94, 1.0, d));
+    double tissue = 0;
+    for (int i = 0; i < n; i++) {
+        double dx = p[0] - b[i].c[0], dy = p[1] - b[i].c[1], dz = p[2] - b[i].c[2];
+        tissue += b[i].amp * exp(-(dx * dx + dy * dy + dz * dz) * b[i].inv_s2);
+    }
+    tissue = fmin(tissue, 1) * (1 - smoothstep(0.78, 0.84, d));
+    return fmax(shell * 0.9, tissue * 0.62);
+}
+
+/* Value noise on an integer lattice, hashed from the seed. */
+static double lattice(long x, long y, long z, uint64_t seed)
+{
+    uint64_t s = seed ^ ((uint64_t)x * 0x8CB92BA72F3D8DD7ull) ^ ((uint64_t)y * 0xD6E8FEB86659FD93ull) ^
+                 ((uint64_t)z * 0xA0761D6478BD642Full);
+    return c5_uniform(&s);
+}
+
+static double value_noise(double x, double y, double z, uint64_t seed)
+{
+    double fx = floor(x), fy = floor(y), fz = floor(z);
+    long ix = (long)fx, iy = (long)fy, iz = (long)fz;
+    double tx = smoothstep(0, 1, x - fx), ty = smoothstep(0, 1, y - fy), tz = smoothstep(0, 1, z - fz);
+    double v = 0;
+    for (int c = 0; c < 8; c++) {
+        int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+        double w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
+        v += w * lattice(ix + dx, iy + dy, iz + dz, seed);
+    }
+    return v;
+}
+
+static double cloud_value(double p[3], uint64_t seed)
+{
+    double fbm = 0, amp = 0.5, freq = 3;
+    for (int o = 0; o < 4; o++, amp *= 0.5, freq *= 2)
+        fbm += amp * value_noise(p[0] * freq + 17.1, p[1] * freq + 5.3, p[2] * freq + 9.7, seed + (uint64_t)o);
+    double d = sqrt(p[0] * p[0] + p[1] * p[1] + 1.6 * p[2] * p[2]);
+    double density = fbm * (1 - smoothstep(0.45, 0.95, d));
+    return (density - 0.22) * 2.2;
+}
+
+void c5_generate(const c5_volume_desc *d, uint8_t *out)
+{
+    size_t nx = d->gen_dims[0], ny = d->gen_dims[1], nz = d->gen_dims[2];
+    blob blobs[256];
+    int nb = 0;
+    if (d->generator == C5_GEN_BLOBS) {
+        uint64_t st = d->seed;
+        nb = d->count < 256 ? d->count : 256;
+        for (int i = 0; i < nb; i++) {
+            double r = 0.55 * cbrt(c5_uniform(&st)), z = 1 - 2 * c5_uniform(&st), phi = 2 * M_PI * c5_uniform(&st);
+            double s = sqrt(fmax(0, 1 - z * z)), sigma = 0.12 + 0.18 * c5_uniform(&st);
+            blobs[i] = (blob){{r * s * cos(phi), r * s * sin(phi), r * z}, 1 / (sigma * sigma),
+                              0.35 + 0.35 * c5_uniform(&st)};
+        }
+    }
+    double rad = d->radius * (double)(nx < ny ? (nx < nz ? nx : nz) : (ny < nz ? ny : nz));
+    size_t i = 0;
+    for (size_t z = 0; z < nz; z++)
+        for (size_t y = 0; y < ny; y++)
+            for (size_t x = 0; x < nx; x++, i++) {
+                double p[3] = {2 * (x + 0.5) / nx - 1, 2 * (y + 0.5) / ny - 1, 2 * (z + 0.5) / nz - 1};
+                double u = 0;
+                switch (d->generator) {
+                case C5_GEN_MARSCHNER_LOBB: u = c5_marschner_lobb(p[0], p[1], p[2], d->f_m, d->alpha); break;
+                case C5_GEN_BLOBS: u = blobs_value(p, blobs, nb); break;
+                case C5_GEN_CLOUD: u = cloud_value(p, d->seed); break;
+                case C5_GEN_SPHERE: {
+                    /* Distance in voxels from the centre, with a one-voxel linear edge. */
+                    double dx = x + 0.5 - nx / 2.0, dy = y + 0.5 - ny / 2.0, dz = z + 0.5 - nz / 2.0;
+                    double e = rad - sqrt(dx * dx + dy * dy + dz * dz) + 0.5;
+                    u = (e < 0 ? 0 : e > 1 ? 1 : e) * d->value / 255.0;
+                    break;
+                }
+                case C5_GEN_CONSTANT: u = d->value / 255.0; break;
+                case C5_GEN_RAMP: {
+                    size_t idx[3] = {x, y, z}, n = d->gen_dims[d->axis];
+                    u = (idx[d->axis] + 0.5) / (double)n;
+                    break;
+                }
+                }
+                out[i] = quantise(u);
+            }
+}
+
+const char *c5_generator_name(c5_generator g)
+{
+    static const char *names[] = {"marschner_lobb", "blobs", "cloud", "sphere", "constant", "ramp"};
+    return (unsigned)g < sizeof names / sizeof names[0] ? names[g] : "?";
+}

@@ -1,0 +1,260 @@
+// Image file I/O through OpenImageIO: the only C++ in cube5. A thin shim that exposes the
+// C API of image.h; no C++ exception ever crosses the extern "C" boundary.
+//
+// Writing: the format follows the extension, case-insensitive.
+//   .png  8-bit RGB, no gamma. Each float v is clamped to [0,1] and quantised as
+//         v8 = floor(v*255 + 0.5), evaluated in double precision from the float value
+//         (round half up). +Inf -> 255, -Inf -> 0.
+//   .exr  32-bit float RGB, values written exactly (zip compression, lossless).
+// A NaN anywhere is an error for both formats and nothing is written. The file is written
+// to a temporary ".NAME.tmp-PID.EXT" in the same directory and then rename()d over PATH,
+// so a failed write never leaves a partial file (the temporary is removed on failure).
+//
+// Reading: any format OpenImageIO knows; subimage 0, MIP level 0, the data window. One
+// channel is replicated to RGB, two channels (grey + alpha) keep the grey, three or more
+// keep the first three, as stored (alpha is not multiplied in). Values are converted to
+// float by OpenImageIO (8-bit: v/255).
+
+#include <OpenImageIO/imageio.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+extern "C" {
+#include "image.h"
+}
+
+namespace {
+
+using OIIO::ImageInput;
+using OIIO::ImageOutput;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+const int kMaxSide = 16384;
+
+// First line of an OpenImageIO error text, trailing white space removed.
+std::string first_line(const std::string &s)
+{
+    std::string line = s.substr(0, s.find('\n'));
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
+        line.pop_back();
+    if (line.empty())
+        line = "unknown OpenImageIO error";
+    return line;
+}
+
+unsigned char quantise8(float v)
+{
+    double d = v;
+    if (!(d > 0.0))
+        return 0; // also -0.0 and -Inf; NaN is refused before we get here
+    if (d >= 1.0)
+        return 255;
+    return static_cast<unsigned char>(std::floor(d * 255.0 + 0.5));
+}
+
+// OpenImageIO's open errors do not always say why. Appends " (WHAT: reason)" to msg for
+// the common causes, unless the reason is already in the message.
+void add_reason(std::string &msg, const std::string &what, const std::string &reason)
+{
+    if (!reason.empty() && msg.find(reason) == std::string::npos)
+        msg += " (" + what + ": " + reason + ")";
+}
+
+// Why a file cannot be created in dir ("" if no obvious reason).
+std::string dir_problem(const std::string &dir)
+{
+    const std::string d = dir.empty() ? std::string(".") : dir;
+    struct stat st;
+    if (stat(d.c_str(), &st) != 0)
+        return std::strerror(errno);
+    if (!S_ISDIR(st.st_mode))
+        return std::strerror(ENOTDIR);
+    if (access(d.c_str(), W_OK | X_OK) != 0)
+        return std::strerror(errno);
+    return std::string();
+}
+
+// Removes the temporary file when the write did not complete.
+struct TempFile {
+    std::string path;
+    bool armed = false;
+    ~TempFile()
+    {
+        if (armed)
+            std::remove(path.c_str());
+    }
+};
+
+enum class Fmt { PNG, EXR };
+
+int write_impl(const char *path, const c5_image *img, c5_err *err)
+{
+    if (!path || !*path)
+        return c5_fail(err, "image: no output path given");
+    if (!img || !img->rgb || img->w < 1 || img->w > kMaxSide || img->h < 1 || img->h > kMaxSide)
+        return c5_fail(err, "%s: internal error: invalid image to write", path);
+
+    const std::string p(path);
+    const size_t slash = p.rfind('/');
+    const std::string dir = slash == std::string::npos ? std::string() : p.substr(0, slash + 1);
+    const std::string base = slash == std::string::npos ? p : p.substr(slash + 1);
+    const size_t dot = base.rfind('.');
+    if (dot == std::string::npos)
+        return c5_fail(err, "%s: missing image extension (use .png or .exr)", path);
+    const std::string ext = base.substr(dot);
+    std::string lower = ext;
+    for (char &c : lower)
+        if (c >= 'A' && c <= 'Z')
+            c = static_cast<char>(c - 'A' + 'a');
+    Fmt fmt;
+    if (lower == ".png")
+        fmt = Fmt::PNG;
+    else if (lower == ".exr")
+        fmt = Fmt::EXR;
+    else
+        return c5_fail(err, "%s: unsupported image extension '%s' (use .png or .exr)", path,
+                       ext.c_str());
+
+    const int w = img->w, h = img->h;
+    const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h) * 3;
+    for (size_t i = 0; i < n; i++)
+        if (std::isnan(img->rgb[i])) {
+            const size_t px = i / 3;
+            return c5_fail(err, "%s: image has NaN at pixel (%d,%d)", path,
+                           static_cast<int>(px % static_cast<size_t>(w)),
+                           static_cast<int>(px / static_cast<size_t>(w)));
+        }
+
+    std::vector<unsigned char> bytes;
+    if (fmt == Fmt::PNG) {
+        bytes.resize(n);
+        for (size_t i = 0; i < n; i++)
+            bytes[i] = quantise8(img->rgb[i]);
+    }
+
+    // Declared before `out` so the output is closed before the temporary is removed.
+    TempFile tmp;
+    tmp.path = dir + "." + base + ".tmp-" + std::to_string(static_cast<long>(getpid())) + ext;
+
+    std::unique_ptr<ImageOutput> out = ImageOutput::create(tmp.path);
+    if (!out)
+        return c5_fail(err, "%s: cannot create %s writer: %s", path, lower.c_str() + 1,
+                       first_line(OIIO::geterror()).c_str());
+
+    ImageSpec spec(w, h, 3, fmt == Fmt::PNG ? TypeDesc::UINT8 : TypeDesc::FLOAT);
+    if (fmt == Fmt::EXR)
+        spec.attribute("compression", "zip");
+
+    tmp.armed = true; // open() may create the file even when it fails
+    if (!out->open(tmp.path, spec)) {
+        std::string e = first_line(out->geterror());
+        add_reason(e, "directory " + (dir.empty() ? std::string(".") : dir), dir_problem(dir));
+        return c5_fail(err, "%s: cannot write: %s", path, e.c_str());
+    }
+    const bool ok = fmt == Fmt::PNG ? out->write_image(TypeDesc::UINT8, bytes.data())
+                                    : out->write_image(TypeDesc::FLOAT, img->rgb);
+    if (!ok) {
+        std::string e = first_line(out->geterror());
+        out->close();
+        return c5_fail(err, "%s: cannot write: %s", path, e.c_str());
+    }
+    if (!out->close())
+        return c5_fail(err, "%s: cannot write: %s", path, first_line(out->geterror()).c_str());
+    out.reset();
+
+    if (std::rename(tmp.path.c_str(), path) != 0) {
+        const int e = errno;
+        return c5_fail(err, "%s: cannot replace file: %s", path, std::strerror(e));
+    }
+    tmp.armed = false;
+    return 0;
+}
+
+int read_impl(const char *path, c5_image *img, c5_err *err)
+{
+    if (!path || !*path)
+        return c5_fail(err, "image: no input path given");
+
+    // Keep the stored colour values of files with alpha: without this hint OpenImageIO
+    // premultiplies PNG colour by alpha while reading.
+    ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    std::unique_ptr<ImageInput> in = ImageInput::open(path, &config);
+    if (!in) {
+        std::string e = first_line(OIIO::geterror());
+        struct stat st;
+        if (stat(path, &st) != 0)
+            add_reason(e, "file", std::strerror(errno));
+        return c5_fail(err, "%s: cannot read image: %s", path, e.c_str());
+    }
+    const ImageSpec &spec = in->spec();
+    if (spec.deep)
+        return c5_fail(err, "%s: deep images are not supported", path);
+    if (spec.depth != 1)
+        return c5_fail(err, "%s: 3-D images are not supported (depth %d)", path, spec.depth);
+    if (spec.nchannels < 1)
+        return c5_fail(err, "%s: image has no channels", path);
+
+    c5_err aerr;
+    if (c5_image_alloc(img, spec.width, spec.height, &aerr) != 0)
+        return c5_fail(err, "%s: %s", path, aerr.msg);
+
+    const int nread = spec.nchannels >= 3 ? 3 : 1;
+    const OIIO::stride_t xs = static_cast<OIIO::stride_t>(3 * sizeof(float));
+    const OIIO::stride_t ys = xs * spec.width;
+    if (!in->read_image(in->current_subimage(), in->current_miplevel(), 0, nread,
+                        TypeDesc::FLOAT, img->rgb, xs, ys)) {
+        std::string e = first_line(in->geterror());
+        c5_image_free(img);
+        return c5_fail(err, "%s: cannot read image: %s", path, e.c_str());
+    }
+    in->close();
+    if (nread == 1) {
+        const size_t npx = static_cast<size_t>(img->w) * static_cast<size_t>(img->h);
+        for (size_t i = 0; i < npx; i++)
+            img->rgb[3 * i + 1] = img->rgb[3 * i + 2] = img->rgb[3 * i];
+    }
+    return 0;
+}
+
+} // namespace
+
+extern "C" int c5_image_write(const char *path, const c5_image *img, c5_err *err)
+{
+    try {
+        return write_impl(path, img, err);
+    } catch (const std::exception &e) {
+        return c5_fail(err, "%s: cannot write: %s", path ? path : "image", e.what());
+    } catch (...) {
+        return c5_fail(err, "%s: cannot write: unknown exception", path ? path : "image");
+    }
+}
+
+// img is an output: it is overwritten (not freed first) and is left zeroed on failure.
+extern "C" int c5_image_read(const char *path, c5_image *img, c5_err *err)
+{
+    if (!img)
+        return c5_fail(err, "%s: internal error: no image to read into", path ? path : "image");
+    img->w = img->h = 0;
+    img->rgb = nullptr;
+    try {
+        return read_impl(path, img, err);
+    } catch (const std::exception &e) {
+        c5_image_free(img);
+        return c5_fail(err, "%s: cannot read image: %s", path ? path : "image", e.what());
+    } catch (...) {
+        c5_image_free(img);
+        return c5_fail(err, "%s: cannot read image: unknown exception", path ? path : "image");
+    }
+}

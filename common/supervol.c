@@ -1,0 +1,150 @@
+#include "supervol.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "generators.h"
+
+/* uint16 -> uint8 through [lo, hi]: round((v - lo) * 255 / (hi - lo)), clamped. */
+static void window_to_u8(const c5_volume *v, const c5_volume_desc *d, uint8_t *out, char *label, size_t label_len)
+{
+    size_t n = c5_volume_count(v);
+    double lo, hi;
+    if (d->has_window) {
+        lo = d->window[0];
+        hi = d->window[1];
+    } else {
+        unsigned mn = 65535, mx = 0;
+        for (size_t i = 0; i < n; i++) {
+            unsigned x = c5_volume_at(v, i);
+            mn = x < mn ? x : mn;
+            mx = x > mx ? x : mx;
+        }
+        lo = mn;
+        hi = mx > mn ? mx : mn + 1;
+    }
+    double scale = 255.0 / (hi - lo);
+    for (size_t i = 0; i < n; i++) {
+        double x = floor((c5_volume_at(v, i) - lo) * scale + 0.5);
+        out[i] = (uint8_t)(x < 0 ? 0 : x > 255 ? 255 : x);
+    }
+    size_t used = strlen(label);
+    snprintf(label + used, label_len - used, " window [%g, %g]", lo, hi);
+}
+
+/* One source volume as 8-bit voxels (malloc'd) with its dims. */
+static int load_source(const c5_volume_desc *d, uint8_t **out, size_t dims[3], char *label, size_t label_len,
+                       c5_err *err)
+{
+    if (d->kind == C5_SRC_GENERATOR) {
+        size_t n;
+        if (c5_dims_product(d->gen_dims, &n) != 0)
+            return c5_fail(err, "generator %s: dims %zux%zux%zu too large", c5_generator_name(d->generator),
+                           d->gen_dims[0], d->gen_dims[1], d->gen_dims[2]);
+        *out = malloc(n);
+        if (!*out)
+            return c5_fail(err, "generator %s: out of memory for %zu voxels", c5_generator_name(d->generator), n);
+        c5_generate(d, *out);
+        memcpy(dims, d->gen_dims, sizeof d->gen_dims);
+        snprintf(label, label_len, "generator %s %zux%zux%zu", c5_generator_name(d->generator), dims[0], dims[1],
+                 dims[2]);
+        return 0;
+    }
+    c5_volume v;
+    if (c5_volume_load(d->path, &d->raw, &v, err) != 0)
+        return -1;
+    size_t n = c5_volume_count(&v);
+    *out = malloc(n ? n : 1);
+    if (!*out) {
+        c5_volume_free(&v);
+        return c5_fail(err, "%s: out of memory for %zu voxels", d->path, n);
+    }
+    const char *base = strrchr(d->path, '/');
+    snprintf(label, label_len, "file %s %zux%zux%zu %s", base ? base + 1 : d->path, v.dims[0], v.dims[1], v.dims[2],
+             v.type == C5_VOX_U16 ? "uint16" : "uint8");
+    if (v.type == C5_VOX_U16)
+        window_to_u8(&v, d, *out, label, label_len);
+    else
+        memcpy(*out, v.data, n);
+    memcpy(dims, v.dims, sizeof v.dims);
+    c5_volume_free(&v);
+    return 0;
+}
+
+static void paste(c5_supervol *sv, const uint8_t *src, const size_t d[3], const long off[3])
+{
+    for (size_t z = 0; z < d[2]; z++)
+        for (size_t y = 0; y < d[1]; y++) {
+            size_t gi = (((size_t)off[2] + z) * sv->dims[1] + (size_t)off[1] + y) * sv->dims[0] + (size_t)off[0];
+            memcpy(sv->v + gi, src + (z * d[1] + y) * d[0], d[0]);
+        }
+}
+
+int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
+{
+    memset(out, 0, sizeof *out);
+    out->spacing = s->grid.spacing;
+    out->origin = s->grid.origin;
+    if (s->n_volumes == 0)
+        return 0;
+
+    uint8_t *src[C5_MAX_VOLUMES] = {0};
+    size_t dims[C5_MAX_VOLUMES][3];
+    size_t need[3] = {0, 0, 0};
+    int rc = -1;
+    for (int i = 0; i < s->n_volumes; i++) {
+        if (load_source(&s->volumes[i], &src[i], dims[i], out->source_label[i], sizeof out->source_label[i], err) != 0)
+            goto done;
+        out->n_sources++;
+        for (int a = 0; a < 3; a++)
+            if ((size_t)s->volumes[i].offset[a] + dims[i][a] > need[a])
+                need[a] = (size_t)s->volumes[i].offset[a] + dims[i][a];
+    }
+    for (int a = 0; a < 3; a++) {
+        out->dims[a] = s->grid.dims[a] ? s->grid.dims[a] : need[a];
+        if (need[a] > out->dims[a]) {
+            c5_fail(err, "grid.dims: the volumes need %zux%zux%zu voxels, the grid has %zux%zux%zu", need[0], need[1],
+                    need[2], s->grid.dims[0], s->grid.dims[1], s->grid.dims[2]);
+            goto done;
+        }
+    }
+    size_t n;
+    if (c5_dims_product(out->dims, &n) != 0) {
+        c5_fail(err, "grid: %zux%zux%zu voxels is too large", out->dims[0], out->dims[1], out->dims[2]);
+        goto done;
+    }
+    out->v = malloc(n);
+    if (!out->v) {
+        c5_fail(err, "grid: out of memory for %zu voxels", n);
+        goto done;
+    }
+    memset(out->v, (int)s->grid.fill, n);
+    for (int i = 0; i < s->n_volumes; i++)
+        paste(out, src[i], dims[i], s->volumes[i].offset);
+
+    if (s->grid.size > 0) {
+        c5_vec3 ext = v3(out->dims[0] * out->spacing.x, out->dims[1] * out->spacing.y, out->dims[2] * out->spacing.z);
+        out->spacing = v3_scale(out->spacing, s->grid.size / v3_maxc(ext));
+    }
+    if (s->grid.has_center) {
+        c5_vec3 half = v3(out->dims[0] * out->spacing.x / 2, out->dims[1] * out->spacing.y / 2,
+                          out->dims[2] * out->spacing.z / 2);
+        out->origin = v3_sub(s->grid.center, half);
+    }
+    rc = 0;
+done:
+    for (int i = 0; i < s->n_volumes; i++)
+        free(src[i]);
+    if (rc != 0) {
+        free(out->v);
+        out->v = NULL;
+    }
+    return rc;
+}
+
+void c5_supervol_free(c5_supervol *sv)
+{
+    free(sv->v);
+    memset(sv, 0, sizeof *sv);
+}

@@ -1,0 +1,442 @@
+/* Volume loading: raw files (explicit dims or an Open SciVis name) and NRRD via Teem.
+ * Every failure leaves *out empty, frees what was taken and writes "PATH: problem". */
+#include "volume.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include <teem/nrrd.h>
+
+/* ---- dims ------------------------------------------------------------------------ */
+
+/* Overflow-safe a*b: 0, or -1 when the product does not fit a size_t. */
+static int mul_size(size_t a, size_t b, size_t *r)
+{
+    if (a != 0 && b > SIZE_MAX / a)
+        return -1;
+    *r = a * b;
+    return 0;
+}
+
+static int dims_overflow(const size_t dims[3], size_t *count)
+{
+    size_t n = 1;
+    for (int i = 0; i < 3; i++)
+        if (mul_size(n, dims[i], &n) != 0)
+            return -1;
+    *count = n;
+    return 0;
+}
+
+static int dims_in_range(const size_t dims[3])
+{
+    for (int i = 0; i < 3; i++)
+        if (dims[i] < 1 || dims[i] > C5_VOLUME_MAX_DIM)
+            return 0;
+    return 1;
+}
+
+int c5_dims_product(const size_t dims[3], size_t *count)
+{
+    size_t n;
+    if (!dims_in_range(dims) || dims_overflow(dims, &n) != 0 || n > C5_VOLUME_MAX_VOXELS)
+        return -1;
+    *count = n;
+    return 0;
+}
+
+/* c5_dims_product says only yes or no; this re-derives why, for the message. */
+static int dims_fail(const char *path, const size_t d[3], c5_err *err)
+{
+    size_t n = 0;
+    if (dims_overflow(d, &n) != 0)
+        return c5_fail(err, "%s: dims %zux%zux%zu overflow", path, d[0], d[1], d[2]);
+    if (!dims_in_range(d))
+        return c5_fail(err, "%s: dims %zux%zux%zu: every dim must be 1..%u", path, d[0], d[1],
+                       d[2], C5_VOLUME_MAX_DIM);
+    return c5_fail(err, "%s: dims %zux%zux%zu: %zu voxels exceed the limit of %zu", path, d[0],
+                   d[1], d[2], n, (size_t)C5_VOLUME_MAX_VOXELS);
+}
+
+static size_t voxel_size(c5_voxel_type t) { return t == C5_VOX_U16 ? 2 : 1; }
+
+static const char *type_name(c5_voxel_type t) { return t == C5_VOX_U16 ? "uint16" : "uint8"; }
+
+/* ---- Open SciVis names ----------------------------------------------------------- */
+
+/* Reads decimal digits in [s, end), saturating so that absurd values still reach the
+ * dims check (and its message) instead of silently wrapping. */
+static int parse_dim(const char *s, const char *end, size_t *v)
+{
+    if (s == end)
+        return -1;
+    size_t n = 0;
+    for (; s < end; s++) {
+        if (*s < '0' || *s > '9')
+            return -1;
+        unsigned d = (unsigned)(*s - '0');
+        n = n > (SIZE_MAX - d) / 10 ? SIZE_MAX : n * 10 + d;
+    }
+    *v = n;
+    return 0;
+}
+
+/* Matches NAME_XxYxZ_TYPE.raw (any TYPE), so that a known-but-unsupported type such as
+ * int16 can be reported as such rather than as a name that does not fit. */
+static int scivis_parse(const char *path, size_t dims[3], const char **type, size_t *type_len)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t len = strlen(base);
+    if (len < 4 || strcmp(base + len - 4, ".raw") != 0)
+        return -1;
+    const char *end = base + len - 4;
+    const char *us_type = end;
+    while (us_type > base && us_type[-1] != '_')
+        us_type--;
+    if (us_type == base || us_type == end)
+        return -1;
+    const char *dims_end = us_type - 1;
+    const char *dims_start = dims_end;
+    while (dims_start > base && dims_start[-1] != '_')
+        dims_start--;
+    if (dims_start - 1 <= base) /* no '_' before the dims, or an empty NAME */
+        return -1;
+    const char *x1 = memchr(dims_start, 'x', (size_t)(dims_end - dims_start));
+    const char *x2 = x1 ? memchr(x1 + 1, 'x', (size_t)(dims_end - x1 - 1)) : NULL;
+    if (!x2 || parse_dim(dims_start, x1, &dims[0]) || parse_dim(x1 + 1, x2, &dims[1]) ||
+        parse_dim(x2 + 1, dims_end, &dims[2]))
+        return -1;
+    *type = us_type;
+    *type_len = (size_t)(end - us_type);
+    return 0;
+}
+
+static c5_voxel_type type_from_name(const char *s, size_t len)
+{
+    if (len == 5 && memcmp(s, "uint8", 5) == 0)
+        return C5_VOX_U8;
+    if (len == 6 && memcmp(s, "uint16", 6) == 0)
+        return C5_VOX_U16;
+    return C5_VOX_NONE;
+}
+
+int c5_scivis_name(const char *path, size_t dims[3], c5_voxel_type *type)
+{
+    size_t d[3], tlen;
+    const char *t;
+    if (!path || scivis_parse(path, d, &t, &tlen) != 0)
+        return -1;
+    c5_voxel_type vt = type_from_name(t, tlen);
+    if (vt == C5_VOX_NONE)
+        return -1;
+    memcpy(dims, d, sizeof d);
+    *type = vt;
+    return 0;
+}
+
+/* ---- raw ------------------------------------------------------------------------- */
+
+/* Opens a regular file and reports its size; the size check needs fstat on the very
+ * file we read, and a directory would otherwise open fine and fail later obscurely. */
+static FILE *open_regular(const char *path, long long *size, c5_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        c5_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0) {
+        c5_fail(err, "%s: cannot stat: %s", path, strerror(errno));
+        fclose(f);
+        return NULL;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        c5_fail(err, "%s: not a regular file", path);
+        fclose(f);
+        return NULL;
+    }
+    *size = (long long)st.st_size;
+    return f;
+}
+
+/* Settles dims and type from the spec or, when it gives neither, from the file name. */
+static int raw_layout(const char *path, const c5_raw_spec *spec, size_t dims[3],
+                      c5_voxel_type *type, c5_err *err)
+{
+    int has_dims = spec && (spec->dims[0] || spec->dims[1] || spec->dims[2]);
+    int has_type = spec && spec->type != C5_VOX_NONE;
+    if (has_dims && !has_type)
+        return c5_fail(err, "%s: dims given without a voxel type: give both dims and type", path);
+    if (has_type && !has_dims)
+        return c5_fail(err, "%s: voxel type given without dims: give both dims and type", path);
+    if (has_dims) {
+        if (spec->type != C5_VOX_U8 && spec->type != C5_VOX_U16)
+            return c5_fail(err, "%s: unsupported voxel type %d (uint8 or uint16 only)", path,
+                           (int)spec->type);
+        memcpy(dims, spec->dims, sizeof spec->dims);
+        *type = spec->type;
+        return 0;
+    }
+    const char *t;
+    size_t tlen;
+    if (scivis_parse(path, dims, &t, &tlen) != 0)
+        return c5_fail(err, "%s: no dims and type given, and the name does not follow "
+                            "NAME_XxYxZ_uint8.raw or NAME_XxYxZ_uint16.raw", path);
+    *type = type_from_name(t, tlen);
+    if (*type == C5_VOX_NONE)
+        return c5_fail(err, "%s: unsupported voxel type '%.*s' (uint8 or uint16 only)", path,
+                       (int)tlen, t);
+    return 0;
+}
+
+/* Turns the file's byte order into host order in place, one voxel at a time through
+ * memcpy so that it is correct on any host and free of aliasing or alignment tricks. */
+static void u16_to_host(unsigned char *p, size_t count, int big_endian)
+{
+    for (size_t i = 0; i < count; i++, p += 2) {
+        uint16_t v = big_endian ? (uint16_t)(p[0] << 8 | p[1]) : (uint16_t)(p[1] << 8 | p[0]);
+        memcpy(p, &v, 2);
+    }
+}
+
+int c5_volume_load_raw(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err)
+{
+    if (!out)
+        return c5_fail(err, "%s: no output volume", path ? path : "(null)");
+    memset(out, 0, sizeof *out);
+    if (!path)
+        return c5_fail(err, "(null): no file name");
+    size_t dims[3], count, bytes;
+    c5_voxel_type type;
+    if (raw_layout(path, spec, dims, &type, err) != 0)
+        return -1;
+    if (c5_dims_product(dims, &count) != 0)
+        return dims_fail(path, dims, err);
+    if (mul_size(count, voxel_size(type), &bytes) != 0)
+        return dims_fail(path, dims, err);
+
+    long long size;
+    FILE *f = open_regular(path, &size, err);
+    if (!f)
+        return -1;
+    if ((unsigned long long)size != bytes) {
+        char why[64] = "truncated";
+        if ((unsigned long long)size > bytes)
+            snprintf(why, sizeof why, "%llu extra bytes", (unsigned long long)size - bytes);
+        fclose(f);
+        return c5_fail(err, "%s: file is %lld bytes, expected %zu (%zux%zux%zu %s): %s", path, size,
+                       bytes, dims[0], dims[1], dims[2], type_name(type), why);
+    }
+    unsigned char *data = malloc(bytes);
+    if (!data) {
+        fclose(f);
+        return c5_fail(err, "%s: out of memory for %zu bytes", path, bytes);
+    }
+    size_t got = fread(data, 1, bytes, f);
+    int read_errno = ferror(f) ? errno : 0;
+    fclose(f);
+    if (got != bytes) {
+        free(data);
+        if (read_errno)
+            return c5_fail(err, "%s: read failed: %s", path, strerror(read_errno));
+        return c5_fail(err, "%s: read only %zu of %zu bytes: truncated while reading", path, got,
+                       bytes);
+    }
+    if (type == C5_VOX_U16)
+        u16_to_host(data, count, spec && spec->big_endian);
+    memcpy(out->dims, dims, sizeof dims);
+    out->type = type;
+    out->data = data;
+    return 0;
+}
+
+/* ---- NRRD ------------------------------------------------------------------------ */
+
+/* Teem stacks its messages outermost first ("nrrdLoad: trouble reading ..."), so the
+ * useful cause is the last line; this returns it, inside `all`, without the
+ * "[nrrd] function: " prefix that means nothing to a user. */
+static const char *teem_cause(char *all)
+{
+    char *end = all + strlen(all);
+    while (end > all && (end[-1] == '\n' || end[-1] == ' ' || end[-1] == '\t'))
+        end--;
+    *end = 0;
+    char *s = strrchr(all, '\n');
+    s = s ? s + 1 : all;
+    char *bracket = *s == '[' ? strchr(s, ']') : NULL;
+    if (bracket)
+        s = bracket + 1;
+    s += strspn(s, " \t");
+    char *colon = strstr(s, ": ");
+    if (colon && strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") ==
+                     (size_t)(colon - s))
+        s = colon + 2;
+    return s;
+}
+
+static int teem_fail(const char *path, c5_err *err)
+{
+    char *all = biffGetDone(NRRD);
+    const char *cause = all ? teem_cause(all) : "";
+    c5_fail(err, "%s: cannot read NRRD: %s", path, *cause ? cause : "unknown Teem error");
+    free(all);
+    return -1;
+}
+
+/* Checks what the loader accepts; runs on the header alone so that huge sizes are
+ * refused before Teem allocates anything for them. */
+static int nrrd_check(const char *path, const Nrrd *n, size_t dims[3], c5_voxel_type *type,
+                      c5_err *err)
+{
+    if (n->type == nrrdTypeUChar)
+        *type = C5_VOX_U8;
+    else if (n->type == nrrdTypeUShort)
+        *type = C5_VOX_U16;
+    else
+        return c5_fail(err, "%s: unsupported voxel type '%s' (uint8 or uint16 only)", path,
+                       airEnumStr(nrrdType, n->type));
+    if (n->dim != 3)
+        return c5_fail(err, "%s: %u-D NRRD, only 3-D scalar volumes are supported", path,
+                       n->dim);
+    for (unsigned a = 0; a < 3; a++) {
+        int k = n->axis[a].kind;
+        /* A 3-D RGB image is 3-D too, but its colour axis is not space. */
+        if (k != nrrdKindUnknown && !nrrdKindIsDomain(k))
+            return c5_fail(err, "%s: axis %u has kind '%s', only 3-D scalar volumes are supported",
+                           path, a, airEnumStr(nrrdKind, k));
+        dims[a] = n->axis[a].size;
+    }
+    size_t count;
+    if (c5_dims_product(dims, &count) != 0)
+        return dims_fail(path, dims, err);
+    return 0;
+}
+
+/* Magnitude of the voxel step: axis spacing when set, else the length of the axis'
+ * space direction; 0 when the header says neither. */
+static double nrrd_spacing(const Nrrd *n, unsigned a)
+{
+    double s = n->axis[a].spacing;
+    if (!airExists(s)) {
+        double vec[NRRD_SPACE_DIM_MAX];
+        if (nrrdSpacingCalculate(n, a, &s, vec) != nrrdSpacingStatusDirection)
+            return 0;
+    }
+    return airExists(s) ? fabs(s) : 0;
+}
+
+static int nrrd_load(const char *path, int header_only, Nrrd **n, c5_err *err)
+{
+    *n = nrrdNew();
+    NrrdIoState *nio = nrrdIoStateNew();
+    if (!*n || !nio) {
+        nrrdIoStateNix(nio);
+        *n = nrrdNuke(*n);
+        return c5_fail(err, "%s: out of memory", path);
+    }
+    nio->skipData = header_only ? AIR_TRUE : AIR_FALSE;
+    int rc = nrrdLoad(*n, path, nio);
+    nrrdIoStateNix(nio);
+    if (rc != 0) {
+        *n = nrrdNuke(*n);
+        return teem_fail(path, err);
+    }
+    return 0;
+}
+
+int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err)
+{
+    if (!out)
+        return c5_fail(err, "%s: no output volume", path ? path : "(null)");
+    memset(out, 0, sizeof *out);
+    if (!path)
+        return c5_fail(err, "(null): no file name");
+    /* Our own open gives the same "cannot open" wording as raw files. */
+    long long size;
+    FILE *f = open_regular(path, &size, err);
+    if (!f)
+        return -1;
+    fclose(f);
+
+    Nrrd *n;
+    size_t dims[3], count;
+    c5_voxel_type type;
+    if (nrrd_load(path, 1, &n, err) != 0)
+        return -1;
+    int rc = nrrd_check(path, n, dims, &type, err);
+    nrrdNuke(n);
+    if (rc != 0)
+        return -1;
+    /* Checked again on the full load: the file may have changed in between. */
+    if (nrrd_load(path, 0, &n, err) != 0)
+        return -1;
+    if (nrrd_check(path, n, dims, &type, err) != 0) {
+        nrrdNuke(n);
+        return -1;
+    }
+    if (!n->data) {
+        nrrdNuke(n);
+        return c5_fail(err, "%s: NRRD has no data", path);
+    }
+    c5_dims_product(dims, &count);
+    size_t bytes = count * voxel_size(type);
+    void *data = malloc(bytes);
+    if (!data) {
+        nrrdNuke(n);
+        return c5_fail(err, "%s: out of memory for %zu bytes", path, bytes);
+    }
+    memcpy(data, n->data, bytes);
+    for (unsigned a = 0; a < 3; a++)
+        out->spacing[a] = nrrd_spacing(n, a);
+    nrrdNuke(n);
+    memcpy(out->dims, dims, sizeof dims);
+    out->type = type;
+    out->data = data;
+    return 0;
+}
+
+/* ---- common ---------------------------------------------------------------------- */
+
+static int has_ext(const char *path, const char *ext)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    return dot && strcasecmp(dot, ext) == 0;
+}
+
+int c5_volume_load(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err)
+{
+    if (path && (has_ext(path, ".nrrd") || has_ext(path, ".nhdr")))
+        return c5_volume_load_nrrd(path, out, err);
+    return c5_volume_load_raw(path, spec, out, err);
+}
+
+void c5_volume_free(c5_volume *v)
+{
+    if (!v)
+        return;
+    free(v->data);
+    memset(v, 0, sizeof *v);
+}
+
+size_t c5_volume_count(const c5_volume *v)
+{
+    if (!v || !v->data)
+        return 0;
+    return v->dims[0] * v->dims[1] * v->dims[2];
+}
+
+unsigned c5_volume_at(const c5_volume *v, size_t i)
+{
+    if (v->type == C5_VOX_U16)
+        return ((const uint16_t *)v->data)[i];
+    return ((const uint8_t *)v->data)[i];
+}

@@ -1,0 +1,56 @@
+/* Volumes: loading raw and NRRD files, and the 8-bit super volume the board renders.
+ *
+ * Layout everywhere: x fastest, then y, then z (C array [z][y][x]); voxel values in host
+ * byte order once loaded. A loaded file keeps its own type (uint8 or uint16); the scene
+ * turns it into the 8-bit grid that both renderers sample (see docs/rendering-spec.md). */
+#ifndef C5_VOLUME_H
+#define C5_VOLUME_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "err.h"
+
+typedef enum { C5_VOX_NONE = 0, C5_VOX_U8 = 1, C5_VOX_U16 = 2 } c5_voxel_type;
+
+/* Largest accepted extent per axis and in total. The board addresses volumes up to 512^3;
+ * files may be bigger, but not beyond what this process can hold without doubt. */
+#define C5_VOLUME_MAX_DIM 65535u
+#define C5_VOLUME_MAX_VOXELS ((size_t)1 << 32)
+
+typedef struct {
+    size_t dims[3];     /* x, y, z */
+    c5_voxel_type type;
+    void *data;         /* dims[0]*dims[1]*dims[2] voxels of `type`, host byte order */
+    double spacing[3];  /* from a NRRD header when it gives one, else 0 (unknown) */
+} c5_volume;
+
+/* How to read a raw file. dims all 0 and type NONE: take both from an Open SciVis name
+ * (NAME_XxYxZ_uint8.raw); otherwise both must be given. uint16 raw is little-endian
+ * unless big_endian is set. */
+typedef struct {
+    size_t dims[3];
+    c5_voxel_type type;
+    int big_endian;
+} c5_raw_spec;
+
+/* Parses "..._XxYxZ_uint8.raw" / "_uint16.raw" from the file's base name.
+ * Returns 0 and fills dims/type, or -1 when the name does not follow the pattern. */
+int c5_scivis_name(const char *path, size_t dims[3], c5_voxel_type *type);
+
+int c5_volume_load_raw(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err);
+/* NRRD through Teem: attached (.nrrd) and detached (.nhdr) headers, raw and gzip encodings,
+ * either endianness; 3-D scalar uchar/ushort only (signed types and others are refused). */
+int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err);
+/* Dispatches on the extension: .nrrd/.nhdr to NRRD, anything else to raw. */
+int c5_volume_load(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err);
+void c5_volume_free(c5_volume *v);
+
+size_t c5_volume_count(const c5_volume *v);
+/* Voxel value as an unsigned integer, whatever the type. No bounds check. */
+unsigned c5_volume_at(const c5_volume *v, size_t i);
+
+/* Multiplies dims with overflow and limit checks: 0 and the product in *count, or -1. */
+int c5_dims_product(const size_t dims[3], size_t *count);
+
+#endif

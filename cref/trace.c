@@ -1,0 +1,266 @@
+/* Tracing rays per docs/rendering-spec.md: volume sampling and compositing (sec. 4-5),
+ * surfaces, spawned rays and their weights (sec. 6-7). */
+#include <stdlib.h>
+
+#include "geometry.h"
+#include "trace.h"
+
+static void push(c5_ray_stack *stk, const c5_ray *r, c5_cref_stats *st)
+{
+    if (stk->n == stk->cap) {
+        int cap = stk->cap ? 2 * stk->cap : 64;
+        c5_ray *p = realloc(stk->rays, (size_t)cap * sizeof *p);
+        if (!p)
+            abort(); /* a few KB per thread; nothing sensible to do without them */
+        stk->rays = p;
+        stk->cap = cap;
+    }
+    stk->rays[stk->n++] = *r;
+    st->rays[r->type]++;
+}
+
+static void field_sample(const c5_trace_ctx *c, c5_vec3 p, double *value, c5_vec3 *grad)
+{
+    if (c->field)
+        c->field->sample(c->field, p, value, grad);
+    else
+        c5_supervol_sample(c->sv, p, value, grad);
+}
+
+/* A sample belongs to the volume when its position lies in the half-open grid box. */
+static int inside_grid(const c5_trace_ctx *c, c5_vec3 p)
+{
+    const c5_supervol *sv = c->sv;
+    double u[3] = {(p.x - sv->origin.x) / sv->spacing.x, (p.y - sv->origin.y) / sv->spacing.y,
+                   (p.z - sv->origin.z) / sv->spacing.z};
+    for (int a = 0; a < 3; a++)
+        if (!(u[a] >= 0 && u[a] < (double)sv->dims[a]))
+            return 0;
+    return 1;
+}
+
+static c5_vec3 light_dir(const c5_light *l, c5_vec3 p, double *dist)
+{
+    if (l->kind == C5_LIGHT_DIRECTIONAL) {
+        *dist = INFINITY;
+        return v3_scale(l->direction, -1);
+    }
+    c5_vec3 to = v3_sub(l->position, p);
+    *dist = v3_len(to);
+    return v3_norm(to);
+}
+
+/* Phong shading of a volume sample's colour (spec sec. 4.3). */
+static c5_vec3 shade_sample(const c5_trace_ctx *c, c5_vec3 p, c5_vec3 view, c5_vec3 grad, const double rgba[4])
+{
+    const c5_tf_desc *tf = &c->s->tf;
+    c5_vec3 col = v3(rgba[0], rgba[1], rgba[2]);
+    double g = v3_len(grad);
+    if (g < c->grad_eps)
+        return v3_scale(col, tf->ambient);
+    c5_vec3 n = v3_scale(grad, -1 / g);
+    if (v3_dot(n, view) < 0)
+        n = v3_scale(n, -1); /* two-sided: the normal faces the viewer */
+    double diff = 0, spec = 0;
+    for (int i = 0; i < c->s->n_lights; i++) {
+        const c5_light *l = &c->s->lights[i];
+        double dist;
+        c5_vec3 L = light_dir(l, p, &dist);
+        double ndl = v3_dot(n, L);
+        if (ndl <= 0)
+            continue;
+        diff += l->intensity * ndl;
+        double ndh = v3_dot(n, v3_norm(v3_add(L, view)));
+        if (ndh > 0)
+            spec += l->intensity * pow(ndh, tf->specular_power);
+    }
+    double k = tf->ambient + tf->diffuse * diff, ks = tf->specular * spec;
+    return v3(col.x * k + ks, col.y * k + ks, col.z * k + ks);
+}
+
+/* Marches the volume part of [0, tend) along r, front to back. Shadow rays only
+ * attenuate. Returns 1 when the ray terminated early (opacity reached max_opacity). */
+static int march(const c5_trace_ctx *c, const c5_ray *r, double tend, double *T, c5_vec3 *col, c5_cref_stats *st)
+{
+    double t0, t1;
+    if (!c->has_volume || !c5_ray_box(r->o, r->d, c->box_lo, c->box_hi, &t0, &t1))
+        return 0;
+    if (t1 > tend)
+        t1 = tend;
+    if (t1 < 0)
+        return 0;
+    /* Candidate indices with one step of margin; the position test decides membership. */
+    double kfirst = t0 > 0 ? ceil(t0 / c->step) - 1 : 0;
+    double klast = floor(t1 / c->step) + 1;
+    int is_shadow = r->type == C5_RAY_SHADOW;
+    double max_opacity = c->s->render.max_opacity;
+    c5_vec3 view = v3_scale(r->d, -1);
+    for (double k = kfirst < 0 ? 0 : kfirst; k <= klast; k++) {
+        double t = k * c->step;
+        if (t >= tend)
+            break;
+        c5_vec3 p = v3_madd(r->o, r->d, t);
+        if (!inside_grid(c, p))
+            continue;
+        double value, rgba[4];
+        c5_vec3 grad;
+        int need_grad = !is_shadow && c->shade;
+        field_sample(c, p, &value, need_grad ? &grad : NULL);
+        st->samples++;
+        c5_tf_lookup(&c->tf, value, rgba);
+        double a = rgba[3];
+        if (a <= 0)
+            continue;
+        if (!is_shadow) {
+            c5_vec3 sc = need_grad ? shade_sample(c, p, view, grad, rgba) : v3(rgba[0], rgba[1], rgba[2]);
+            *col = v3_add(*col, v3_scale(v3_mul(r->w, sc), *T * a));
+        }
+        *T *= 1 - a;
+        if (1 - *T >= max_opacity)
+            return 1;
+    }
+    return 0;
+}
+
+static int nearest_surface(const c5_trace_ctx *c, const c5_ray *r, double *t)
+{
+    int hit = -1;
+    double best = r->tmax;
+    for (int i = 0; i < c->s->n_surfaces; i++) {
+        double th;
+        if (c5_ray_surface(&c->s->surfaces[i], r->o, r->d, c->eps, best, &th)) {
+            best = th;
+            hit = i;
+        }
+    }
+    *t = best;
+    return hit;
+}
+
+/* Spawns a ray unless it is too light or too deep; counts what was cut. */
+static void spawn(const c5_trace_ctx *c, c5_ray *child, c5_cref_stats *st, c5_ray_stack *stk)
+{
+    if (v3_maxc(child->w) < c->s->render.min_weight || v3_maxc(child->w) <= 0) {
+        st->ends[C5_CUT_WEIGHT]++;
+        return;
+    }
+    if (child->type != C5_RAY_SHADOW && child->gen > c->s->render.max_bounces) {
+        st->ends[C5_CUT_BOUNCES]++;
+        return;
+    }
+    push(stk, child, st);
+}
+
+/* A ray ends on surface i at distance t with weight W (already times the volume's
+ * transmittance): local shading now, shadow, reflected and refracted rays later. */
+static void hit_surface(const c5_trace_ctx *c, const c5_ray *r, int i, double t, c5_vec3 W, double rgb[3],
+                        c5_cref_stats *st, c5_ray_stack *stk)
+{
+    const c5_surface *s = &c->s->surfaces[i];
+    const c5_material *m = &s->mat;
+    c5_vec3 p = v3_madd(r->o, r->d, t);
+    c5_vec3 n = c5_surface_normal(s, p);
+    int entering = v3_dot(n, r->d) < 0;
+    if (!entering)
+        n = v3_scale(n, -1);
+    double kd = 1 - m->reflectivity - m->transparency;
+    if (kd > 0) {
+        c5_vec3 base = v3_scale(v3_mul(W, m->color), kd);
+        double local = m->ambient;
+        for (int li = 0; li < c->s->n_lights; li++) {
+            const c5_light *l = &c->s->lights[li];
+            double dist;
+            c5_vec3 L = light_dir(l, p, &dist);
+            double ndl = v3_dot(n, L);
+            if (ndl <= 0)
+                continue;
+            if (!l->shadows) {
+                local += m->diffuse * l->intensity * ndl;
+                continue;
+            }
+            c5_ray sh = {p, L, v3_scale(base, m->diffuse * l->intensity * ndl), dist, C5_RAY_SHADOW, r->gen};
+            spawn(c, &sh, st, stk);
+        }
+        rgb[0] += base.x * local;
+        rgb[1] += base.y * local;
+        rgb[2] += base.z * local;
+    }
+    c5_vec3 wr = v3_scale(W, m->reflectivity), wt = v3_scale(W, m->transparency);
+    c5_vec3 dt = r->d; /* planes and rectangles are thin sheets: light passes unbent */
+    if (m->transparency > 0 && s->kind == C5_SURF_SPHERE &&
+        !c5_refract(r->d, n, entering ? 1 / m->ior : m->ior, &dt)) {
+        wr = v3_add(wr, wt); /* total internal reflection */
+        wt = v3(0, 0, 0);
+    }
+    if (v3_maxc(wr) > 0) {
+        c5_ray rr = {p, c5_reflect(r->d, n), wr, INFINITY, C5_RAY_REFLECT, r->gen + 1};
+        spawn(c, &rr, st, stk);
+    }
+    if (v3_maxc(wt) > 0) {
+        c5_ray rt = {p, dt, wt, INFINITY, C5_RAY_REFRACT, r->gen + 1};
+        spawn(c, &rt, st, stk);
+    }
+}
+
+static void trace_shadow(const c5_trace_ctx *c, const c5_ray *r, double rgb[3], c5_cref_stats *st)
+{
+    double T = 1;
+    for (int i = 0; i < c->s->n_surfaces && T > 0; i++) {
+        const c5_surface *s = &c->s->surfaces[i];
+        double t, tmin = c->eps;
+        /* Each crossing of a surface on the way to the light passes its transparency. */
+        while (T > 0 && c5_ray_surface(s, r->o, r->d, tmin, r->tmax, &t)) {
+            T *= s->mat.transparency;
+            tmin = t;
+        }
+    }
+    c5_vec3 unused = v3(0, 0, 0);
+    if (T <= 0 || march(c, r, r->tmax, &T, &unused, st)) {
+        st->ends[C5_END_BLOCKED]++;
+        return;
+    }
+    rgb[0] += r->w.x * T;
+    rgb[1] += r->w.y * T;
+    rgb[2] += r->w.z * T;
+    st->ends[C5_END_LIGHT]++;
+}
+
+static void trace_ray(const c5_trace_ctx *c, const c5_ray *r, double rgb[3], c5_cref_stats *st, c5_ray_stack *stk)
+{
+    double ts;
+    int hit = nearest_surface(c, r, &ts);
+    double T = 1;
+    c5_vec3 col = v3(0, 0, 0);
+    int stopped = march(c, r, hit >= 0 ? ts : INFINITY, &T, &col, st);
+    rgb[0] += col.x;
+    rgb[1] += col.y;
+    rgb[2] += col.z;
+    if (stopped) {
+        st->ends[C5_END_OPACITY]++;
+        return;
+    }
+    c5_vec3 W = v3_scale(r->w, T);
+    if (hit < 0) {
+        c5_vec3 bg = v3_mul(W, c->s->render.background);
+        rgb[0] += bg.x;
+        rgb[1] += bg.y;
+        rgb[2] += bg.z;
+        st->ends[C5_END_LEFT]++;
+        return;
+    }
+    st->ends[C5_END_SURFACE]++;
+    hit_surface(c, r, hit, ts, W, rgb, st, stk);
+}
+
+void c5_trace_pixel(const c5_trace_ctx *c, const c5_ray *eye, double rgb[3], c5_cref_stats *st, c5_ray_stack *stk)
+{
+    stk->n = 0;
+    push(stk, eye, st);
+    while (stk->n > 0) {
+        c5_ray r = stk->rays[--stk->n];
+        if (r.type == C5_RAY_SHADOW)
+            trace_shadow(c, &r, rgb, st);
+        else
+            trace_ray(c, &r, rgb, st, stk);
+    }
+}

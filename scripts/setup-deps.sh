@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the Debian/Ubuntu packages cube5 needs, only those missing. Called by the
+# Makefile before the first build; safe to run again. Uses sudo when not root.
+set -euo pipefail
+pkgs=(build-essential g++ pkg-config zlib1g-dev
+      libjansson-dev        # scene files (JSON)
+      libteem-dev           # NRRD volumes (Teem's nrrd)
+      libopenimageio-dev)   # PNG / EXR output (OpenImageIO)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "setup: installing ${missing[*]}" >&2
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Runs every test suite against the build in $1 (default build/) and ends with the line
+# "N passed, N failed". Exit status 0 only when nothing failed.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+passed=0 failed=0
+log=$(mktemp)
+run_suite() {
+    "$@" 2>&1 | tee "$log"
+    local line
+    line=$(grep '^SUMMARY ' "$log" | tail -n 1)
+    if [ -z "$line" ]; then
+        echo "FAIL suite $* ended without a summary (crashed?)"
+        failed=$((failed + 1))
+        return
+    fi
+    local p f
+    p=$(sed -E 's/.*passed=([0-9]+).*/\1/' <<<"$line")
+    f=$(sed -E 's/.*failed=([0-9]+).*/\1/' <<<"$line")
+    passed=$((passed + p)) failed=$((failed + f))
+}
+run_suite "$build/tests/unit"
+run_suite bash tests/cli_test.sh "$build"
+rm -f "$log"
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
