@@ -127,6 +127,15 @@ int c5_cref_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5
     ctx->eps = 1e-6 * diag;
 
     c5_camera cam = c5_scene_camera_at(s, frame);
+    c5_vec3 f = v3_sub(cam.target, cam.eye);
+    if (!(v3_len(v3_cross(f, cam.up)) > 1e-9 * v3_len(f) * v3_len(cam.up))) {
+        /* Each key was validated, but a path can blend two keys' up vectors into one
+         * parallel to the view (or zero). */
+        free(ctx);
+        c5_image_free(out);
+        return c5_fail(err, "frame %d: camera up is parallel to the view direction (or the eye is on the target)",
+                       frame);
+    }
     camera_basis basis = make_basis(&cam, s->render.width, s->render.height);
     job j = {.ctx = ctx, .cam = &basis, .img = out};
     j.tiles_x = (basis.w + TILE - 1) / TILE;

@@ -3,6 +3,7 @@
 # Makefile before the first build; safe to run again. Uses sudo when not root.
 set -euo pipefail
 pkgs=(build-essential g++ pkg-config zlib1g-dev
+      python3               # test and bench scripts read JSON with it
       libjansson-dev        # scene files (JSON)
       libteem-dev           # NRRD volumes (Teem's nrrd)
       libopenimageio-dev)   # PNG / EXR output (OpenImageIO)

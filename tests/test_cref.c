@@ -399,3 +399,23 @@ TEST(cref_marschner_lobb_error_falls_with_step)
     c5_image_free(&truth);
     c5_supervol_free(&sv);
 }
+
+TEST(cref_degenerate_path_camera_is_an_error)
+{
+    /* Opposite up vectors blend to zero half way along the path. */
+    const char *json = "{\"camera\": {\"eye\": [10, 0, 0], \"target\": [0, 0, 0]},"
+                       " \"camera_path\": {\"frames\": 3, \"keys\": [{\"eye\": [10, 0, 0], \"target\": [0, 0, 0],"
+                       " \"up\": [0, 0, 1]}, {\"eye\": [10, 0, 0], \"target\": [0, 0, 0], \"up\": [0, 0, -1]}]}}";
+    static c5_scene s;
+    c5_err err;
+    c5_supervol sv;
+    CHECK(c5_scene_parse(json, NULL, "t", &s, &err) == 0);
+    CHECK(c5_supervol_build(&s, &sv, &err) == 0);
+    c5_image img;
+    c5_cref_stats st;
+    c5_cref_opts o = {1, NULL};
+    CHECK(c5_cref_render(&s, &sv, 0, &o, &img, &st, &err) == 0);
+    c5_image_free(&img);
+    CHECK(c5_cref_render(&s, &sv, 1, &o, &img, &st, &err) != 0);
+    CHECK_HAS(err.msg, "frame 1: camera up is parallel");
+}
