@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include "builtin_scenes.h"
@@ -99,6 +100,9 @@ int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *
     for (int i = 0; i < s->n_volumes; i++)
         if (s->volumes[i].kind == C5_SRC_FILE && same_file(out, s->volumes[i].path))
             return c5_fail(err, "%s: is an input volume; refusing to overwrite an input", out);
+    const char *dot = strrchr(out, '.');
+    if (!dot || (strcasecmp(dot, ".png") != 0 && strcasecmp(dot, ".exr") != 0))
+        return c5_fail(err, "%s: unsupported image extension (use .png or .exr)", out);
     return 0;
 }
 

@@ -17,7 +17,8 @@ int c5_cli_load_scene(const char *arg, c5_scene *s, char *label, size_t label_le
 /* "--volume [I=]FILE": replaces the source of volume I (default 0) with the file. */
 int c5_cli_replace_volume(c5_scene *s, const char *arg, c5_err *err);
 
-/* Refuses an output path that names one of the inputs (scene file, volume files). */
+/* Refuses, before any work, an output path with an extension other than .png/.exr or one
+ * that names an input (the scene file, a volume file). */
 int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err);
 /* OUT for frame i of n: OUT itself when n == 1, else BASE_0007.EXT. */
 void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);

@@ -1,5 +1,6 @@
 /* cube5 render: one scene through cref, a summary on stdout (text or --json). */
 #include <jansson.h>
+#include <zlib.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,7 +20,8 @@ static const char usage_text[] =
     "  --frames N        frames along the scene's camera path (default: the scene's)\n"
     "  --size WxH        image size instead of the scene's\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
-    "  --json            print one JSON object instead of the text summary\n";
+    "  --json            print one JSON object instead of the text summary; each frame\n"
+    "                    has \"crc32\", a CRC-32 of its float RGB pixels\n";
 
 typedef struct {
     const char *scene_arg, *out;
@@ -161,7 +163,11 @@ int c5_cmd_render(int argc, char **argv)
             break;
         }
         add_stats(&total, &st);
-        json_array_append_new(per_frame, stats_json(&st));
+        json_t *fj = stats_json(&st);
+        /* CRC-32 of the frame's float RGB bytes: a bit-exact fingerprint of the image. */
+        uLong crc = crc32(0L, (const Bytef *)img.rgb, (uInt)(sizeof(float) * 3 * (size_t)img.w * img.h));
+        json_object_set_new(fj, "crc32", json_sprintf("%08lx", (unsigned long)crc));
+        json_array_append_new(per_frame, fj);
         if (a.out) {
             char path[2048];
             c5_cli_frame_path(a.out, f, frames, path, sizeof path);

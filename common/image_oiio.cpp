@@ -155,6 +155,9 @@ int write_impl(const char *path, const c5_image *img, c5_err *err)
     ImageSpec spec(w, h, 3, fmt == Fmt::PNG ? TypeDesc::UINT8 : TypeDesc::FLOAT);
     if (fmt == Fmt::EXR)
         spec.attribute("compression", "zip");
+    /* An empty DateTime keeps OIIO from stamping the file (EXR capDate) with the time:
+     * the same image must give the same file bytes on every run. */
+    spec.attribute("DateTime", "");
 
     tmp.armed = true; // open() may create the file even when it fails
     if (!out->open(tmp.path, spec)) {

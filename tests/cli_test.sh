@@ -72,10 +72,29 @@ echo '{"camera": {"eye": [1,2,3], "target": [0,0,0], "zoom": 2}}' >"$tmp/unknown
 expect scene_unknown_key 2 "unknown.json: camera.zoom: unknown key" -- "$cube5" render "$tmp/unknown.json"
 expect scene_missing_file 2 "absent.json: cannot" -- "$cube5" render "$tmp/absent.json"
 
+# NRRD volumes end to end: attached gzip, detached raw, and a truncated detached file.
+head -c 64 /dev/urandom >"$tmp/data.raw"
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: gzip\n\n' >"$tmp/g.nrrd"
+gzip -c "$tmp/data.raw" >>"$tmp/g.nrrd"
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: data.raw\n' >"$tmp/d.nhdr"
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 8\nencoding: raw\ndata file: data.raw\n' >"$tmp/t.nhdr"
+scene "$tmp/g.json" '{"file": "g.nrrd"}'
+scene "$tmp/d.json" '{"file": "d.nhdr"}'
+scene "$tmp/t.json" '{"file": "t.nhdr"}'
+crc() { "$cube5" render "$1" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["frames"][0]["crc32"])'; }
+expect nrrd_attached_gzip 0 "" -- "$cube5" render "$tmp/g.json"
+expect nrrd_detached_raw 0 "" -- "$cube5" render "$tmp/d.json"
+if [ "$(crc "$tmp/g.json")" = "$(crc "$tmp/d.json")" ] && [ "$(crc "$tmp/g.json")" != "$(crc "$tmp/ok.json")" ]; then
+    ok nrrd_same_image_both_encodings
+else
+    bad nrrd_same_image_both_encodings "frame CRCs differ (or match an all-zero volume)"
+fi
+expect nrrd_truncated 2 "t.nhdr: " -- "$cube5" render "$tmp/t.json"
+
 # Outputs: PNG and EXR by extension, nothing else; never over an input.
 expect write_png 0 "" -- "$cube5" render "$tmp/ok.json" -o "$tmp/a.png"
 expect write_exr 0 "" -- "$cube5" render "$tmp/ok.json" -o "$tmp/a.exr"
-expect write_bad_ext 1 "unsupported image extension" -- "$cube5" render "$tmp/ok.json" -o "$tmp/a.bmpx"
+expect write_bad_ext 2 "unsupported image extension" -- "$cube5" render "$tmp/ok.json" -o "$tmp/a.bmpx"
 cp "$tmp/ok.json" "$tmp/keep.json"
 expect refuse_over_scene 2 "refusing to overwrite an input" -- "$cube5" render "$tmp/ok.json" -o "$tmp/ok.json"
 if cmp -s "$tmp/ok.json" "$tmp/keep.json"; then ok scene_file_intact; else bad scene_file_intact "scene changed"; fi

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 /* The documented PNG rule: clamp to [0,1], then floor(v*255 + 0.5) in double precision. */
 static int expected8(float v)
@@ -396,4 +397,36 @@ TEST(image_read_grey_alpha_and_rgba)
     for (int i = 0; i < 6; i++)
         CHECK_NEAR(img.rgb[i], want[i] / 255.0, 1e-6);
     c5_image_free(&img);
+}
+
+static long read_all(const char *path, unsigned char *buf, long cap)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    long n = (long)fread(buf, 1, (size_t)cap, f);
+    fclose(f);
+    return n;
+}
+
+/* The same image gives the same file bytes at any time: no timestamp in the file. */
+TEST(image_same_bytes_on_every_write)
+{
+    const char *names[2][2] = {{"a.exr", "b.exr"}, {"a.png", "b.png"}};
+    for (int k = 0; k < 2; k++) {
+        c5_image img;
+        c5_err err;
+        CHECK(c5_image_alloc(&img, 4, 3, &err) == 0);
+        for (int i = 0; i < 4 * 3 * 3; i++)
+            img.rgb[i] = (float)i / 40;
+        CHECK(c5_image_write(c5t_path(0, names[k][0]), &img, &err) == 0);
+        struct timespec ts = {1, 100000000}; /* past the next whole second */
+        nanosleep(&ts, NULL);
+        CHECK(c5_image_write(c5t_path(1, names[k][1]), &img, &err) == 0);
+        c5_image_free(&img);
+        static unsigned char a[1 << 16], b[1 << 16];
+        long na = read_all(c5t_path(0, names[k][0]), a, sizeof a), nb = read_all(c5t_path(1, names[k][1]), b, sizeof b);
+        CHECK(na > 0 && na == nb);
+        CHECK_MSG(memcmp(a, b, (size_t)na) == 0, "%s: two writes of one image differ", names[k][0]);
+    }
 }
