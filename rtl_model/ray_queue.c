@@ -1,0 +1,183 @@
+/* The ray queue: see ray_queue.h and docs/ray-queue.md.
+ *
+ * Per stage, with empty slots counting as larger than any key:
+ *   level 1 (every cycle): the carry meets the held element of its stage;
+ *       lo = the smaller, hi = the larger.
+ *   no pop: held'[i] = lo[i], carry'[i+1] = hi[i].
+ *   pop (level 2, between neighbours): held[0] leaves, the insert of this cycle takes the
+ *       place of hi[0], and hi[i] meets lo[i+1]:
+ *       held'[i] = the smaller, carry'[i+1] = the larger.
+ * Ties: a fresh element (inserted, never settled) loses, anything else wins. With that rule
+ * every comparison orders by (key, acceptance cycle), which makes the queue stable. */
+#include "ray_queue.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const c5_rq_slot EMPTY = {0, 0, 0, 0};
+
+/* Does a go before b? a and b from different sources; a fresh a loses ties. */
+static inline int goes_first(const c5_rq_slot *a, const c5_rq_slot *b)
+{
+    if (!a->valid)
+        return 0;
+    if (!b->valid)
+        return 1;
+    return a->key < b->key || (a->key == b->key && !a->fresh);
+}
+
+int c5_rq_init(c5_rq *q, const c5_rq_cfg *cfg)
+{
+    memset(q, 0, sizeof *q);
+    if (!cfg || cfg->capacity < 1 || cfg->capacity > C5_RQ_MAX_CAPACITY || cfg->key_bits < 1 || cfg->key_bits > 32)
+        return -1;
+    q->held = calloc(cfg->capacity, sizeof *q->held);
+    q->carry = calloc((size_t)cfg->capacity + 1, sizeof *q->carry);
+    if (!q->held || !q->carry) {
+        free(q->held);
+        free(q->carry);
+        memset(q, 0, sizeof *q);
+        return -1;
+    }
+    q->cfg = *cfg;
+    q->key_mask = cfg->key_bits == 32 ? 0xFFFFFFFFu : ((1u << cfg->key_bits) - 1u);
+    c5_rq_reset(q);
+    return 0;
+}
+
+void c5_rq_reset(c5_rq *q)
+{
+    if (!q->held)
+        return;
+    memset(q->held, 0, q->cfg.capacity * sizeof *q->held);
+    memset(q->carry, 0, ((size_t)q->cfg.capacity + 1) * sizeof *q->carry);
+    q->count = 0;
+    q->len = 0;
+    memset(&q->stats, 0, sizeof q->stats);
+}
+
+void c5_rq_free(c5_rq *q)
+{
+    free(q->held);
+    free(q->carry);
+    memset(q, 0, sizeof *q);
+}
+
+/* Level 1 at stage i: carry c meets held p. */
+static inline void level1(const c5_rq_slot *c, const c5_rq_slot *p, c5_rq_slot *lo, c5_rq_slot *hi)
+{
+    if (goes_first(c, p)) {
+        *lo = *c;
+        *hi = *p; /* a settled element displaced into the carry line */
+    } else {
+        *lo = *p;
+        *hi = *c;
+    }
+    lo->fresh = 0;
+    hi->fresh = hi->valid && hi->fresh; /* p is never fresh; c keeps its tag */
+}
+
+/* No pop: every carry meets its stage, the larger moves one stage on. Stages with neither
+ * a carry arriving nor one leaving keep their registers and are skipped. */
+static void edge_hold(c5_rq *q, const c5_rq_slot *ins, uint32_t in_flight)
+{
+    uint32_t n = q->cfg.capacity;
+    uint32_t last = q->len < n ? q->len : n - 1; /* carries exist at stages <= len only */
+    c5_rq_slot moving = EMPTY;                   /* carry'[i], produced by stage i-1 */
+    for (uint32_t i = 0; i <= last; i++) {
+        const c5_rq_slot *c = i == 0 ? ins : &q->carry[i];
+        if (!c->valid && !moving.valid) {
+            if (in_flight == 0)
+                break; /* nothing further down moves */
+            continue;
+        }
+        if (i > 0)
+            in_flight -= c->valid;
+        c5_rq_slot lo, hi;
+        level1(c, &q->held[i], &lo, &hi);
+        q->held[i] = lo;
+        if (i > 0)
+            q->carry[i] = moving;
+        moving = hi;
+    }
+    /* moving is now empty: the last visited stage was either stage len, which has no held
+     * element, or the end of a full line (count <= capacity: nothing falls off the end). */
+    if (q->len < n && q->held[q->len].valid)
+        q->len++;
+}
+
+/* Pop: held[0] leaves, the line shifts up while every carry still meets one element. Past
+ * the last carry the line only shifts. */
+static void edge_pop(c5_rq *q, const c5_rq_slot *ins, uint32_t in_flight)
+{
+    uint32_t n = q->cfg.capacity, len = q->len; /* len >= 1 */
+    c5_rq_slot hi = *ins;                        /* hi[0]: the insert of this cycle */
+    for (uint32_t i = 0; i < len; i++) {
+        if (in_flight == 0 && !hi.valid) { /* held'[j] = held[j+1] from here on */
+            memmove(q->held + i, q->held + i + 1, (len - 1 - i) * sizeof *q->held);
+            q->held[len - 1] = EMPTY;
+            break;
+        }
+        c5_rq_slot lo1 = EMPTY, hi1 = EMPTY; /* level 1 at stage i+1 */
+        if (i + 1 < n) {
+            in_flight -= q->carry[i + 1].valid;
+            level1(&q->carry[i + 1], &q->held[i + 1], &lo1, &hi1);
+        }
+        if (goes_first(&hi, &lo1)) {
+            hi.fresh = 0;
+            q->held[i] = hi;
+            q->carry[i + 1] = lo1; /* lo1 is never fresh */
+        } else {
+            q->held[i] = lo1;
+            q->carry[i + 1] = hi;
+        }
+        hi = hi1;
+    }
+    /* held[len] (if any) and carry[len+1] stay empty: stage len had no held element. */
+    if (!q->held[len - 1].valid)
+        q->len--;
+}
+
+void c5_rq_step(c5_rq *q, const c5_rq_in *in, c5_rq_out *out)
+{
+    uint32_t count = q->count;
+    int ins_valid = in->insert_valid != 0;
+    uint32_t key = in->insert_key;
+    if (ins_valid && (key & ~q->key_mask)) {
+        q->stats.masked_keys++;
+        key &= q->key_mask;
+    }
+    int pop = in->pop_ready && count > 0;
+    int full = count == q->cfg.capacity && !pop;
+    int accepted = ins_valid && !full;
+
+    out->pop_valid = pop;
+    out->pop_key = pop ? q->held[0].key : 0;
+    out->pop_payload = pop ? q->held[0].payload : 0;
+    out->insert_accepted = accepted;
+    out->full = full;
+    out->count = count;
+    out->empty = count == 0;
+
+    /* the clock edge */
+    c5_rq_slot ins = EMPTY;
+    if (accepted) {
+        ins.valid = 1;
+        ins.fresh = 1;
+        ins.key = key;
+        ins.payload = in->insert_payload;
+    }
+    uint32_t in_flight = count - q->len;
+    if (pop)
+        edge_pop(q, &ins, in_flight);
+    else if (accepted || in_flight > 0)
+        edge_hold(q, &ins, in_flight);
+
+    q->count = count + (uint32_t)accepted - (uint32_t)pop;
+    q->stats.cycles++;
+    q->stats.inserts += (uint64_t)accepted;
+    q->stats.pops += (uint64_t)pop;
+    q->stats.refused += (uint64_t)(ins_valid && full);
+    if (q->count > q->stats.max_count)
+        q->stats.max_count = q->count;
+}
