@@ -4,7 +4,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "cli.h"
 #include "cref.h"
@@ -179,7 +178,7 @@ int c5_cmd_render(int argc, char **argv)
         c5_image_free(&img);
     }
     if (rc == 0) {
-        int threads = a.threads ? (int)a.threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
+        int threads = c5_cref_thread_count((int)a.threads);
         if (a.json) {
             json_t *o = stats_json(&total);
             json_object_set_new(o, "renderer", json_string("cref"));

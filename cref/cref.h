@@ -46,6 +46,9 @@ typedef struct {
 int c5_cref_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_cref_opts *opts, c5_image *out,
                    c5_cref_stats *stats, c5_err *err);
 
+/* Threads a render uses for a request (<= 0: one per online CPU), within 1..256. */
+int c5_cref_thread_count(int requested);
+
 /* Sample step and opacity unit actually used (resolving the scene's defaults). */
 double c5_render_step(const c5_scene *s, const c5_supervol *sv);
 double c5_render_unit(const c5_scene *s, const c5_supervol *sv);

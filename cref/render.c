@@ -89,6 +89,12 @@ static void *work(void *arg)
     return NULL;
 }
 
+int c5_cref_thread_count(int requested)
+{
+    long n = requested > 0 ? requested : sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 256 ? 256 : (int)n;
+}
+
 static double now_s(void)
 {
     struct timespec ts;
@@ -142,11 +148,7 @@ int c5_cref_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5
     j.n_tiles = j.tiles_x * ((basis.h + TILE - 1) / TILE);
     pthread_mutex_init(&j.lock, NULL);
 
-    int n = opts && opts->threads > 0 ? opts->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
-    if (n < 1)
-        n = 1;
-    if (n > 256)
-        n = 256;
+    int n = c5_cref_thread_count(opts ? opts->threads : 0);
     worker *wk = calloc((size_t)n, sizeof *wk);
     pthread_t *th = calloc((size_t)n, sizeof *th);
     int started = 0, rc = 0;

@@ -5,6 +5,13 @@
 #include "geometry.h"
 #include "trace.h"
 
+static void add_rgb(double rgb[3], c5_vec3 c)
+{
+    rgb[0] += c.x;
+    rgb[1] += c.y;
+    rgb[2] += c.z;
+}
+
 static void push(c5_ray_stack *stk, const c5_ray *r, c5_cref_stats *st)
 {
     if (stk->n == stk->cap) {
@@ -181,9 +188,7 @@ static void hit_surface(const c5_trace_ctx *c, const c5_ray *r, int i, double t,
             c5_ray sh = {p, L, v3_scale(base, m->diffuse * l->intensity * ndl), dist, C5_RAY_SHADOW, r->gen};
             spawn(c, &sh, st, stk);
         }
-        rgb[0] += base.x * local;
-        rgb[1] += base.y * local;
-        rgb[2] += base.z * local;
+        add_rgb(rgb, v3_scale(base, local));
     }
     c5_vec3 wr = v3_scale(W, m->reflectivity), wt = v3_scale(W, m->transparency);
     c5_vec3 dt = r->d; /* planes and rectangles are thin sheets: light passes unbent */
@@ -219,9 +224,7 @@ static void trace_shadow(const c5_trace_ctx *c, const c5_ray *r, double rgb[3], 
         st->ends[C5_END_BLOCKED]++;
         return;
     }
-    rgb[0] += r->w.x * T;
-    rgb[1] += r->w.y * T;
-    rgb[2] += r->w.z * T;
+    add_rgb(rgb, v3_scale(r->w, T));
     st->ends[C5_END_LIGHT]++;
 }
 
@@ -232,19 +235,14 @@ static void trace_ray(const c5_trace_ctx *c, const c5_ray *r, double rgb[3], c5_
     double T = 1;
     c5_vec3 col = v3(0, 0, 0);
     int stopped = march(c, r, hit >= 0 ? ts : INFINITY, &T, &col, st);
-    rgb[0] += col.x;
-    rgb[1] += col.y;
-    rgb[2] += col.z;
+    add_rgb(rgb, col);
     if (stopped) {
         st->ends[C5_END_OPACITY]++;
         return;
     }
     c5_vec3 W = v3_scale(r->w, T);
     if (hit < 0) {
-        c5_vec3 bg = v3_mul(W, c->s->render.background);
-        rgb[0] += bg.x;
-        rgb[1] += bg.y;
-        rgb[2] += bg.z;
+        add_rgb(rgb, v3_mul(W, c->s->render.background));
         st->ends[C5_END_LEFT]++;
         return;
     }
