@@ -1,0 +1,78 @@
+/* The board model: a bit-accurate, cycle-counting model of the Frank-Kaufman board (DSP,
+ * one ray processor with its eDRAM ray queue, one RDRAM holding one cell) rendering one
+ * frame of a scene. docs/board-model.md describes the blocks, the cycle model and every
+ * decision; docs/bit-layouts.md (generated from spec/layouts.toml) every bit.
+ *
+ * The image does not depend on the cell split, the queue key or the processing order:
+ * each ray's arithmetic depends only on its own packet, and the frame buffer adds integers. */
+#ifndef C5_BOARD_H
+#define C5_BOARD_H
+
+#include <stdint.h>
+
+#include "cref.h"
+#include "fixed.h"
+#include "image.h"
+#include "scene.h"
+#include "supervol.h"
+
+/* Sort key of the active cell's ray queue (docs/board-model.md, "queue key"). */
+typedef enum {
+    C5_KEY_MORTON = 1, /* Z-order code of the ray's next voxel inside the cell (default) */
+    C5_KEY_FIFO = 2,   /* arrival order: a plain FIFO, for comparison */
+} c5_queue_key;
+
+/* Which cell the DSP loads next when the active queue is empty. */
+typedef enum {
+    C5_SCHED_MAXWORK = 1,   /* the online Max Work rule: most queued rays, ties to the lowest id */
+    C5_SCHED_MINWORK = 2,   /* fewest queued rays first: a deliberately different order (tests) */
+    C5_SCHED_EXTERNAL = 3,  /* follow opts.schedule, then Max Work (the Cell Tree seam, issue 4) */
+} c5_sched_kind;
+
+typedef struct {
+    int cells[3];            /* split of the grid into cells per axis; 0 or 1: one cell */
+    c5_queue_key key;        /* 0: C5_KEY_MORTON */
+    c5_sched_kind sched;     /* 0: C5_SCHED_MAXWORK */
+    const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order */
+    int schedule_len;
+    int queue_capacity;      /* eDRAM sorter entries, 0: 256 */
+    int all_stages;          /* 1: keep every stage on even when the scene does not need it */
+    double host_bw;          /* bytes/s from host memory/disk to RDRAM, 0: 132e6 (PCI 33 MHz x 32 bit) */
+    double host_latency_s;   /* per fetch, 0: 1e-3 (a disk seek); < 0: none */
+} c5_board_opts;
+
+/* The stages the scene needs (docs/board-model.md, "what runs"). */
+typedef struct {
+    int gradients;  /* volume shading: lights and shading on and a volume */
+    int shadow;     /* shadow rays: a shadow-casting light and a diffuse surface */
+    int reflect;    /* reflected rays: a reflective or refractive-sphere (TIR) material */
+    int refract;    /* refracted rays: a transparent material */
+    int scheduling; /* more than one cell */
+} c5_board_stages;
+
+typedef struct {
+    uint64_t rays[C5_RAY_TYPES];
+    uint64_t samples;
+    uint64_t ends[C5_END_KINDS];
+    uint64_t cycles;         /* board cycles of the frame = process + fetch_stall */
+    uint64_t cycles_process; /* cycles the processor works (samples, ray issue, hits, bus) */
+    uint64_t cycles_fetch;   /* cycles stalled while a cell is fetched into RDRAM */
+    double board_s;          /* cycles / 100 MHz */
+    uint64_t fetches, fetch_bytes;
+    uint64_t bus_packets;    /* ray packets over the ray bus (exits to the DSP, spills) */
+    uint64_t spills;         /* rays that found the eDRAM queue full and went to SDRAM */
+    uint64_t queue_pops;     /* rays taken from the eDRAM sorter */
+    uint32_t queue_max;      /* largest eDRAM queue occupancy */
+    uint64_t cache_hits, cache_misses; /* voxel-block cache model (the queue key's benefit) */
+    uint64_t saturations;    /* datapath results clamped (all datapaths together) */
+    c5_board_stages stages;
+    int cells;               /* cells in the split */
+    double wall_s;           /* host time of the model */
+} c5_board_stats;
+
+/* Renders frame `frame` of the scene into out (allocated here). 0, or -1 with a message
+ * (a scene beyond the model's formats, docs/bit-layouts.md, is refused, not approximated). */
+int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
+                    c5_image *out, c5_board_stats *stats, c5_err *err);
+
+#endif
