@@ -117,3 +117,102 @@ void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len)
         dot = out + strlen(out);
     snprintf(buf, len, "%.*s_%04d%s", (int)(dot - out), out, i, dot);
 }
+
+int c5_cli_cells(const char *opt, const char *s, int cells[3], c5_err *err)
+{
+    char part[3][16];
+    int n = 0;
+    const char *p = s;
+    for (;;) {
+        const char *x = strchr(p, 'x');
+        size_t len = x ? (size_t)(x - p) : strlen(p);
+        if (n == 3 || len >= sizeof part[0])
+            goto bad;
+        memcpy(part[n], p, len);
+        part[n++][len] = 0;
+        if (!x)
+            break;
+        p = x + 1;
+    }
+    if (n == 2)
+        goto bad;
+    for (int a = 0; a < 3; a++) {
+        long v;
+        if (c5_cli_int(opt, part[n == 1 ? 0 : a], 1, C5_CLI_MAX_CELLS, &v, err) != 0)
+            goto bad;
+        cells[a] = (int)v;
+    }
+    return 0;
+bad:
+    return c5_fail(err, "%s: expected N or NxMxK, cells per axis each in [1, %d], got '%s'", opt, C5_CLI_MAX_CELLS,
+                   s);
+}
+
+int c5_cli_queue_key(const char *opt, const char *s, c5_queue_key *key, c5_err *err)
+{
+    if (!strcmp(s, "morton"))
+        *key = C5_KEY_MORTON;
+    else if (!strcmp(s, "fifo"))
+        *key = C5_KEY_FIFO;
+    else
+        return c5_fail(err, "%s: expected morton or fifo, got '%s'", opt, s);
+    return 0;
+}
+
+const char *c5_cli_queue_key_name(c5_queue_key key)
+{
+    return key == C5_KEY_FIFO ? "fifo" : "morton"; /* 0 means the default, Morton */
+}
+
+int c5_cli_check_cells(const int cells[3], const c5_supervol *sv, c5_err *err)
+{
+    if (c5_supervol_empty(sv))
+        return 0;
+    for (int a = 0; a < 3; a++)
+        if ((size_t)cells[a] > sv->dims[a])
+            return c5_fail(err, "--cells: %d cells along %c but the grid has only %zu voxels there", cells[a],
+                           "xyz"[a], sv->dims[a]);
+    return 0;
+}
+
+json_t *c5_cli_board_json(const c5_board_stats *st)
+{
+    const c5_board_stages *g = &st->stages;
+    json_t *stages = json_pack("{s:i, s:i, s:i, s:i, s:i}", "gradients", g->gradients, "shadow", g->shadow, "reflect",
+                               g->reflect, "refract", g->refract, "scheduling", g->scheduling);
+    json_t *o = json_object();
+    /* Counters one by one: json_pack's format would be longer than the list. */
+    const struct {
+        const char *key;
+        uint64_t v;
+    } n[] = {
+        {"cycles", st->cycles},           {"cycles_process", st->cycles_process},
+        {"cycles_fetch", st->cycles_fetch}, {"fetches", st->fetches},
+        {"fetch_bytes", st->fetch_bytes}, {"bus_packets", st->bus_packets},
+        {"spills", st->spills},           {"queue_pops", st->queue_pops},
+        {"queue_max", st->queue_max},     {"cache_hits", st->cache_hits},
+        {"cache_misses", st->cache_misses}, {"saturations", st->saturations},
+    };
+    for (size_t i = 0; i < sizeof n / sizeof n[0]; i++)
+        json_object_set_new(o, n[i].key, json_integer((json_int_t)n[i].v));
+    json_object_set_new(o, "board_s", json_real(st->board_s));
+    json_object_set_new(o, "cells", json_integer(st->cells));
+    json_object_set_new(o, "stages", stages);
+    return o;
+}
+
+void c5_cli_stages_text(const c5_board_stages *st, char *buf, size_t len)
+{
+    const struct {
+        const char *name;
+        int on;
+    } s[] = {{"gradients", st->gradients}, {"shadow", st->shadow},         {"reflect", st->reflect},
+             {"refract", st->refract},     {"scheduling", st->scheduling}};
+    size_t at = 0;
+    buf[0] = 0;
+    for (size_t i = 0; i < sizeof s / sizeof s[0]; i++)
+        if (s[i].on && at < len)
+            at += (size_t)snprintf(buf + at, len - at, "%s%s", at ? " " : "", s[i].name);
+    if (!at)
+        snprintf(buf, len, "eye rays only");
+}

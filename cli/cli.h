@@ -2,8 +2,12 @@
 #ifndef C5_CLI_H
 #define C5_CLI_H
 
+#include <jansson.h>
+
+#include "board.h"
 #include "err.h"
 #include "scene.h"
+#include "supervol.h"
 
 /* Strict number parsing of option values: the whole string, in range, else an error
  * naming the option. */
@@ -11,6 +15,22 @@ int c5_cli_int(const char *opt, const char *s, long lo, long hi, long *out, c5_e
 int c5_cli_double(const char *opt, const char *s, double lo, double hi, double *out, c5_err *err);
 /* "WxH" */
 int c5_cli_size(const char *opt, const char *s, int *w, int *h, c5_err *err);
+
+/* Cells per axis: a board's RDRAM holds one cell, and 64 per axis (262144 cells) is already
+ * far past any split worth modelling; the option parser refuses more. */
+#define C5_CLI_MAX_CELLS 64
+/* "--cells N|NxMxK": N means NxNxN; each count in 1..C5_CLI_MAX_CELLS. */
+int c5_cli_cells(const char *opt, const char *s, int cells[3], c5_err *err);
+/* "--queue-key morton|fifo" */
+int c5_cli_queue_key(const char *opt, const char *s, c5_queue_key *key, c5_err *err);
+/* A split with more cells along an axis than the grid has voxels is refused (a cell must
+ * hold at least one voxel); a scene without a volume takes any split. */
+int c5_cli_check_cells(const int cells[3], const c5_supervol *sv, c5_err *err);
+/* The board model's per-frame counters as the JSON object of 'render --json' and 'compare
+ * --json'; the stages enabled as text ("gradients shadow ..." or "eye rays only"). */
+json_t *c5_cli_board_json(const c5_board_stats *st);
+void c5_cli_stages_text(const c5_board_stages *st, char *buf, size_t len);
+const char *c5_cli_queue_key_name(c5_queue_key key);
 
 /* A built-in scene name or a .json file. `label` receives "built-in scene NAME" or the path. */
 int c5_cli_load_scene(const char *arg, c5_scene *s, char *label, size_t label_len, c5_err *err);
@@ -24,6 +44,7 @@ int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *
 void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);
 
 typedef int (*c5_cmd_fn)(int argc, char **argv);
+int c5_cmd_compare(int argc, char **argv);
 int c5_cmd_render(int argc, char **argv);
 int c5_cmd_scenes(int argc, char **argv);
 

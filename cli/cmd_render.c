@@ -1,26 +1,34 @@
-/* cube5 render: one scene through cref, a summary on stdout (text or --json). */
+/* cube5 render: one scene through cref or the board model, a summary on stdout (text or --json). */
 #include <jansson.h>
 #include <zlib.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "board.h"
 #include "cli.h"
 #include "cref.h"
 
 static const char usage_text[] =
     "usage: cube5 render [SCENE|FILE.json] [-o OUT] [--threads N] [--frames N]\n"
-    "                    [--size WxH] [--volume [I=]FILE] [--json]\n\n"
+    "                    [--size WxH] [--volume [I=]FILE] [--json]\n"
+    "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n\n"
     "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file\n"
-    "with cref, the double-precision reference renderer.\n\n"
+    "with cref, the double-precision reference renderer, or with the bit-accurate board model.\n\n"
     "  -o OUT            write the image: .png (8-bit, clamped) or .exr (float); with\n"
     "                    several frames, OUT_0000.png, OUT_0001.png, ...\n"
-    "  --threads N       worker threads (default: one per CPU); the image is the same\n"
+    "  --threads N       cref only: worker threads (default: one per CPU); the image is\n"
+    "                    the same\n"
     "  --frames N        frames along the scene's camera path (default: the scene's)\n"
     "  --size WxH        image size instead of the scene's\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
+    "  --model M         cref (default) or rtl: the board model (rtl_model/board.h),\n"
+    "                    which also reports board cycles, fetches and the stages that ran\n"
+    "  --cells N|NxMxK   rtl only: split the grid into NxNxN (or NxMxK) cells (default 1)\n"
+    "  --queue-key K     rtl only: morton (default) or fifo order of the ray queue\n"
     "  --json            print one JSON object instead of the text summary; each frame\n"
-    "                    has \"crc32\", a CRC-32 of its float RGB pixels\n";
+    "                    has \"crc32\", a CRC-32 of its float RGB pixels, and with rtl\n"
+    "                    \"board\", the model's counters\n";
 
 typedef struct {
     const char *scene_arg, *out;
@@ -28,18 +36,24 @@ typedef struct {
     int w, h, json;
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
+    int rtl;                 /* --model rtl */
+    int cells[3], have_cells;
+    c5_queue_key key;
+    int have_key;
 } render_args;
 
 static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
 {
     memset(a, 0, sizeof *a);
     a->scene_arg = "default";
+    a->cells[0] = a->cells[1] = a->cells[2] = 1;
+    a->key = C5_KEY_MORTON;
     int have_scene = 0;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         int has_val = i + 1 < argc;
         if (!strcmp(o, "-o") || !strcmp(o, "--threads") || !strcmp(o, "--frames") || !strcmp(o, "--size") ||
-            !strcmp(o, "--volume")) {
+            !strcmp(o, "--volume") || !strcmp(o, "--model") || !strcmp(o, "--cells") || !strcmp(o, "--queue-key")) {
             if (!has_val)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -55,6 +69,18 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
                 if (a->n_volumes == C5_MAX_VOLUMES)
                     return c5_fail(err, "--volume: at most %d", C5_MAX_VOLUMES);
                 a->volumes[a->n_volumes++] = v;
+            } else if (!strcmp(o, "--model")) {
+                if (strcmp(v, "cref") && strcmp(v, "rtl"))
+                    return c5_fail(err, "--model: expected cref or rtl, got '%s'", v);
+                a->rtl = !strcmp(v, "rtl");
+            } else if (!strcmp(o, "--cells")) {
+                if (c5_cli_cells(o, v, a->cells, err))
+                    return -1;
+                a->have_cells = 1;
+            } else if (!strcmp(o, "--queue-key")) {
+                if (c5_cli_queue_key(o, v, &a->key, err))
+                    return -1;
+                a->have_key = 1;
             }
         } else if (!strcmp(o, "--json")) {
             a->json = 1;
@@ -67,6 +93,12 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
             have_scene = 1;
         }
     }
+    /* Options of the other model are refused rather than ignored: a run that silently did
+     * not do what was asked is worse than an error. */
+    if (!a->rtl && (a->have_cells || a->have_key))
+        return c5_fail(err, "%s: only with --model rtl", a->have_cells ? "--cells" : "--queue-key");
+    if (a->rtl && a->threads)
+        return c5_fail(err, "--threads: only with --model cref (the board model runs on one thread)");
     return 0;
 }
 
@@ -80,6 +112,44 @@ static void add_stats(c5_cref_stats *sum, const c5_cref_stats *f)
     sum->wall_s += f->wall_s;
 }
 
+/* The board's totals over the frames: counters add, queue_max is the largest, the stages
+ * are those of any frame and the cell count is the split's. */
+static void add_board(c5_board_stats *sum, const c5_board_stats *f)
+{
+    sum->cycles += f->cycles;
+    sum->cycles_process += f->cycles_process;
+    sum->cycles_fetch += f->cycles_fetch;
+    sum->board_s += f->board_s;
+    sum->fetches += f->fetches;
+    sum->fetch_bytes += f->fetch_bytes;
+    sum->bus_packets += f->bus_packets;
+    sum->spills += f->spills;
+    sum->queue_pops += f->queue_pops;
+    sum->queue_max = f->queue_max > sum->queue_max ? f->queue_max : sum->queue_max;
+    sum->cache_hits += f->cache_hits;
+    sum->cache_misses += f->cache_misses;
+    sum->saturations += f->saturations;
+    sum->stages.gradients |= f->stages.gradients;
+    sum->stages.shadow |= f->stages.shadow;
+    sum->stages.reflect |= f->stages.reflect;
+    sum->stages.refract |= f->stages.refract;
+    sum->stages.scheduling |= f->stages.scheduling;
+    sum->cells = f->cells;
+    sum->wall_s += f->wall_s;
+}
+
+/* The part of the board's statistics that cref also reports, so both models print the same
+ * rays/samples/ends/wall_s keys. */
+static c5_cref_stats board_base(const c5_board_stats *b)
+{
+    c5_cref_stats st = {0};
+    memcpy(st.rays, b->rays, sizeof st.rays);
+    memcpy(st.ends, b->ends, sizeof st.ends);
+    st.samples = b->samples;
+    st.wall_s = b->wall_s;
+    return st;
+}
+
 static json_t *stats_json(const c5_cref_stats *st)
 {
     json_t *rays = json_object(), *ends = json_object();
@@ -91,11 +161,32 @@ static json_t *stats_json(const c5_cref_stats *st)
                      "wall_s", st->wall_s);
 }
 
-static void print_text(const char *label, const c5_scene *s, const c5_supervol *sv, int frames, int threads,
-                       const c5_cref_stats *st, const char *out)
+static void print_board(const render_args *a, const c5_board_stats *b)
 {
-    printf("cube5 render: %s, %dx%d, %d frame(s), cref (double), %d thread(s)\n", label, s->render.width,
-           s->render.height, frames, threads);
+    char stages[128];
+    c5_cli_stages_text(&b->stages, stages, sizeof stages);
+    printf("  stages   %s\n", stages);
+    printf("  board    %llu cycles (process %llu, fetch stall %llu), %.6f s at 100 MHz\n",
+           (unsigned long long)b->cycles, (unsigned long long)b->cycles_process, (unsigned long long)b->cycles_fetch,
+           b->board_s);
+    printf("  cells    %d (%dx%dx%d), %llu fetch(es), %llu bytes\n", b->cells, a->cells[0], a->cells[1], a->cells[2],
+           (unsigned long long)b->fetches, (unsigned long long)b->fetch_bytes);
+    printf("  queue    %s key, %llu pops, max %u, %llu spills, %llu bus packets\n", c5_cli_queue_key_name(a->key),
+           (unsigned long long)b->queue_pops, (unsigned)b->queue_max, (unsigned long long)b->spills,
+           (unsigned long long)b->bus_packets);
+    printf("  cache    %llu hits, %llu misses\n", (unsigned long long)b->cache_hits,
+           (unsigned long long)b->cache_misses);
+    printf("  saturate %llu datapath result(s) clamped\n", (unsigned long long)b->saturations);
+}
+
+static void print_text(const char *label, const c5_scene *s, const c5_supervol *sv, int frames, int threads,
+                       const render_args *a, const c5_cref_stats *st, const c5_board_stats *board, const char *out)
+{
+    printf("cube5 render: %s, %dx%d, %d frame(s), ", label, s->render.width, s->render.height, frames);
+    if (a->rtl)
+        printf("rtl (bit-accurate board model)\n");
+    else
+        printf("cref (double), %d thread(s)\n", threads);
     if (c5_supervol_empty(sv)) {
         printf("  volume   none\n");
     } else {
@@ -111,8 +202,27 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
     printf("  samples  %llu\n  ends    ", (unsigned long long)st->samples);
     for (int e = 0; e < C5_END_KINDS; e++)
         printf(" %s %llu%s", c5_end_kind_name(e), (unsigned long long)st->ends[e], e + 1 < C5_END_KINDS ? "," : "\n");
-    printf("  time     %.3f s\n", st->wall_s);
+    if (board)
+        print_board(a, board);
+    printf("  time     %.3f s%s\n", st->wall_s, board ? " (host)" : "");
     printf("  image    %s\n", out ? out : "not written (give -o OUT)");
+}
+
+/* One frame through the chosen model: the image, the cref-shaped statistics and, for rtl,
+ * the board's. */
+static int render_frame(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
+                        c5_cref_stats *st, c5_board_stats *board, c5_err *err)
+{
+    if (!a->rtl) {
+        c5_cref_opts opts = {.threads = (int)a->threads};
+        return c5_cref_render(s, sv, f, &opts, img, st, err);
+    }
+    c5_board_opts opts = {.key = a->key};
+    memcpy(opts.cells, a->cells, sizeof opts.cells);
+    if (c5_board_render(s, sv, f, &opts, img, board, err) != 0)
+        return -1;
+    *st = board_base(board);
+    return 0;
 }
 
 int c5_cmd_render(int argc, char **argv)
@@ -148,21 +258,28 @@ int c5_cmd_render(int argc, char **argv)
         goto fail;
     if (c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
+    if (a.rtl && c5_cli_check_cells(a.cells, &sv, &err) != 0)
+        goto fail;
 
     int frames = c5_scene_frames(&s);
-    c5_cref_opts opts = {.threads = (int)a.threads};
     c5_cref_stats total = {0};
+    c5_board_stats board_total = {0};
     json_t *per_frame = json_array(), *outputs = json_array();
     rc = 0;
     for (int f = 0; f < frames && rc == 0; f++) {
         c5_image img;
         c5_cref_stats st;
-        if (c5_cref_render(&s, &sv, f, &opts, &img, &st, &err) != 0) {
+        c5_board_stats bst;
+        if (render_frame(&a, &s, &sv, f, &img, &st, &bst, &err) != 0) {
             rc = C5_EXIT_RUNTIME;
             break;
         }
         add_stats(&total, &st);
         json_t *fj = stats_json(&st);
+        if (a.rtl) {
+            add_board(&board_total, &bst);
+            json_object_set_new(fj, "board", c5_cli_board_json(&bst));
+        }
         /* CRC-32 of the frame's float RGB bytes: a bit-exact fingerprint of the image. */
         uLong crc = crc32(0L, (const Bytef *)img.rgb, (uInt)(sizeof(float) * 3 * (size_t)img.w * img.h));
         json_object_set_new(fj, "crc32", json_sprintf("%08lx", (unsigned long)crc));
@@ -181,11 +298,19 @@ int c5_cmd_render(int argc, char **argv)
         int threads = c5_cref_thread_count((int)a.threads);
         if (a.json) {
             json_t *o = stats_json(&total);
-            json_object_set_new(o, "renderer", json_string("cref"));
+            const char *model = a.rtl ? "rtl" : "cref";
+            json_object_set_new(o, "renderer", json_string(model));
+            json_object_set_new(o, "model", json_string(model));
             json_object_set_new(o, "scene", json_string(s.name));
             json_object_set_new(o, "width", json_integer(s.render.width));
             json_object_set_new(o, "height", json_integer(s.render.height));
-            json_object_set_new(o, "threads", json_integer(threads));
+            if (a.rtl) {
+                json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a.cells[0], a.cells[1], a.cells[2]));
+                json_object_set_new(o, "queue_key", json_string(c5_cli_queue_key_name(a.key)));
+                json_object_set_new(o, "board", c5_cli_board_json(&board_total));
+            } else {
+                json_object_set_new(o, "threads", json_integer(threads));
+            }
             json_object_set_new(o, "frames", per_frame);
             json_object_set_new(o, "outputs", outputs);
             per_frame = outputs = NULL;
@@ -194,7 +319,8 @@ int c5_cmd_render(int argc, char **argv)
             free(text);
             json_decref(o);
         } else {
-            print_text(label, &s, &sv, frames, threads, &total, frames > 1 && a.out ? "one file per frame" : a.out);
+            print_text(label, &s, &sv, frames, threads, &a, &total, a.rtl ? &board_total : NULL,
+                       frames > 1 && a.out ? "one file per frame" : a.out);
         }
     }
     json_decref(per_frame);

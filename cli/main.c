@@ -9,7 +9,8 @@ static const struct {
     c5_cmd_fn fn;
     const char *summary;
 } cmds[] = {
-    {"render", c5_cmd_render, "render a scene with the reference renderer (cref)"},
+    {"compare", c5_cmd_compare, "render a frame with cref and the board model and compare the images"},
+    {"render", c5_cmd_render, "render a scene with cref or the board model (--model rtl)"},
     {"scenes", c5_cmd_scenes, "list the built-in scenes"},
 };
 

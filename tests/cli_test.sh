@@ -113,5 +113,83 @@ fi
 expect frames_numbered 0 "" -- "$cube5" render brain_mirrors --size 8x8 --frames 3 -o "$tmp/f.png"
 if [ -f "$tmp/f_0000.png" ] && [ -f "$tmp/f_0002.png" ] && [ ! -f "$tmp/f_0003.png" ]; then ok frame_files; else bad frame_files "$(ls "$tmp")"; fi
 
+# The board model (render --model rtl) and compare. Nothing here depends on the model's exact
+# image or costs: only on the keys, their types and what any split must satisfy.
+expect compare_help 0 "" -- "$cube5" compare --help
+expect render_rtl 0 "" -- "$cube5" render default --size 16x16 --model rtl --cells 2 -o "$tmp/rtl.png"
+json=$("$cube5" render default --size 16x16 --model rtl --cells 2x1x2 --queue-key fifo --json)
+if python3 -c '
+import json,sys
+o=json.loads(sys.argv[1]); assert o["model"]=="rtl"; assert o["samples"]>=0
+[o["rays"][k] for k in ("eye","shadow","reflect","refract")]
+for f in o["frames"]:
+    b=f["board"]
+    for k in ("cycles","cycles_process","cycles_fetch","fetches","fetch_bytes","bus_packets","spills",
+              "queue_pops","queue_max","cache_hits","cache_misses","saturations","cells"):
+        assert isinstance(b[k], int) and b[k]>=0, k
+    assert isinstance(b["board_s"], (int, float)) and b["fetches"]>=1
+    assert set(b["stages"])=={"gradients","shadow","reflect","refract","scheduling"}
+    assert all(v in (0,1) for v in b["stages"].values())
+' "$json"; then
+    ok render_rtl_json_keys
+else
+    bad render_rtl_json_keys "$json"
+fi
+if "$cube5" render default --size 8x8 --model rtl | grep -qE '^  stages   (eye rays only|[a-z ]+)$'; then
+    ok render_rtl_stages_line
+else
+    bad render_rtl_stages_line "$("$cube5" render default --size 8x8 --model rtl 2>&1)"
+fi
+expect render_bad_model 2 "--model: expected cref or rtl" -- "$cube5" render default --model fpga
+expect render_cells_needs_rtl 2 "--cells: only with --model rtl" -- "$cube5" render default --cells 2
+expect render_rtl_no_threads 2 "--threads: only with --model cref" -- "$cube5" render default --model rtl --threads 2
+expect render_bad_queue_key 2 "--queue-key: expected morton or fifo" -- \
+    "$cube5" render default --model rtl --queue-key lifo
+
+json=$("$cube5" compare default --size 32x32 --cells 2 --json)
+if python3 -c '
+import json,sys,math
+o=json.loads(sys.argv[1])
+for k in ("psnr_db","rmse","max_abs_err","cref_wall_s","model_wall_s","board_s"):
+    assert isinstance(o[k], (int, float)) and not isinstance(o[k], bool) and math.isfinite(o[k]), k
+for k in ("board_cycles","fetches","cells"):
+    assert isinstance(o[k], int), k
+for k in ("psnr_ch","rmse_ch","max_abs_ch"):
+    assert len(o[k])==3 and all(isinstance(v, (int, float)) for v in o[k]), k
+assert 0<=o["rmse"]<=o["max_abs_err"]*(1+1e-6) and o["fetches"]>=1
+assert o["cells"]==8 and o["size"]==[32,32] and o["scene"]=="default"
+h=o["histogram"]; assert len(h)>=2 and all(isinstance(b["label"], str) and b["count"]>=0 for b in h)
+assert sum(b["count"] for b in h)==32*32*3
+' "$json"; then
+    ok compare_json_keys
+else
+    bad compare_json_keys "$json"
+fi
+if "$cube5" compare default --size 16x16 --json | python3 -c 'import json,sys; json.load(sys.stdin)'; then
+    ok compare_json_valid
+else
+    bad compare_json_valid "not valid JSON"
+fi
+expect compare_text 0 "" -- bash -c "\"$cube5\" compare default --size 8x8 | grep -q '^  PSNR dB'"
+expect compare_diff_png 0 "" -- "$cube5" compare default --size 16x16 --cells 2 --diff "$tmp/diff.png"
+if python3 -c 'import sys; d=open(sys.argv[1],"rb").read(8); sys.exit(d!=b"\x89PNG\r\n\x1a\n")' "$tmp/diff.png"; then
+    ok compare_diff_is_png
+else
+    bad compare_diff_is_png "$(ls -l "$tmp/diff.png" 2>&1)"
+fi
+for v in 0 -1 2x2 999 x 2x2x2x2 ""; do
+    expect "compare_bad_cells_'$v'" 2 "--cells: expected N or NxMxK" -- "$cube5" compare default --size 8x8 --cells "$v"
+done
+expect compare_cells_beyond_grid 2 "--cells: .*grid has only 10 voxels" -- "$cube5" compare "$tmp/ok.json" --cells 11
+expect compare_cells_missing 2 "--cells: missing value" -- "$cube5" compare default --cells
+expect compare_bad_frame 2 "--frame: the scene has 1 frame" -- "$cube5" compare default --frame 1
+expect compare_bad_gain 2 "--gain: expected a number" -- "$cube5" compare default --gain 0
+expect compare_unknown_option 2 "unknown option '--model'" -- "$cube5" compare default --model rtl
+cp "$tmp/ok.json" "$tmp/keep.json"
+expect compare_refuse_diff_over_scene 2 "refusing to overwrite an input" -- \
+    "$cube5" compare "$tmp/ok.json" --diff "$tmp/ok.json"
+if cmp -s "$tmp/ok.json" "$tmp/keep.json"; then ok compare_scene_intact; else bad compare_scene_intact "scene changed"; fi
+expect compare_diff_bad_ext 2 "unsupported image extension" -- "$cube5" compare default --diff "$tmp/d.txt"
+
 echo "SUMMARY passed=$passed failed=$failed"
 [ "$failed" -eq 0 ]
