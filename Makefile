@@ -22,9 +22,13 @@ LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o) $(BUILD)/g
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 DEPS_OK  := build/.deps-ok
+# Bit layouts: spec/layouts.toml is the one source; these are generated from it.
+LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
+LAYOUTS_VHD := $(BUILD)/gen/c5_layouts_pkg.vhd
+GEN_LAYOUTS := python3 scripts/gen-layouts.py spec/layouts.toml
 
-.PHONY: all demo test asan bench deps clean
-all: $(BUILD)/cube5 $(BUILD)/tests/unit
+.PHONY: all demo test asan bench deps docs clean
+all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
 
 deps: $(DEPS_OK)
 $(DEPS_OK): scripts/setup-deps.sh
@@ -32,11 +36,13 @@ $(DEPS_OK): scripts/setup-deps.sh
 	bash scripts/setup-deps.sh
 	@touch $@
 
-$(BUILD)/%.o: %.c | $(DEPS_OK)
+# Order-only on the layouts header: it exists before any source can include it; the .d
+# files then rebuild exactly the objects that include it when it changes.
+$(BUILD)/%.o: %.c | $(DEPS_OK) $(LAYOUTS_H)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
 
-$(BUILD)/%.o: %.cpp | $(DEPS_OK)
+$(BUILD)/%.o: %.cpp | $(DEPS_OK) $(LAYOUTS_H)
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -MMD -MP -c $< -o $@
 
@@ -45,8 +51,19 @@ $(BUILD)/gen/builtin_scenes.c: $(SCENES) scripts/embed-scenes.sh
 	@mkdir -p $(@D)
 	bash scripts/embed-scenes.sh $(SCENES) > $@.tmp && mv $@.tmp $@
 
-$(BUILD)/gen/builtin_scenes.o: $(BUILD)/gen/builtin_scenes.c
+$(BUILD)/gen/builtin_scenes.o: $(BUILD)/gen/builtin_scenes.c | $(LAYOUTS_H)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(LAYOUTS_H): spec/layouts.toml scripts/gen-layouts.py | $(DEPS_OK)
+	$(GEN_LAYOUTS) --c-header $@
+
+# VHDL constants for the FPGA (fpga/, later); generated only, not analysed yet.
+$(LAYOUTS_VHD): spec/layouts.toml scripts/gen-layouts.py | $(DEPS_OK)
+	$(GEN_LAYOUTS) --vhdl $@
+
+# docs/bit-layouts.md is checked in; tests/layouts_test.sh fails while it is stale.
+docs: | $(DEPS_OK)
+	$(GEN_LAYOUTS) --markdown docs/bit-layouts.md
 
 $(BUILD)/libcube5.a: $(LIB_OBJ)
 	@rm -f $@
@@ -63,7 +80,7 @@ demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit
+test: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
 	bash tests/run.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.
