@@ -192,6 +192,7 @@ json_t *c5_cli_board_json(const c5_board_stats *st)
         {"spills", st->spills},           {"queue_pops", st->queue_pops},
         {"queue_max", st->queue_max},     {"cache_hits", st->cache_hits},
         {"cache_misses", st->cache_misses}, {"saturations", st->saturations},
+        {"samples_leaped", st->samples_leaped},
     };
     for (size_t i = 0; i < sizeof n / sizeof n[0]; i++)
         json_object_set_new(o, n[i].key, json_integer((json_int_t)n[i].v));

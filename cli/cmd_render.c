@@ -129,6 +129,7 @@ static void add_board(c5_board_stats *sum, const c5_board_stats *f)
     sum->cache_hits += f->cache_hits;
     sum->cache_misses += f->cache_misses;
     sum->saturations += f->saturations;
+    sum->samples_leaped += f->samples_leaped;
     sum->stages.gradients |= f->stages.gradients;
     sum->stages.shadow |= f->stages.shadow;
     sum->stages.reflect |= f->stages.reflect;
@@ -176,6 +177,7 @@ static void print_board(const render_args *a, const c5_board_stats *b)
            (unsigned long long)b->bus_packets);
     printf("  cache    %llu hits, %llu misses\n", (unsigned long long)b->cache_hits,
            (unsigned long long)b->cache_misses);
+    printf("  leaped   %llu sample positions (empty blocks and cells)\n", (unsigned long long)b->samples_leaped);
     printf("  saturate %llu datapath result(s) clamped\n", (unsigned long long)b->saturations);
 }
 

@@ -7,6 +7,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "camera.h"
 #include "trace.h"
 
 #define TILE 16
@@ -22,35 +23,8 @@ double c5_render_unit(const c5_scene *s, const c5_supervol *sv)
 }
 
 typedef struct {
-    c5_vec3 eye, f, right, up;
-    double tan_half, aspect;
-    int w, h;
-} camera_basis;
-
-static camera_basis make_basis(const c5_camera *cam, int w, int h)
-{
-    camera_basis b;
-    b.eye = cam->eye;
-    b.f = v3_norm(v3_sub(cam->target, cam->eye));
-    b.right = v3_norm(v3_cross(b.f, cam->up));
-    b.up = v3_cross(b.right, b.f);
-    b.tan_half = tan(cam->fov_deg * M_PI / 360);
-    b.aspect = (double)w / h;
-    b.w = w;
-    b.h = h;
-    return b;
-}
-
-static c5_vec3 pixel_dir(const camera_basis *b, int px, int py)
-{
-    double sx = (2 * (px + 0.5) / b->w - 1) * b->tan_half * b->aspect;
-    double sy = (1 - 2 * (py + 0.5) / b->h) * b->tan_half;
-    return v3_norm(v3_add(b->f, v3_add(v3_scale(b->right, sx), v3_scale(b->up, sy))));
-}
-
-typedef struct {
     const c5_trace_ctx *ctx;
-    const camera_basis *cam;
+    const c5_camera_basis *cam;
     c5_image *img;
     int tiles_x, n_tiles;
     int next_tile; /* shared, taken under `lock` */
@@ -76,7 +50,7 @@ static void *work(void *arg)
         int x0 = (t % j->tiles_x) * TILE, y0 = (t / j->tiles_x) * TILE;
         for (int py = y0; py < y0 + TILE && py < j->cam->h; py++)
             for (int px = x0; px < x0 + TILE && px < j->cam->w; px++) {
-                c5_ray eye = {j->cam->eye, pixel_dir(j->cam, px, py), v3(1, 1, 1), INFINITY, C5_RAY_EYE, 0};
+                c5_ray eye = {j->cam->eye, c5_camera_pixel_dir(j->cam, px, py), v3(1, 1, 1), INFINITY, C5_RAY_EYE, 0};
                 double rgb[3] = {0, 0, 0};
                 c5_trace_pixel(j->ctx, &eye, rgb, &wk->st, &stk);
                 float *o = j->img->rgb + 3 * ((size_t)py * j->cam->w + px);
@@ -133,16 +107,12 @@ int c5_cref_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5
     ctx->eps = 1e-6 * diag;
 
     c5_camera cam = c5_scene_camera_at(s, frame);
-    c5_vec3 f = v3_sub(cam.target, cam.eye);
-    if (!(v3_len(v3_cross(f, cam.up)) > 1e-9 * v3_len(f) * v3_len(cam.up))) {
-        /* Each key was validated, but a path can blend two keys' up vectors into one
-         * parallel to the view (or zero). */
+    c5_camera_basis basis;
+    if (c5_camera_basis_make(&cam, s->render.width, s->render.height, frame, &basis, err) != 0) {
         free(ctx);
         c5_image_free(out);
-        return c5_fail(err, "frame %d: camera up is parallel to the view direction (or the eye is on the target)",
-                       frame);
+        return -1;
     }
-    camera_basis basis = make_basis(&cam, s->render.width, s->render.height);
     job j = {.ctx = ctx, .cam = &basis, .img = out};
     j.tiles_x = (basis.w + TILE - 1) / TILE;
     j.n_tiles = j.tiles_x * ((basis.h + TILE - 1) / TILE);

@@ -52,7 +52,8 @@ typedef struct {
 
 typedef struct {
     uint64_t rays[C5_RAY_TYPES];
-    uint64_t samples;
+    uint64_t samples;        /* samples taken through the datapath */
+    uint64_t samples_leaped; /* sample positions passed by leaps over empty blocks and cells */
     uint64_t ends[C5_END_KINDS];
     uint64_t cycles;         /* board cycles of the frame = process + fetch_stall */
     uint64_t cycles_process; /* cycles the processor works (samples, ray issue, hits, bus) */

@@ -21,6 +21,12 @@ static const c5_fx_fmt FORMATS[] = {
     {9, 12, 0, "UQ9.12"},  {1, 16, 1, "SQ1.16"}, {1, 15, 0, "UQ1.15"},
     {15, 16, 1, "SQ15.16"}, {0, 8, 0, "UQ0.8"},   {31, 31, 0, "UQ31.31 (62 bits)"},
     {0, 61, 1, "SQ0.61 (62 bits)"}, {62, 0, 0, "UQ62.0 (62 bits)"}, {0, 62, 0, "UQ0.62 (62 bits)"},
+    /* the board model's datapath formats (docs/bit-layouts.md) */
+    {9, 15, 0, "pos UQ9.15"}, {1, 14, 1, "dir SQ1.14"}, {2, 12, 0, "rgb UQ2.12"},
+    {4, 20, 0, "step_k UQ4.20"}, {3, 15, 1, "step_vec SQ3.15"}, {0, 15, 0, "voxel_frac UQ0.15"},
+    {8, 8, 0, "sample_value UQ8.8"}, {8, 8, 1, "gradient SQ8.8"}, {4, 12, 0, "light_term UQ4.12"},
+    {20, 12, 0, "frame_acc UQ20.12"}, {13, 15, 1, "geom SQ13.15"}, {8, 16, 0, "gscale UQ8.16"},
+    {1, 20, 0, "vscale UQ1.20"}, {4, 28, 0, "eta UQ4.28"},
 };
 #define N_FORMATS ((int)(sizeof FORMATS / sizeof FORMATS[0]))
 

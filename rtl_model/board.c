@@ -1,0 +1,332 @@
+/* The board: the DSP (eye rays, SDRAM ray queues, the scheduler, the frame buffer), the
+ * RDRAM fetches, the active cell's eDRAM ray queue (the cycle-level insertion sorter) and
+ * the processor, with the frame's cycle budget (board.h, docs/board-model.md). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "board.h"
+#include "camera.h"
+#include "cells.h"
+#include "geom.h"
+#include "processor.h"
+#include "ray_queue.h"
+#include "regs.h"
+
+#define CLOCK_HZ 100e6
+#define RDRAM_BW 800e6
+
+typedef struct {
+    uint8_t (*pk)[C5_PACKET_BYTES];
+    size_t n, head, cap;
+} sdram_queue; /* one cell's rays waiting in DSP SDRAM, FIFO */
+
+typedef struct {
+    const c5_scene *s;
+    const c5_board_opts *o;
+    c5_frame_regs r;
+    c5_cells cells;
+    c5_rdram mem;
+    c5_proc proc;
+    sdram_queue *q;          /* [cells] */
+    c5_rq edram;             /* the active cell's sorter */
+    uint8_t (*slot)[C5_PACKET_BYTES]; /* eDRAM packet store, indexed by the sorter's payload */
+    uint32_t *free_slots;
+    uint32_t n_free;
+    uint32_t seq;            /* FIFO key */
+    uint64_t *fb;            /* frame buffer, frame_acc UQ20.12 per channel */
+    c5_board_stats *st;
+    int oom;
+} board;
+
+static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES])
+{
+    sdram_queue *q = &b->q[cell];
+    if (q->n == q->cap) {
+        size_t cap = q->cap ? 2 * q->cap : 256;
+        void *p = realloc(q->pk, cap * C5_PACKET_BYTES);
+        if (!p)
+            return -1;
+        q->pk = p;
+        q->cap = cap;
+    }
+    memcpy(q->pk[q->n++], pk, C5_PACKET_BYTES);
+    return 0;
+}
+
+static uint32_t morton(uint32_t x, uint32_t y, uint32_t z)
+{
+    uint32_t k = 0;
+    for (int i = 0; i < 9; i++)
+        k |= ((x >> i) & 1u) << (3 * i) | ((y >> i) & 1u) << (3 * i + 1) | ((z >> i) & 1u) << (3 * i + 2);
+    return k;
+}
+
+static uint32_t queue_key(board *b, const c5_bray *r)
+{
+    if (b->o->key == C5_KEY_FIFO)
+        return b->seq++;
+    return morton((uint32_t)((r->pos[0] >> C5_POS_F) - b->mem.lo[0]), (uint32_t)((r->pos[1] >> C5_POS_F) - b->mem.lo[1]),
+                  (uint32_t)((r->pos[2] >> C5_POS_F) - b->mem.lo[2]));
+}
+
+/* One cycle of the sorter with an insert: 1 if accepted. */
+static int edram_insert(board *b, const c5_bray *r)
+{
+    if (b->n_free == 0 || b->edram.count >= b->edram.cfg.capacity)
+        return 0;
+    uint32_t slot = b->free_slots[b->n_free - 1];
+    c5_rq_in in = {.insert_valid = 1, .insert_key = queue_key(b, r), .insert_payload = slot};
+    c5_rq_out out;
+    c5_rq_step(&b->edram, &in, &out);
+    if (!out.insert_accepted)
+        return 0;
+    b->n_free--;
+    c5_bray_pack(r, b->slot[slot]);
+    return 1;
+}
+
+/* The processor hands a ray on: the active cell's sorter, else (full, or another cell) the
+ * DSP's SDRAM queue over the ray bus. */
+static void on_enqueue(void *ctx, const c5_bray *r)
+{
+    board *b = ctx;
+    if ((int)r->cell == b->proc.active) {
+        if (edram_insert(b, r))
+            return;
+        b->st->spills++;
+    }
+    uint8_t pk[C5_PACKET_BYTES];
+    c5_bray_pack(r, pk);
+    if (push_sdram(b, (int)r->cell, pk) != 0)
+        b->oom = 1;
+    b->st->bus_packets++;
+}
+
+static void on_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
+{
+    board *b = ctx;
+    uint64_t *px = b->fb + 3 * ((size_t)v * (size_t)b->s->render.width + u);
+    for (int c = 0; c < 3; c++)
+        px[c] += (uint64_t)rgb[c];
+}
+
+/* Which cell to load next, or -1 when every queue is empty. */
+static int schedule(board *b, int *sched_pos)
+{
+    const c5_board_opts *o = b->o;
+    if (o->sched == C5_SCHED_EXTERNAL)
+        while (*sched_pos < o->schedule_len) {
+            int c = o->schedule[(*sched_pos)++];
+            if (c >= 0 && c < b->cells.count && b->q[c].n > b->q[c].head)
+                return c;
+        }
+    int best = -1;
+    size_t best_n = 0;
+    for (int c = 0; c < b->cells.count; c++) {
+        size_t n = b->q[c].n - b->q[c].head;
+        if (n == 0)
+            continue;
+        if (best < 0 || (o->sched == C5_SCHED_MINWORK ? n < best_n : n > best_n)) {
+            best = c;
+            best_n = n;
+        }
+    }
+    return best;
+}
+
+/* Moves rays from the cell's SDRAM queue into the sorter while it has room. */
+static void refill(board *b, sdram_queue *q)
+{
+    while (q->head < q->n && b->edram.count < b->edram.cfg.capacity) {
+        c5_bray r;
+        c5_bray_unpack(q->pk[q->head], &r);
+        if (!edram_insert(b, &r))
+            break;
+        q->head++;
+        b->st->bus_packets++;
+    }
+    if (q->head == q->n)
+        q->head = q->n = 0;
+}
+
+/* Processes the active cell until its queue (eDRAM and spilled SDRAM part) is empty. */
+static void process_cell(board *b, int cell)
+{
+    sdram_queue *q = &b->q[cell];
+    for (;;) {
+        refill(b, q);
+        if (b->edram.count == 0)
+            break;
+        c5_rq_in in = {.pop_ready = 1};
+        c5_rq_out out;
+        c5_rq_step(&b->edram, &in, &out);
+        c5_bray r;
+        c5_bray_unpack(b->slot[out.pop_payload], &r);
+        b->free_slots[b->n_free++] = out.pop_payload;
+        b->st->queue_pops++;
+        c5_proc_run(&b->proc, &r);
+    }
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static uint64_t fetch_cycles(const c5_board_opts *o, size_t bytes)
+{
+    double bw = o->host_bw > 0 ? o->host_bw : 132e6;
+    double lat = o->host_latency_s > 0 ? o->host_latency_s : o->host_latency_s < 0 ? 0 : 1e-3;
+    double s = lat + (double)bytes / fmin(bw, RDRAM_BW);
+    return (uint64_t)ceil(s * CLOCK_HZ);
+}
+
+/* The DSP's eye rays, pixel by pixel, through the processor's set-up unit. */
+static int generate_eye_rays(board *b, const c5_supervol *sv, int frame, c5_err *err)
+{
+    const c5_scene *s = b->s;
+    c5_camera cam = c5_scene_camera_at(s, frame);
+    c5_camera_basis basis;
+    int64_t O[3];
+    if (c5_camera_basis_make(&cam, s->render.width, s->render.height, frame, &basis, err) != 0 ||
+        c5_regs_geom_point(cam.eye, sv, O, "the eye", err) != 0)
+        return -1;
+    c5_bray proto = {.w = C5_ONE15, .type = C5_RAY_EYE, .node = C5_NODE_NONE};
+    for (int py = 0; py < basis.h; py++)
+        for (int px = 0; px < basis.w; px++) {
+            int64_t d[3];
+            c5_regs_unit14(c5_camera_pixel_dir(&basis, px, py), d);
+            proto.u = (uint32_t)px;
+            proto.v = (uint32_t)py;
+            c5_proc_new_ray(&b->proc, O, d, C5_T_INF, -1, &proto);
+        }
+    return 0;
+}
+
+static void board_free(board *b)
+{
+    if (b->q)
+        for (int c = 0; c < b->cells.count; c++)
+            free(b->q[c].pk);
+    free(b->q);
+    free(b->slot);
+    free(b->free_slots);
+    free(b->fb);
+    c5_rq_free(&b->edram);
+    c5_rdram_free(&b->mem);
+    c5_cells_free(&b->cells);
+}
+
+/* A volume-less grid still needs one (empty) cell for the tables. */
+static const c5_supervol *grid_or_dummy(const c5_supervol *sv, c5_supervol *dummy, uint8_t *voxel)
+{
+    if (!c5_supervol_empty(sv))
+        return sv;
+    memset(dummy, 0, sizeof *dummy);
+    dummy->dims[0] = dummy->dims[1] = dummy->dims[2] = 1;
+    dummy->spacing = v3(1, 1, 1);
+    *voxel = 0;
+    dummy->v = voxel;
+    return dummy;
+}
+
+int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
+                    c5_image *out, c5_board_stats *stats, c5_err *err)
+{
+    double start = now_s();
+    memset(stats, 0, sizeof *stats);
+    c5_board_opts o = *opts;
+    for (int a = 0; a < 3; a++)
+        if (o.cells[a] < 1)
+            o.cells[a] = 1;
+    if (!o.key)
+        o.key = C5_KEY_MORTON;
+    if (!o.sched)
+        o.sched = C5_SCHED_MAXWORK;
+    if (!o.queue_capacity)
+        o.queue_capacity = C5_RQ_DEFAULT_CAPACITY;
+    if (c5_supervol_empty(sv))
+        o.cells[0] = o.cells[1] = o.cells[2] = 1;
+
+    board b = {.s = s, .o = &o, .st = stats};
+    b.mem.cell = -1;
+    if (c5_regs_build(s, sv, &o, &b.r, err) != 0)
+        return -1;
+    c5_supervol dummy;
+    uint8_t voxel;
+    const c5_supervol *grid = grid_or_dummy(sv, &dummy, &voxel);
+    uint8_t alpha_nz[256];
+    for (int i = 0; i < 256; i++)
+        alpha_nz[i] = b.r.tf[i][3] > 0;
+    c5_rq_cfg qcfg = {(uint32_t)o.queue_capacity, 32};
+    size_t npx = (size_t)s->render.width * (size_t)s->render.height;
+    if (c5_cells_init(&b.cells, grid, o.cells, alpha_nz, err) != 0)
+        return -1;
+    b.q = calloc((size_t)b.cells.count, sizeof *b.q);
+    b.slot = malloc((size_t)o.queue_capacity * C5_PACKET_BYTES);
+    b.free_slots = malloc((size_t)o.queue_capacity * sizeof *b.free_slots);
+    b.fb = calloc(npx * 3, sizeof *b.fb);
+    if (!b.q || !b.slot || !b.free_slots || !b.fb || c5_rq_init(&b.edram, &qcfg) != 0) {
+        board_free(&b);
+        return c5_fail(err, "out of memory for the board model (or queue capacity %d outside 1..%u)",
+                       o.queue_capacity, C5_RQ_MAX_CAPACITY);
+    }
+    for (uint32_t i = 0; i < (uint32_t)o.queue_capacity; i++)
+        b.free_slots[b.n_free++] = (uint32_t)o.queue_capacity - 1 - i;
+    c5_proc_init(&b.proc, &b.r, &b.cells, &b.mem, (c5_proc_io){&b, on_enqueue, on_deliver});
+    stats->stages = b.r.st;
+    stats->cells = b.cells.count;
+
+    if (generate_eye_rays(&b, sv, frame, err) != 0) {
+        board_free(&b);
+        return -1;
+    }
+    /* Rays that never reach the volume were finished by the set-up: the first visit. */
+    uint64_t proc_cycles = b.proc.st.cycles, bus = stats->bus_packets;
+    stats->cycles_process += proc_cycles > bus ? proc_cycles : bus;
+    int sched_pos = 0, cell;
+    while (!b.oom && (cell = schedule(&b, &sched_pos)) >= 0) {
+        if (c5_rdram_load(&b.mem, &b.cells, grid, cell, err) != 0) {
+            board_free(&b);
+            return -1;
+        }
+        size_t bytes = c5_cell_bytes(&b.cells, cell);
+        stats->fetches++;
+        stats->fetch_bytes += bytes;
+        stats->cycles_fetch += fetch_cycles(&o, bytes);
+        b.proc.active = cell;
+        uint64_t c0 = b.proc.st.cycles, p0 = stats->bus_packets;
+        process_cell(&b, cell);
+        uint64_t work = b.proc.st.cycles - c0 + C5_CYC_PIPELINE, moved = stats->bus_packets - p0;
+        stats->cycles_process += work > moved ? work : moved; /* the bus runs beside the pipeline */
+    }
+    if (b.oom) {
+        board_free(&b);
+        return c5_fail(err, "out of memory for the DSP's SDRAM ray queues");
+    }
+    if (c5_image_alloc(out, s->render.width, s->render.height, err) != 0) {
+        board_free(&b);
+        return -1;
+    }
+    for (size_t i = 0; i < npx * 3; i++)
+        out->rgb[i] = (float)ldexp((double)b.fb[i], -C5_RGB_F);
+
+    const c5_proc_stats *ps = &b.proc.st;
+    memcpy(stats->rays, ps->rays, sizeof stats->rays);
+    memcpy(stats->ends, ps->ends, sizeof stats->ends);
+    stats->samples = ps->samples;
+    stats->samples_leaped = ps->leaped;
+    stats->cache_hits = ps->cache_hits;
+    stats->cache_misses = ps->cache_misses;
+    stats->saturations = ps->saturations;
+    stats->queue_max = b.edram.stats.max_count;
+    stats->cycles = stats->cycles_process + stats->cycles_fetch;
+    stats->board_s = (double)stats->cycles / CLOCK_HZ;
+    board_free(&b);
+    stats->wall_s = now_s() - start;
+    return 0;
+}

@@ -1,0 +1,57 @@
+/* The super volume split into cells, the RDRAM that holds one of them, and the emptiness
+ * flags that let rays leap over empty cells and empty 8^3 blocks.
+ *
+ * Split: along axis a with n_a cells, cell i owns voxels [floor(i X/n), floor((i+1) X/n)).
+ * A fetched cell carries two ghost voxel layers on every face (clamped copies at the grid's
+ * edge): one for the trilinear neighbour, one more for its central difference. */
+#ifndef C5_CELLS_H
+#define C5_CELLS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "err.h"
+#include "supervol.h"
+
+#define C5_GHOST 2
+#define C5_BLOCK 8 /* space-leaping block edge, voxels, aligned to the grid */
+
+typedef struct {
+    int n[3], count;
+    int dims[3];
+    int *lo[3];            /* [n+1] boundaries per axis */
+    uint8_t *of[3];        /* [dims] voxel index -> cell index per axis */
+    uint8_t *empty;        /* [count] no sample in the cell can have alpha > 0 */
+    int bdims[3];
+    uint8_t *block_empty;  /* [bdims] the same for every 8^3 block of the grid */
+} c5_cells;
+
+/* The RDRAM holding one cell and its ghost layers, x fastest. */
+typedef struct {
+    int cell;              /* -1: nothing loaded */
+    int lo[3], hi[3];      /* the cell's voxel box [lo, hi) */
+    int org[3];            /* voxel coordinate of buffer index 0 = lo - 2 */
+    int ext[3];            /* buffer extent = hi - lo + 4 */
+    uint8_t *v;
+    size_t cap;
+} c5_rdram;
+
+/* alpha_nz: 1 for table entries with alpha > 0 (after the step correction). */
+int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint8_t alpha_nz[256], c5_err *err);
+void c5_cells_free(c5_cells *c);
+
+static inline int c5_cell_id(const c5_cells *c, int i, int j, int k) { return (k * c->n[1] + j) * c->n[0] + i; }
+/* Cell of the voxel (x, y, z), which must be inside the grid. */
+static inline int c5_cell_at(const c5_cells *c, int x, int y, int z)
+{
+    return c5_cell_id(c, c->of[0][x], c->of[1][y], c->of[2][z]);
+}
+void c5_cell_box(const c5_cells *c, int cell, int lo[3], int hi[3]);
+/* Bytes a fetch of the cell moves: the cell and its ghost layers, one byte a voxel. */
+size_t c5_cell_bytes(const c5_cells *c, int cell);
+
+/* Copies the cell with its ghost layers from the super volume. */
+int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err);
+void c5_rdram_free(c5_rdram *m);
+
+#endif

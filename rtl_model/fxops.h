@@ -1,0 +1,69 @@
+/* The datapath's integer primitives, inline for the per-sample loop. Each is the exact
+ * operation of fixed.h specialised to raw integers (the tests check them against c5_fx_*):
+ * the exact result first, then one rounding, then (where the caller asks) saturation. */
+#ifndef C5_FXOPS_H
+#define C5_FXOPS_H
+
+#include <stdint.h>
+
+/* floor(x / 2^s) rounded half to even; s in 1..62. Arithmetic on negatives too. */
+static inline int64_t c5_rshift_he(int64_t x, int s)
+{
+    int64_t q = x >> s; /* floor */
+    int64_t r = x - (q << s);
+    int64_t half = (int64_t)1 << (s - 1);
+    if (r > half || (r == half && (q & 1)))
+        q++;
+    return q;
+}
+
+/* The same on a 128-bit product. */
+static inline int64_t c5_rshift128_he(__int128 x, int s)
+{
+    __int128 q = x >> s;
+    __int128 r = x - (q << s);
+    __int128 half = (__int128)1 << (s - 1);
+    if (r > half || (r == half && (q & 1)))
+        q++;
+    return (int64_t)q;
+}
+
+/* round(n / d) half to even, d > 0. */
+static inline int64_t c5_div_he(__int128 n, __int128 d)
+{
+    __int128 q = n / d, r = n % d;
+    if (r < 0) { /* C truncates toward zero: make it floor */
+        q--;
+        r += d;
+    }
+    __int128 twice = 2 * r;
+    if (twice > d || (twice == d && (q & 1)))
+        q++;
+    return (int64_t)q;
+}
+
+/* floor(sqrt(x)) for x >= 0, exact (the digit-by-digit result, found from a double guess). */
+static inline uint64_t c5_isqrt(unsigned __int128 x)
+{
+    uint64_t r = (uint64_t)__builtin_sqrt((double)x);
+    while ((unsigned __int128)r * r > x)
+        r--;
+    while ((unsigned __int128)(r + 1) * (r + 1) <= x)
+        r++;
+    return r;
+}
+
+static inline int64_t c5_clamp64(int64_t v, int64_t lo, int64_t hi, uint64_t *sat)
+{
+    if (v < lo) {
+        (*sat)++;
+        return lo;
+    }
+    if (v > hi) {
+        (*sat)++;
+        return hi;
+    }
+    return v;
+}
+
+#endif

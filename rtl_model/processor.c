@@ -1,0 +1,275 @@
+/* The ray processor: ray set-up, routing between cells, and the traversal of the active
+ * cell (processor.h). */
+#include <string.h>
+
+#include "geom.h"
+#include "processor.h"
+#include "sample_pipe.h"
+
+void c5_proc_init(c5_proc *p, const c5_frame_regs *r, const c5_cells *cells, const c5_rdram *mem, c5_proc_io io)
+{
+    memset(p, 0, sizeof *p);
+    p->r = r;
+    p->cells = cells;
+    p->mem = mem;
+    p->active = -1;
+    p->io = io;
+    memset(p->cache_tag, 0xff, sizeof p->cache_tag);
+}
+
+static int outside_grid(const c5_frame_regs *r, const int64_t pos[3])
+{
+    for (int a = 0; a < 3; a++)
+        if (pos[a] < 0 || pos[a] >= ((int64_t)r->dims[a] << C5_POS_F))
+            return 1;
+    return 0;
+}
+
+static void step_vec(const c5_frame_regs *r, const int64_t d[3], int64_t S[3])
+{
+    for (int a = 0; a < 3; a++)
+        S[a] = c5_rshift_he(d[a] * r->step_k[a], C5_DIR_F + 20 - C5_POS_F); /* step_vec SQ3.15 */
+}
+
+/* Samples until pos leaves the voxel box [lo, hi): the smallest n >= 1 with pos + n S
+ * outside, exactly as n single steps would find it (an integer division, not a loop). */
+static int64_t steps_to_exit(const int64_t pos[3], const int64_t S[3], const int lo[3], const int hi[3])
+{
+    int64_t n = INT64_MAX;
+    for (int a = 0; a < 3; a++) {
+        int64_t m;
+        if (S[a] > 0)
+            m = (((int64_t)hi[a] << C5_POS_F) - pos[a] + S[a] - 1) / S[a];
+        else if (S[a] < 0)
+            m = (pos[a] - ((int64_t)lo[a] << C5_POS_F)) / -S[a] + 1;
+        else
+            continue;
+        if (m < n)
+            n = m;
+    }
+    return n < 1 ? 1 : n;
+}
+
+/* Advances the ray n samples without sampling (every one of them has alpha 0). */
+static void leap(c5_proc *p, c5_bray *ray, const int64_t S[3], int64_t n)
+{
+    if (ray->lifetime != C5_LIFE_NONE && n > (int64_t)ray->lifetime)
+        n = ray->lifetime;
+    for (int a = 0; a < 3; a++)
+        ray->pos[a] += n * S[a];
+    if (ray->lifetime != C5_LIFE_NONE)
+        ray->lifetime -= (uint32_t)n;
+    p->st.leaped += (uint64_t)n;
+    p->st.leaps++;
+    p->st.cycles += C5_CYC_LEAP;
+}
+
+/* Where a ray goes next, outside the active cell's traversal: its end, a leap over an
+ * empty cell, or the queue of the cell it is in. */
+static void route(c5_proc *p, c5_bray *ray)
+{
+    const c5_frame_regs *r = p->r;
+    int64_t S[3];
+    step_vec(r, ray->dir, S);
+    for (;;) {
+        if (ray->lifetime == 0 || outside_grid(r, ray->pos)) {
+            c5_proc_finish(p, ray, -2 * (r->step_g >> 5) - 1);
+            return;
+        }
+        int v[3] = {(int)(ray->pos[0] >> C5_POS_F), (int)(ray->pos[1] >> C5_POS_F), (int)(ray->pos[2] >> C5_POS_F)};
+        int cell = c5_cell_at(p->cells, v[0], v[1], v[2]);
+        if (cell != p->active && p->cells->empty[cell]) {
+            int lo[3], hi[3];
+            c5_cell_box(p->cells, cell, lo, hi);
+            leap(p, ray, S, steps_to_exit(ray->pos, S, lo, hi));
+            continue;
+        }
+        ray->cell = (uint32_t)cell;
+        p->io.enqueue(p->io.ctx, ray);
+        return;
+    }
+}
+
+/* Box entry of the line O + t d with the grid box [0, gdims) in geom coordinates. */
+static int grid_range(const c5_frame_regs *r, const int64_t O[3], const int64_t d[3], int64_t *tin, int64_t *tout)
+{
+    int64_t t0 = INT64_MIN, t1 = INT64_MAX;
+    for (int a = 0; a < 3; a++) {
+        if (d[a] == 0) {
+            if (O[a] < 0 || O[a] >= r->gdims[a])
+                return 0;
+            continue;
+        }
+        int64_t ta = c5_div_he((__int128)(0 - O[a]) << 14, d[a]);
+        int64_t tb = c5_div_he((__int128)(r->gdims[a] - O[a]) << 14, d[a]);
+        if (ta > tb) {
+            int64_t x = ta;
+            ta = tb;
+            tb = x;
+        }
+        t0 = ta > t0 ? ta : t0;
+        t1 = tb < t1 ? tb : t1;
+    }
+    *tin = t0;
+    *tout = t1;
+    return t0 <= t1;
+}
+
+/* Samples k >= 0 with k * step < t (t in geom_t): ceil(t / step). */
+static int64_t samples_before(const c5_frame_regs *r, int64_t t)
+{
+    if (t <= 0)
+        return 0;
+    __int128 num = (__int128)t << 5; /* 15 -> 20 fraction bits, the step's */
+    return (int64_t)((num + r->step_g - 1) / r->step_g);
+}
+
+/* Position of sample k in voxel coordinates: O + round(k step d), then to voxels. */
+static void sample_pos(const c5_frame_regs *r, const int64_t O[3], const int64_t d[3], int64_t k, int64_t P[3])
+{
+    int64_t G[3];
+    for (int a = 0; a < 3; a++)
+        G[a] = O[a] + c5_rshift128_he((__int128)k * r->step_g * d[a], 20 + C5_DIR_F - 15);
+    c5_geom_to_voxel(r, G, P);
+}
+
+void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d[3], int64_t t_light, int skip,
+                     const c5_bray *proto)
+{
+    const c5_frame_regs *r = p->r;
+    c5_bray ray = *proto;
+    memcpy(ray.dir, d, sizeof ray.dir);
+    ray.opa = 0;
+    ray.surf = C5_SURF_NONE;
+    p->st.rays[ray.type]++;
+    p->st.setups++;
+    p->st.cycles += (uint64_t)r->n_surfaces * C5_CYC_SURFACE_TEST;
+    int64_t t_end = C5_T_INF;
+    if (ray.type == C5_RAY_SHADOW) {
+        /* Each crossing of a surface on the way to the light passes its transparency. */
+        int64_t T = C5_ONE15;
+        for (int i = 0; i < r->n_surfaces && T > 0; i++) {
+            int64_t t, tmin = r->eps_g;
+            while (i != skip && T > 0 && c5_geom_hit(&r->surf[i], O, d, tmin, t_light, &t)) {
+                T = c5_rshift_he(T * r->surf[i].transp, 15);
+                tmin = t;
+            }
+        }
+        if (T == 0) {
+            p->st.ends[C5_END_BLOCKED]++;
+            return;
+        }
+        for (int c = 0; c < 3; c++)
+            ray.rgb[c] = c5_rshift_he(ray.rgb[c] * T, 15);
+        t_end = t_light;
+    } else {
+        for (int i = 0; i < r->n_surfaces; i++) {
+            int64_t t;
+            if (i != skip && c5_geom_hit(&r->surf[i], O, d, r->eps_g, t_end, &t)) {
+                t_end = t;
+                ray.surf = (uint32_t)i;
+            }
+        }
+    }
+    int64_t tin, tout;
+    if (r->has_volume && grid_range(r, O, d, &tin, &tout) && tout >= 0 && tin < t_end) {
+        int64_t n_end = t_end == C5_T_INF ? INT64_MAX : samples_before(r, t_end);
+        int64_t k = samples_before(r, tin) - 1, klast = samples_before(r, tout) + 1;
+        if (k < 0)
+            k = 0;
+        for (; k <= klast && k < n_end; k++) {
+            sample_pos(r, O, d, k, ray.pos);
+            if (!outside_grid(r, ray.pos))
+                break;
+        }
+        if (k <= klast && k < n_end) {
+            int64_t life = n_end == INT64_MAX ? C5_LIFE_NONE : n_end - k;
+            ray.lifetime = (uint32_t)(life > C5_LIFE_MAX && life != C5_LIFE_NONE ? C5_LIFE_MAX : life);
+            route(p, &ray);
+            return;
+        }
+    }
+    /* No sample in the volume: straight to the ray's end. */
+    c5_geom_to_voxel(r, O, ray.pos);
+    ray.lifetime = 0;
+    c5_proc_finish(p, &ray, r->eps_g);
+}
+
+static void cache_access(c5_proc *p, const int64_t pos[3])
+{
+    int32_t tag = (int32_t)((((pos[2] >> (C5_POS_F + 2)) * 128) + (pos[1] >> (C5_POS_F + 2))) * 128 +
+                            (pos[0] >> (C5_POS_F + 2)));
+    int line = (int)(((pos[0] >> (C5_POS_F + 2)) & 7) | (((pos[1] >> (C5_POS_F + 2)) & 7) << 3) |
+                     (((pos[2] >> (C5_POS_F + 2)) & 3) << 6));
+    if (p->cache_tag[line] == tag) {
+        p->st.cache_hits++;
+    } else {
+        p->st.cache_misses++;
+        p->cache_tag[line] = tag;
+    }
+}
+
+void c5_proc_run(c5_proc *p, c5_bray *ray)
+{
+    const c5_frame_regs *r = p->r;
+    const c5_rdram *m = p->mem;
+    const c5_cells *cl = p->cells;
+    int shadow = ray->type == C5_RAY_SHADOW;
+    int grad = !shadow && r->st.gradients;
+    int shade = grad && r->n_lights > 0;
+    int64_t S[3];
+    step_vec(r, ray->dir, S);
+    p->st.cycles += C5_CYC_ISSUE;
+    for (;;) {
+        if (ray->lifetime == 0 || outside_grid(r, ray->pos))
+            break;
+        int v[3] = {(int)(ray->pos[0] >> C5_POS_F), (int)(ray->pos[1] >> C5_POS_F), (int)(ray->pos[2] >> C5_POS_F)};
+        if (v[0] < m->lo[0] || v[0] >= m->hi[0] || v[1] < m->lo[1] || v[1] >= m->hi[1] || v[2] < m->lo[2] ||
+            v[2] >= m->hi[2])
+            break;
+        int b[3] = {v[0] / C5_BLOCK, v[1] / C5_BLOCK, v[2] / C5_BLOCK};
+        if (cl->block_empty[((size_t)b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]]) {
+            int lo[3], hi[3];
+            for (int a = 0; a < 3; a++) {
+                lo[a] = b[a] * C5_BLOCK > m->lo[a] ? b[a] * C5_BLOCK : m->lo[a];
+                hi[a] = (b[a] + 1) * C5_BLOCK < m->hi[a] ? (b[a] + 1) * C5_BLOCK : m->hi[a];
+            }
+            leap(p, ray, S, steps_to_exit(ray->pos, S, lo, hi));
+            continue;
+        }
+        c5_sample smp;
+        c5_interp(r, m, ray->pos, grad, &smp);
+        cache_access(p, ray->pos);
+        p->st.samples++;
+        p->st.cycles += grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
+        int64_t rgba[4];
+        c5_classify(r, smp.value, rgba);
+        int done = 0;
+        if (rgba[3] > 0) {
+            int64_t c[3];
+            if (shade) {
+                int64_t gpos[3];
+                c5_geom_from_voxel(r, ray->pos, gpos);
+                c5_shade(r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations);
+            } else {
+                for (int ch = 0; ch < 3; ch++)
+                    c[ch] = c5_rshift_he(rgba[ch], 15 - C5_RGB_F); /* UQ1.15 -> shaded_rgb UQ4.12 */
+            }
+            done = c5_composite(r, ray, rgba[3], shadow ? NULL : c, &p->st.saturations);
+        }
+        for (int a = 0; a < 3; a++)
+            ray->pos[a] += S[a];
+        if (ray->lifetime != C5_LIFE_NONE)
+            ray->lifetime--;
+        if (done) {
+            if (shadow) {
+                p->st.ends[C5_END_BLOCKED]++;
+            } else {
+                p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
+                p->st.ends[C5_END_OPACITY]++;
+            }
+            return;
+        }
+    }
+    route(p, ray);
+}

@@ -1,0 +1,39 @@
+/* The ray's registers inside the processor: exactly the fields of the 32-byte ray packet
+ * (docs/bit-layouts.md), held as raw integers in arrays for the datapath. Converting to and
+ * from the packet is lossless, which is why a ray's arithmetic cannot depend on where the
+ * cell boundaries fall: between two samples the packet is the ray's whole state. */
+#ifndef C5_RAY_H
+#define C5_RAY_H
+
+#include <stdint.h>
+
+#define C5_POS_F 15       /* pos: UQ9.15, voxel coordinates of the next sample */
+#define C5_DIR_F 14       /* dir: SQ1.14, unit direction */
+#define C5_ONE15 (1 << 15)/* 1.0 in UQ1.15 (contribution, opacity, table entries) */
+#define C5_RGB_F 12       /* red/green/blue: UQ2.12 */
+#define C5_RGB_MAX ((1 << 14) - 1)
+#define C5_LIFE_NONE 4095u /* lifetime: unbounded */
+#define C5_LIFE_MAX 4094u
+#define C5_SURF_NONE 31u   /* interaction: no surface at the ray's end */
+#define C5_NODE_NONE 8191u /* cell_tree_node: none */
+#define C5_MAX_GEN 15
+#define C5_MAX_CELLS 64
+
+typedef struct {
+    int64_t pos[3];    /* UQ9.15 while queued; the processor lets it step outside the grid */
+    int64_t dir[3];    /* SQ1.14 */
+    uint32_t u, v;     /* destination pixel */
+    uint32_t lifetime; /* samples left before the ray's end, C5_LIFE_NONE: unbounded */
+    int64_t w;         /* contribution, UQ1.15 */
+    int64_t opa;       /* accumulated opacity A = 1 - T, UQ1.15 */
+    uint32_t gen, node, cell, type, surf;
+    int64_t rgb[3];    /* UQ2.12: composited colour, or a shadow ray's radiance */
+} c5_bray;
+
+#define C5_PACKET_BYTES 32
+/* Packs into / unpacks from the 32-byte packet (generated layout). Packing asserts that
+ * every field is in its format's range: a ray is only queued inside the grid. */
+void c5_bray_pack(const c5_bray *r, uint8_t out[C5_PACKET_BYTES]);
+void c5_bray_unpack(const uint8_t in[C5_PACKET_BYTES], c5_bray *r);
+
+#endif

@@ -1,0 +1,149 @@
+/* The processor's per-sample datapath (docs/rendering-spec.md sec. 3-5), in the declared
+ * formats of docs/bit-layouts.md: interpolation (sample_value UQ8.8), gradient (SQ8.8),
+ * classification (tf_rgba UQ1.15), shading (normal SQ1.14, light_term and shaded_rgb
+ * UQ4.12), compositing (sample_rgb UQ2.12, opacity UQ1.15). Inline: it is the model's inner
+ * loop. Every step is exact integer arithmetic and one half-to-even rounding. */
+#ifndef C5_SAMPLE_PIPE_H
+#define C5_SAMPLE_PIPE_H
+
+#include "cells.h"
+#include "fxops.h"
+#include "geom.h"
+#include "ray.h"
+#include "regs.h"
+
+typedef struct {
+    int64_t value;   /* UQ8.8 */
+    int64_t grad[3]; /* SQ8.8, scaled by s_min / s_a (proportional to the world gradient) */
+} c5_sample;
+
+static inline int clampi(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
+
+/* Trilinear value and (if want_grad) gradient at pos (UQ9.15 voxel coordinates), read from
+ * the RDRAM cell. Corner indices are clamped to the grid first, then their central-
+ * difference neighbours, exactly as cref's clamp-to-edge (the ghost layers hold them). */
+static inline void c5_interp(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
+                             c5_sample *out)
+{
+    int c[3][2], lo[3][2], hi[3][2];
+    int64_t w[3][2];
+    for (int a = 0; a < 3; a++) {
+        int64_t x = pos[a] - (1 << (C5_POS_F - 1)); /* voxel centres at integers */
+        int i = (int)(x >> C5_POS_F);
+        int64_t f = x & ((1 << C5_POS_F) - 1);      /* voxel_frac UQ0.15 */
+        w[a][0] = (1 << C5_POS_F) - f;
+        w[a][1] = f;
+        for (int k = 0; k < 2; k++) {
+            int g = clampi(i + k, 0, r->dims[a] - 1);
+            c[a][k] = g - m->org[a];
+            lo[a][k] = clampi(g - 1, 0, r->dims[a] - 1) - m->org[a];
+            hi[a][k] = clampi(g + 1, 0, r->dims[a] - 1) - m->org[a];
+        }
+    }
+    const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
+    int64_t v = 0, g[3] = {0, 0, 0};
+    for (int kz = 0; kz < 2; kz++)
+        for (int ky = 0; ky < 2; ky++)
+            for (int kx = 0; kx < 2; kx++) {
+                int64_t wt = w[0][kx] * w[1][ky] * w[2][kz]; /* 45 fraction bits */
+                int base = c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz;
+                v += wt * m->v[base];
+                if (want_grad) {
+                    g[0] += wt * (m->v[hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
+                                  m->v[lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz]);
+                    g[1] += wt * (m->v[c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
+                                  m->v[c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz]);
+                    g[2] += wt * (m->v[c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
+                                  m->v[c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz]);
+                }
+            }
+    out->value = c5_rshift_he(v, 45 - 8);
+    if (want_grad)
+        for (int a = 0; a < 3; a++)
+            out->grad[a] = c5_rshift_he(c5_rshift_he(g[a], 45 - 8) * r->gs[a], 15);
+}
+
+/* Table lookup, linear between entries floor(s) and floor(s) + 1 (254/255 at s = 255). */
+static inline void c5_classify(const c5_frame_regs *r, int64_t value, int64_t rgba[4])
+{
+    int i = (int)(value >> 8);
+    int64_t f = value & 255;
+    if (i > 254) {
+        i = 254;
+        f = 256;
+    }
+    for (int ch = 0; ch < 4; ch++)
+        rgba[ch] = c5_rshift_he((int64_t)r->tf[i][ch] * 256 + ((int64_t)r->tf[i + 1][ch] - r->tf[i][ch]) * f, 8);
+}
+
+/* (N.H)^p from the table, linear between its 2^10 + 1 entries (N.H in SQ1.14, > 0). */
+static inline int64_t c5_spec_pow(const c5_frame_regs *r, int64_t ndh)
+{
+    if (ndh >= (1 << 14))
+        return r->pow_tab[1 << C5_POW_BITS];
+    int i = (int)(ndh >> 4);
+    int64_t f = ndh & 15;
+    return c5_rshift_he((int64_t)r->pow_tab[i] * 16 + ((int64_t)r->pow_tab[i + 1] - r->pow_tab[i]) * f, 4);
+}
+
+/* Phong shading of the table colour (UQ1.15) into shaded_rgb (UQ4.12). gpos: the sample
+ * in geom coordinates (for point lights), d: the ray direction. */
+static inline void c5_shade(const c5_frame_regs *r, const c5_sample *s, const int64_t rgba[4], const int64_t gpos[3],
+                            const int64_t d[3], int64_t out[3], uint64_t *sat)
+{
+    const int64_t *g = s->grad;
+    int64_t m2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2]; /* 16 fraction bits */
+    int64_t k, ks = 0;                                     /* light_term UQ4.12 */
+    if (m2 < 1024) {                                       /* |g| < 1/8 (1/16 value step a voxel) */
+        k = r->ka;
+    } else {
+        int64_t mg[3] = {-g[0], -g[1], -g[2]}, n[3], v[3] = {-d[0], -d[1], -d[2]};
+        c5_geom_normalize(mg, n);
+        if (c5_geom_dot14(n, v) < 0)
+            for (int a = 0; a < 3; a++)
+                n[a] = -n[a]; /* two-sided: the normal faces the viewer */
+        int64_t diff = 0, spec = 0; /* 26 and 27 fraction bits */
+        for (int i = 0; i < r->n_lights; i++) {
+            const c5_light_regs *l = &r->lights[i];
+            int64_t L[3], h[3], H[3];
+            if (l->kind == C5_LIGHT_POINT) {
+                int64_t to[3] = {l->pos[0] - gpos[0], l->pos[1] - gpos[1], l->pos[2] - gpos[2]};
+                c5_geom_normalize(to, L);
+            } else {
+                L[0] = l->dir[0], L[1] = l->dir[1], L[2] = l->dir[2];
+            }
+            int64_t ndl = c5_geom_dot14(n, L);
+            if (ndl <= 0)
+                continue;
+            diff += l->intensity * ndl;
+            for (int a = 0; a < 3; a++)
+                h[a] = L[a] + v[a];
+            if (c5_geom_normalize(h, H) == 0)
+                continue;
+            int64_t ndh = c5_geom_dot14(n, H);
+            if (ndh > 0)
+                spec += l->intensity * c5_spec_pow(r, ndh);
+        }
+        k = r->ka + c5_rshift_he(r->kd * diff, 26);
+        ks = c5_rshift_he(r->ks * spec, 27);
+    }
+    for (int ch = 0; ch < 3; ch++)
+        out[ch] = c5_clamp64(c5_rshift_he(rgba[ch] * k, 15) + ks, 0, 65535, sat);
+}
+
+/* Front-to-back compositing of one sample into the ray (spec sec. 5). Returns 1 when the
+ * ray terminates early. Shadow rays only attenuate (c == NULL). */
+static inline int c5_composite(const c5_frame_regs *r, c5_bray *ray, int64_t alpha, const int64_t c[3],
+                               uint64_t *sat)
+{
+    int64_t t = C5_ONE15 - ray->opa; /* transmittance */
+    if (c) {
+        int64_t wta = ray->w * t * alpha; /* 45 fraction bits, < 2^46 */
+        for (int ch = 0; ch < 3; ch++)
+            ray->rgb[ch] = c5_clamp64(ray->rgb[ch] + c5_rshift128_he((__int128)wta * c[ch], 45), 0, C5_RGB_MAX, sat);
+    }
+    ray->opa += c5_rshift_he(t * alpha, 15);
+    return ray->opa >= r->a_max;
+}
+
+#endif

@@ -1,0 +1,64 @@
+/* The datapath's inline primitives (rtl_model/fxops.h) against the fixed-point layer they
+ * specialise: the same bits for random and extreme operands of the model's formats. */
+#include <stdint.h>
+
+#include "fixed.h"
+#include "fxops.h"
+#include "harness.h"
+#include "rng.h"
+
+/* Shifting right with half-to-even rounding is c5_fx_shift into a format with s fewer
+ * fraction bits. */
+TEST(fxops_rshift_matches_fx_shift)
+{
+    uint64_t rng = 7;
+    c5_fx_fmt src = C5_SQ(15, 45, "src"), dst = C5_SQ(45, 15, "dst");
+    for (int i = 0; i < 200000; i++) {
+        int64_t x = (int64_t)(c5_splitmix64(&rng) >> 3) - ((int64_t)1 << 60);
+        if (i < 6) /* the extremes and the ties */
+            x = (int64_t[]){c5_fx_min_raw(src), c5_fx_max_raw(src), (int64_t)1 << 29, -((int64_t)1 << 29),
+                            3 * ((int64_t)1 << 29), 0}[i];
+        int64_t want = c5_fx_shift(x, src, 0, dst, C5_RND_HALF_EVEN, NULL);
+        CHECK_MSG(c5_rshift_he(x, 30) == want, "x=%lld: %lld vs %lld", (long long)x, (long long)c5_rshift_he(x, 30),
+                  (long long)want);
+        CHECK_INT(c5_rshift128_he((__int128)x, 30), want);
+    }
+}
+
+TEST(fxops_div_matches_fx_div)
+{
+    uint64_t rng = 11;
+    c5_fx_fmt f = C5_SQ(30, 0, "int");
+    for (int i = 0; i < 200000; i++) {
+        int64_t n = (int64_t)(c5_splitmix64(&rng) >> 34) - ((int64_t)1 << 29);
+        int64_t d = (int64_t)(c5_splitmix64(&rng) >> 50) + 1;
+        if (i % 5 == 0)
+            d = 2; /* exact ties */
+        int64_t want = c5_fx_div(n, f, d, f, f, C5_RND_HALF_EVEN, NULL);
+        CHECK_MSG(c5_div_he(n, d) == want, "%lld/%lld: %lld vs %lld", (long long)n, (long long)d,
+                  (long long)c5_div_he(n, d), (long long)want);
+    }
+}
+
+TEST(fxops_isqrt_is_the_floor_of_the_root)
+{
+    uint64_t rng = 3;
+    for (int i = 0; i < 100000; i++) {
+        unsigned __int128 x = ((unsigned __int128)c5_splitmix64(&rng) << (i % 27)) ^ c5_splitmix64(&rng);
+        if (i < 4)
+            x = (unsigned __int128[]){0, 1, ((unsigned __int128)1 << 90) - 1, (unsigned __int128)UINT64_MAX}[i];
+        uint64_t r = c5_isqrt(x);
+        CHECK((unsigned __int128)r * r <= x);
+        CHECK((unsigned __int128)(r + 1) * (r + 1) > x);
+    }
+}
+
+TEST(fxops_clamp_counts_every_saturation)
+{
+    uint64_t sat = 0;
+    CHECK_INT(c5_clamp64(5, 0, 4, &sat), 4);
+    CHECK_INT(c5_clamp64(-1, 0, 4, &sat), 0);
+    CHECK_INT(c5_clamp64(4, 0, 4, &sat), 4);
+    CHECK_INT(c5_clamp64(0, 0, 4, &sat), 0);
+    CHECK_INT(sat, 2);
+}
