@@ -26,6 +26,8 @@ static const char usage_text[] =
     "                    which also reports board cycles, fetches and the stages that ran\n"
     "  --cells N|NxMxK   rtl only: split the grid into NxNxN (or NxMxK) cells (default 1)\n"
     "  --queue-key K     rtl only: morton (default) or fifo order of the ray queue\n"
+    "  --host-bw MB/S    rtl only: host/disk -> RDRAM bandwidth of a cell fetch (default 132)\n"
+    "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n"
     "  --json            print one JSON object instead of the text summary; each frame\n"
     "                    has \"crc32\", a CRC-32 of its float RGB pixels, and with rtl\n"
     "                    \"board\", the model's counters\n";
@@ -40,6 +42,8 @@ typedef struct {
     int cells[3], have_cells;
     c5_queue_key key;
     int have_key;
+    double host_mbs, host_ms; /* --host-bw, --host-latency; 0: the model's defaults */
+    int have_host;
 } render_args;
 
 static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
@@ -48,12 +52,14 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
     a->scene_arg = "default";
     a->cells[0] = a->cells[1] = a->cells[2] = 1;
     a->key = C5_KEY_MORTON;
+    a->host_ms = -1;
     int have_scene = 0;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         int has_val = i + 1 < argc;
         if (!strcmp(o, "-o") || !strcmp(o, "--threads") || !strcmp(o, "--frames") || !strcmp(o, "--size") ||
-            !strcmp(o, "--volume") || !strcmp(o, "--model") || !strcmp(o, "--cells") || !strcmp(o, "--queue-key")) {
+            !strcmp(o, "--volume") || !strcmp(o, "--model") || !strcmp(o, "--cells") || !strcmp(o, "--queue-key") ||
+            !strcmp(o, "--host-bw") || !strcmp(o, "--host-latency")) {
             if (!has_val)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -81,6 +87,14 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
                 if (c5_cli_queue_key(o, v, &a->key, err))
                     return -1;
                 a->have_key = 1;
+            } else if (!strcmp(o, "--host-bw")) {
+                if (c5_cli_double(o, v, 0.001, 1e6, &a->host_mbs, err))
+                    return -1;
+                a->have_host = 1;
+            } else if (!strcmp(o, "--host-latency")) {
+                if (c5_cli_double(o, v, 0, 1e5, &a->host_ms, err))
+                    return -1;
+                a->have_host = 1;
             }
         } else if (!strcmp(o, "--json")) {
             a->json = 1;
@@ -95,8 +109,9 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
     }
     /* Options of the other model are refused rather than ignored: a run that silently did
      * not do what was asked is worse than an error. */
-    if (!a->rtl && (a->have_cells || a->have_key))
-        return c5_fail(err, "%s: only with --model rtl", a->have_cells ? "--cells" : "--queue-key");
+    if (!a->rtl && (a->have_cells || a->have_key || a->have_host))
+        return c5_fail(err, "%s: only with --model rtl",
+                       a->have_cells ? "--cells" : a->have_key ? "--queue-key" : "--host-bw/--host-latency");
     if (a->rtl && a->threads)
         return c5_fail(err, "--threads: only with --model cref (the board model runs on one thread)");
     return 0;
@@ -219,7 +234,9 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
         c5_cref_opts opts = {.threads = (int)a->threads};
         return c5_cref_render(s, sv, f, &opts, img, st, err);
     }
-    c5_board_opts opts = {.key = a->key};
+    c5_board_opts opts = {.key = a->key, .host_bw = a->host_mbs * 1e6};
+    /* -1: not given (the model's default); 0 given: explicitly no latency. */
+    opts.host_latency_s = a->host_ms < 0 ? 0 : a->host_ms == 0 ? -1 : a->host_ms * 1e-3;
     memcpy(opts.cells, a->cells, sizeof opts.cells);
     if (c5_board_render(s, sv, f, &opts, img, board, err) != 0)
         return -1;

@@ -6,11 +6,15 @@
 
 #include <stdint.h>
 
+/* x * 2^s for any sign (a left shift of a negative value is undefined in C). */
+static inline int64_t c5_shl(int64_t x, int s) { return x * ((int64_t)1 << s); }
+static inline __int128 c5_shl128(__int128 x, int s) { return x * ((__int128)1 << s); }
+
 /* floor(x / 2^s) rounded half to even; s in 1..62. Arithmetic on negatives too. */
 static inline int64_t c5_rshift_he(int64_t x, int s)
 {
     int64_t q = x >> s; /* floor */
-    int64_t r = x - (q << s);
+    int64_t r = x - c5_shl(q, s);
     int64_t half = (int64_t)1 << (s - 1);
     if (r > half || (r == half && (q & 1)))
         q++;
@@ -21,7 +25,7 @@ static inline int64_t c5_rshift_he(int64_t x, int s)
 static inline int64_t c5_rshift128_he(__int128 x, int s)
 {
     __int128 q = x >> s;
-    __int128 r = x - (q << s);
+    __int128 r = x - c5_shl128(q, s);
     __int128 half = (__int128)1 << (s - 1);
     if (r > half || (r == half && (q & 1)))
         q++;

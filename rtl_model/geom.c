@@ -17,7 +17,7 @@ static int plane_t(const int64_t p[3], const int64_t n[3], const int64_t O[3], c
         return 0;             /* exactly parallel: never hits */
     int64_t po[3] = {p[0] - O[0], p[1] - O[1], p[2] - O[2]};
     __int128 num = dot(po, n); /* 29 fraction bits */
-    *t = c5_div_he(num << 14, den);
+    *t = c5_div_he(c5_shl128(num, 14), den);
     return 1;
 }
 
@@ -52,7 +52,7 @@ int c5_geom_hit(const c5_surface_regs *s, const int64_t O[3], const int64_t d[3]
         return 0;
     __int128 sq = (__int128)c5_isqrt((unsigned __int128)disc); /* 29 */
     /* (29 - 28) fraction bits after the division: shift 14 more for t's 15. */
-    int64_t t1 = c5_div_he((-b - sq) << 14, a), t2 = c5_div_he((-b + sq) << 14, a);
+    int64_t t1 = c5_div_he(c5_shl128(-b - sq, 14), a), t2 = c5_div_he(c5_shl128(-b + sq, 14), a);
     if (t1 > tmin && t1 < tmax) {
         *t = t1;
         return 1;
@@ -79,7 +79,7 @@ int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
         return 0;
     }
     for (int a = 0; a < 3; a++)
-        out[a] = c5_div_he((__int128)v[a] << 28, (__int128)len);
+        out[a] = c5_div_he(c5_shl128(v[a], 28), (__int128)len);
     return (int64_t)(len >> 14);
 }
 

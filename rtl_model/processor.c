@@ -100,8 +100,8 @@ static int grid_range(const c5_frame_regs *r, const int64_t O[3], const int64_t 
                 return 0;
             continue;
         }
-        int64_t ta = c5_div_he((__int128)(0 - O[a]) << 14, d[a]);
-        int64_t tb = c5_div_he((__int128)(r->gdims[a] - O[a]) << 14, d[a]);
+        int64_t ta = c5_div_he(c5_shl128(-O[a], 14), d[a]);
+        int64_t tb = c5_div_he(c5_shl128(r->gdims[a] - O[a], 14), d[a]);
         if (ta > tb) {
             int64_t x = ta;
             ta = tb;

@@ -1,38 +1,81 @@
 #!/usr/bin/env bash
-# make bench: cref's speed on every built-in scene at 256x256, one thread and all cores,
-# printed as a table and written to BUILD/bench.json. With ../shared/data/volumes/ present,
-# also brain_mirrors with a real CT volume in place of its stand-in.
+# make bench: at 256x256, every built-in scene rendered by cref (one thread and all cores)
+# and by the board model (one thread, 1 and 8 cells; Morton and FIFO queue keys), and the
+# model against cref (cube5 compare). Printed as tables and written to BUILD/bench.json.
+# With ../shared/data/volumes/ present, also brain_mirrors with a real CT volume.
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
 cores=$(nproc)
 out="$build/bench.json"
 data="$(cd "$(dirname "$0")/.." && pwd)/../shared/data/volumes"
-runs=()
-for scene in $("$cube5" scenes | awk '{print $1}'); do
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+scenes=$("$cube5" scenes | awk '{print $1}')
+for scene in $scenes; do
     for t in 1 "$cores"; do
-        runs+=("$scene|$t|$("$cube5" render "$scene" --size 256x256 --frames 1 --threads "$t" --json)")
+        echo "cref|$scene|$t|$("$cube5" render "$scene" --size 256x256 --frames 1 --threads "$t" --json)"
     done
-done
+    for cells in 1 2; do
+        for key in morton fifo; do
+            echo "rtl|$scene|$cells|$key|$("$cube5" render "$scene" --size 256x256 --frames 1 --model rtl \
+                --cells "$cells" --queue-key "$key" --json)"
+        done
+    done
+    echo "compare|$scene|$("$cube5" compare "$scene" --size 256x256 --cells 2 --json)"
+done > "$tmp/runs"
 if [ -f "$data/CThead_256x256x113_uint8.raw" ]; then
-    runs+=("brain_mirrors+CThead|$cores|$("$cube5" render brain_mirrors --size 256x256 --frames 1 \
-        --threads "$cores" --volume "$data/CThead_256x256x113_uint8.raw" --json)")
+    echo "cref|brain_mirrors+CThead|$cores|$("$cube5" render brain_mirrors --size 256x256 --frames 1 \
+        --threads "$cores" --volume "$data/CThead_256x256x113_uint8.raw" --json)" >> "$tmp/runs"
+    echo "compare|brain_mirrors+CThead|$("$cube5" compare brain_mirrors --size 256x256 --cells 2 \
+        --volume "$data/CThead_256x256x113_uint8.raw" --json)" >> "$tmp/runs"
 else
     echo "bench: ../shared/data/volumes/ not found: real-volume runs skipped" >&2
 fi
-printf '%s\n' "${runs[@]}" | python3 -c '
+python3 - "$tmp/runs" "$out" <<'PY'
 import json, sys
-rows = []
-for line in sys.stdin:
-    name, threads, text = line.rstrip("\n").split("|", 2)
-    o = json.loads(text)
-    rays = sum(o["rays"].values())
-    rows.append({"scene": name, "threads": int(threads), "rays": rays, "samples": o["samples"],
-                 "wall_s": o["wall_s"], "msamples_per_s": o["samples"] / o["wall_s"] / 1e6})
+cref, rtl, cmp = [], [], []
+for line in open(sys.argv[1]):
+    kind, rest = line.rstrip("\n").split("|", 1)
+    if kind == "cref":
+        name, threads, text = rest.split("|", 2)
+        o = json.loads(text)
+        cref.append({"scene": name, "threads": int(threads), "rays": sum(o["rays"].values()),
+                     "samples": o["samples"], "wall_s": o["wall_s"],
+                     "msamples_per_s": o["samples"] / o["wall_s"] / 1e6})
+    elif kind == "rtl":
+        name, cells, key, text = rest.split("|", 3)
+        o = json.loads(text)
+        b = o["board"]
+        passed = o["samples"] + b["samples_leaped"]
+        rtl.append({"scene": name, "cells": int(cells) ** 3, "key": key, "rays": sum(o["rays"].values()),
+                    "samples": o["samples"], "samples_leaped": b["samples_leaped"], "wall_s": o["wall_s"],
+                    "msamples_per_s": passed / o["wall_s"] / 1e6, "board_cycles": b["cycles"],
+                    "board_s": b["board_s"], "fetches": b["fetches"], "fetch_bytes": b["fetch_bytes"],
+                    "spills": b["spills"], "cache_misses": b["cache_misses"],
+                    "cache_miss_rate": b["cache_misses"] / max(1, b["cache_hits"] + b["cache_misses"])})
+    else:
+        name, text = rest.split("|", 1)
+        o = json.loads(text)
+        cmp.append({k: o[k] for k in ("psnr_db", "rmse", "max_abs_err", "cref_wall_s", "model_wall_s",
+                                       "board_cycles", "board_s", "fetches")} | {"scene": name})
 print("%-22s %7s %10s %11s %8s %12s" % ("cref 256x256", "threads", "rays", "samples", "wall s", "Msamples/s"))
-for r in rows:
+for r in cref:
     print("%-22s %7d %10d %11d %8.3f %12.2f" % (r["scene"], r["threads"], r["rays"], r["samples"], r["wall_s"],
                                                r["msamples_per_s"]))
-json.dump({"cref": rows}, open(sys.argv[1], "w"), indent=1)
-print("written:", sys.argv[1])
-' "$out"
+print("\n%-16s %5s %6s %10s %9s %8s %11s %11s %8s %7s %9s" % (
+    "rtl 256x256", "cells", "key", "samples", "leaped", "wall s", "Msamples/s", "cycles", "board s", "fetches",
+    "miss rate"))
+for r in rtl:
+    print("%-16s %5d %6s %10d %9d %8.3f %11.2f %11d %8.4f %7d %8.2f%%" % (
+        r["scene"], r["cells"], r["key"], r["samples"], r["samples_leaped"], r["wall_s"], r["msamples_per_s"],
+        r["board_cycles"], r["board_s"], r["fetches"], 100 * r["cache_miss_rate"]))
+print("  (Msamples/s counts sample positions passed, taken or leaped, as cref's samples do)")
+print("\n%-22s %8s %10s %9s %8s %8s %8s" % ("compare, 8 cells", "PSNR dB", "RMSE", "max err", "cref s", "model s",
+                                            "fetches"))
+for r in cmp:
+    print("%-22s %8.2f %10.2e %9.4f %8.3f %8.3f %8d" % (r["scene"], r["psnr_db"], r["rmse"], r["max_abs_err"],
+                                                       r["cref_wall_s"], r["model_wall_s"], r["fetches"]))
+json.dump({"cref": cref, "rtl": rtl, "compare": cmp}, open(sys.argv[2], "w"), indent=1)
+print("written:", sys.argv[2])
+PY

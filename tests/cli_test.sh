@@ -145,6 +145,18 @@ expect render_cells_needs_rtl 2 "--cells: only with --model rtl" -- "$cube5" ren
 expect render_rtl_no_threads 2 "--threads: only with --model cref" -- "$cube5" render default --model rtl --threads 2
 expect render_bad_queue_key 2 "--queue-key: expected morton or fifo" -- \
     "$cube5" render default --model rtl --queue-key lifo
+expect render_host_bw_needs_rtl 2 "--host-bw/--host-latency: only with --model rtl" -- \
+    "$cube5" render default --host-bw 10
+expect render_bad_host_bw 2 "--host-bw" -- "$cube5" render default --model rtl --host-bw 0
+# The fetch stall follows the host link: no latency and a faster link stall less.
+stall() { "$cube5" render brain_mirrors --size 16x16 --frames 1 --model rtl --cells 2 "$@" --json |
+    python3 -c 'import json,sys; print(json.load(sys.stdin)["board"]["cycles_fetch"])'; }
+s_def=$(stall); s_fast=$(stall --host-latency 0 --host-bw 800)
+if [ -n "$s_def" ] && [ -n "$s_fast" ] && [ "$s_fast" -lt "$s_def" ]; then
+    ok render_host_link_sets_fetch_stall
+else
+    bad render_host_link_sets_fetch_stall "default $s_def, fast $s_fast"
+fi
 
 json=$("$cube5" compare default --size 32x32 --cells 2 --json)
 if python3 -c '
