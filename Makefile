@@ -27,7 +27,7 @@ LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
 LAYOUTS_VHD := $(BUILD)/gen/c5_layouts_pkg.vhd
 GEN_LAYOUTS := python3 scripts/gen-layouts.py spec/layouts.toml
 
-.PHONY: all demo test asan bench deps docs clean
+.PHONY: all demo test asan bench tb deps docs clean
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
 
 deps: $(DEPS_OK)
@@ -90,6 +90,10 @@ asan:
 
 bench: $(BUILD)/cube5
 	bash scripts/bench.sh $(BUILD)
+
+# The board model against cref on every built-in scene, 1, 8 and 27 cells (tb/README.md).
+tb: $(BUILD)/cube5
+	bash tb/compare_scenes.sh $(BUILD)
 
 clean:
 	rm -rf build out

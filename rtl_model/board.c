@@ -312,8 +312,15 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         board_free(&b);
         return -1;
     }
-    for (size_t i = 0; i < npx * 3; i++)
+    /* frame_acc is UQ20.12: 32 bits a channel. Far beyond any scene's light, but a clamp
+     * here would be counted, never wrapped. */
+    for (size_t i = 0; i < npx * 3; i++) {
+        if (b.fb[i] > UINT32_MAX) {
+            b.fb[i] = UINT32_MAX;
+            b.proc.st.saturations++;
+        }
         out->rgb[i] = (float)ldexp((double)b.fb[i], -C5_RGB_F);
+    }
 
     const c5_proc_stats *ps = &b.proc.st;
     memcpy(stats->rays, ps->rays, sizeof stats->rays);

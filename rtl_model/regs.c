@@ -188,10 +188,8 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
         q->eta_in = c5_regs_fx(1 / m->ior, 28, 0, (int64_t)16 << 28);
         q->eta_out = c5_regs_fx(m->ior, 28, 0, (int64_t)16 << 28);
     }
-    /* A weight below min_weight is cut: the threshold rounds up so that no weight that
-     * cref cuts survives in the model. */
-    r->min_w = (int64_t)ceil(ldexp(s->render.min_weight, 15));
-    r->min_rgb = (int64_t)ceil(ldexp(s->render.min_weight, 12));
+    r->min_w = c5_regs_fx(s->render.min_weight, 15, 0, C5_ONE15);
+    r->min_rgb = c5_regs_fx(s->render.min_weight, 12, 0, C5_RGB_MAX);
     r->max_bounces = s->render.max_bounces;
     for (int a = 0; a < 3; a++) {
         if (check_max(v3_comp(s->render.background, a), 4, "background (UQ2.12)", err))
