@@ -217,3 +217,13 @@ void c5_cli_stages_text(const c5_board_stages *st, char *buf, size_t len)
     if (!at)
         snprintf(buf, len, "eye rays only");
 }
+
+int c5_cli_help(int argc, char **argv, const char *usage)
+{
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            fputs(usage, stdout);
+            return 1;
+        }
+    return 0;
+}

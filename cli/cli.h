@@ -43,6 +43,9 @@ int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *
 /* OUT for frame i of n: OUT itself when n == 1, else BASE_0007.EXT. */
 void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);
 
+/* 1 (after printing usage to stdout) when any argument is --help or -h. */
+int c5_cli_help(int argc, char **argv, const char *usage);
+
 typedef int (*c5_cmd_fn)(int argc, char **argv);
 int c5_cmd_compare(int argc, char **argv);
 int c5_cmd_render(int argc, char **argv);

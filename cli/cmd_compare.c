@@ -209,11 +209,8 @@ static void result_free(compare_result *r)
 
 int c5_cmd_compare(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            fputs(usage_text, stdout);
-            return 0;
-        }
+    if (c5_cli_help(argc, argv, usage_text))
+        return 0;
     compare_args a;
     c5_err err;
     static c5_scene s;

@@ -246,11 +246,8 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
 
 int c5_cmd_render(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            fputs(usage_text, stdout);
-            return 0;
-        }
+    if (c5_cli_help(argc, argv, usage_text))
+        return 0;
     render_args a;
     c5_err err;
     static c5_scene s;
