@@ -15,10 +15,10 @@ static void add_scaled(int64_t out[3], const int64_t v[3], int64_t k, int shift)
 static int spawn_ok(c5_proc *p, const c5_bray *child)
 {
     const c5_frame_regs *r = p->r;
-    int64_t m = child->type == C5_RAY_SHADOW
-                    ? (child->rgb[0] > child->rgb[1] ? (child->rgb[0] > child->rgb[2] ? child->rgb[0] : child->rgb[2])
-                                                     : (child->rgb[1] > child->rgb[2] ? child->rgb[1] : child->rgb[2]))
-                    : child->w;
+    int64_t m = child->w; /* a shadow ray's weight is its colour: its largest channel */
+    if (child->type == C5_RAY_SHADOW)
+        for (int c = 0; c < 3; c++)
+            m = c == 0 || child->rgb[c] > m ? child->rgb[c] : m;
     if (m <= 0 || m < (child->type == C5_RAY_SHADOW ? r->min_rgb : r->min_w)) {
         p->st.ends[C5_CUT_WEIGHT]++;
         return 0;

@@ -65,12 +65,10 @@ static void leap(c5_proc *p, c5_bray *ray, const int64_t S[3], int64_t n)
 }
 
 /* Where a ray goes next, outside the active cell's traversal: its end, a leap over an
- * empty cell, or the queue of the cell it is in. */
-static void route(c5_proc *p, c5_bray *ray)
+ * empty cell, or the queue of the cell it is in. S: the ray's step vector. */
+static void route(c5_proc *p, c5_bray *ray, const int64_t S[3])
 {
     const c5_frame_regs *r = p->r;
-    int64_t S[3];
-    step_vec(r, ray->dir, S);
     for (;;) {
         if (ray->lifetime == 0 || outside_grid(r, ray->pos)) {
             c5_proc_finish(p, ray, -2 * (r->step_g >> 5) - 1);
@@ -185,7 +183,9 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d[3], int64_t
         if (k <= klast && k < n_end) {
             int64_t life = n_end == INT64_MAX ? C5_LIFE_NONE : n_end - k;
             ray.lifetime = (uint32_t)(life > C5_LIFE_MAX && life != C5_LIFE_NONE ? C5_LIFE_MAX : life);
-            route(p, &ray);
+            int64_t S[3];
+            step_vec(r, ray.dir, S);
+            route(p, &ray, S);
             return;
         }
     }
@@ -271,5 +271,5 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             return;
         }
     }
-    route(p, ray);
+    route(p, ray, S);
 }
