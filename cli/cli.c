@@ -192,12 +192,15 @@ json_t *c5_cli_board_json(const c5_board_stats *st)
         {"spills", st->spills},           {"queue_pops", st->queue_pops},
         {"queue_max", st->queue_max},     {"cache_hits", st->cache_hits},
         {"cache_misses", st->cache_misses}, {"saturations", st->saturations},
-        {"samples_leaped", st->samples_leaped},
+        {"samples_leaped", st->samples_leaped}, {"tree_nodes", st->tree_nodes},
+        {"tree_slots", st->tree_slots},   {"tree_tags", st->tree_tags},
+        {"tree_reads", st->tree_reads},   {"tree_writes", st->tree_writes},
     };
     for (size_t i = 0; i < sizeof n / sizeof n[0]; i++)
         json_object_set_new(o, n[i].key, json_integer((json_int_t)n[i].v));
     json_object_set_new(o, "board_s", json_real(st->board_s));
     json_object_set_new(o, "cells", json_integer(st->cells));
+    json_object_set_new(o, "tree_overflow", json_boolean(st->tree_overflow));
     json_object_set_new(o, "stages", stages);
     return o;
 }

@@ -127,8 +127,8 @@ static void add_stats(c5_cref_stats *sum, const c5_cref_stats *f)
     sum->wall_s += f->wall_s;
 }
 
-/* The board's totals over the frames: counters add, queue_max is the largest, the stages
- * are those of any frame and the cell count is the split's. */
+/* The board's totals over the frames: counters add, queue_max and the Cell Tree's size are
+ * the largest frame's, the stages are those of any frame and the cell count is the split's. */
 static void add_board(c5_board_stats *sum, const c5_board_stats *f)
 {
     sum->cycles += f->cycles;
@@ -145,6 +145,13 @@ static void add_board(c5_board_stats *sum, const c5_board_stats *f)
     sum->cache_misses += f->cache_misses;
     sum->saturations += f->saturations;
     sum->samples_leaped += f->samples_leaped;
+    sum->tree_nodes = f->tree_nodes > sum->tree_nodes ? f->tree_nodes : sum->tree_nodes;
+    sum->tree_slots = f->tree_slots > sum->tree_slots ? f->tree_slots : sum->tree_slots;
+    sum->tree_overflow |= f->tree_overflow;
+    sum->tree_tags += f->tree_tags;
+    sum->tree_reads += f->tree_reads;
+    sum->tree_writes += f->tree_writes;
+    sum->tree_wall_s += f->tree_wall_s;
     sum->stages.gradients |= f->stages.gradients;
     sum->stages.shadow |= f->stages.shadow;
     sum->stages.reflect |= f->stages.reflect;
@@ -194,6 +201,10 @@ static void print_board(const render_args *a, const c5_board_stats *b)
            (unsigned long long)b->cache_misses);
     printf("  leaped   %llu sample positions (empty blocks and cells)\n", (unsigned long long)b->samples_leaped);
     printf("  saturate %llu datapath result(s) clamped\n", (unsigned long long)b->saturations);
+    printf("  tree     %u Cell Tree nodes (%u slots of 12 bytes)%s, %llu packets tagged, %llu node reads, "
+           "%llu writes\n", (unsigned)b->tree_nodes, (unsigned)b->tree_slots,
+           b->tree_overflow ? ", OVERFLOWED the 96 KB DSP RAM" : "", (unsigned long long)b->tree_tags,
+           (unsigned long long)b->tree_reads, (unsigned long long)b->tree_writes);
 }
 
 static void print_text(const char *label, const c5_scene *s, const c5_supervol *sv, int frames, int threads,

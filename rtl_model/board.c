@@ -37,6 +37,8 @@ typedef struct {
     uint32_t seq;            /* FIFO key */
     uint64_t *fb;            /* frame buffer, frame_acc UQ20.12 per channel */
     c5_board_stats *st;
+    c5_ctree *tree;          /* opts->tree or own_tree */
+    c5_ctree *own_tree;
     int oom;
 } board;
 
@@ -87,8 +89,16 @@ static int edram_insert(board *b, const c5_bray *r)
     return 1;
 }
 
-/* The processor hands a ray on: the active cell's sorter, else (full, or another cell) the
- * DSP's SDRAM queue over the ray bus. */
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* The processor hands a ray on: the active cell's sorter (the ray stays in its cell, so its
+ * Cell Tree node stays), else (full, or another cell) over the ray bus to the DSP, which
+ * tags it with its node before queueing it in SDRAM. */
 static void on_enqueue(void *ctx, const c5_bray *r)
 {
     board *b = ctx;
@@ -97,8 +107,12 @@ static void on_enqueue(void *ctx, const c5_bray *r)
             return;
         b->st->spills++;
     }
+    c5_bray q = *r;
+    double t0 = now_s();
+    q.node = c5_ctree_tag(b->tree, r->node, (int)r->cell);
+    b->st->tree_wall_s += now_s() - t0;
     uint8_t pk[C5_PACKET_BYTES];
-    c5_bray_pack(r, pk);
+    c5_bray_pack(&q, pk);
     if (push_sdram(b, (int)r->cell, pk) != 0)
         b->oom = 1;
     b->st->bus_packets++;
@@ -116,12 +130,17 @@ static void on_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
 static int schedule(board *b, int *sched_pos)
 {
     const c5_board_opts *o = b->o;
-    if (o->sched == C5_SCHED_EXTERNAL)
+    if (o->sched == C5_SCHED_EXTERNAL) {
         while (*sched_pos < o->schedule_len) {
             int c = o->schedule[(*sched_pos)++];
-            if (c >= 0 && c < b->cells.count && b->q[c].n > b->q[c].head)
+            if (b->q[c].n > b->q[c].head) {
+                b->st->sched_loads++;
                 return c;
+            }
+            b->st->sched_skipped++;
         }
+        b->st->sched_fallback++; /* undone below when no queue holds a ray */
+    }
     int best = -1;
     size_t best_n = 0;
     for (int c = 0; c < b->cells.count; c++) {
@@ -133,6 +152,8 @@ static int schedule(board *b, int *sched_pos)
             best_n = n;
         }
     }
+    if (best < 0 && o->sched == C5_SCHED_EXTERNAL)
+        b->st->sched_fallback--;
     return best;
 }
 
@@ -168,13 +189,6 @@ static void process_cell(board *b, int cell)
         b->st->queue_pops++;
         c5_proc_run(&b->proc, &r);
     }
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static uint64_t fetch_cycles(const c5_board_opts *o, size_t bytes)
@@ -217,6 +231,7 @@ static void board_free(board *b)
     free(b->free_slots);
     free(b->fb);
     c5_rq_free(&b->edram);
+    free(b->own_tree);
     c5_rdram_free(&b->mem);
     c5_cells_free(&b->cells);
 }
@@ -256,6 +271,12 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     b.mem.cell = -1;
     if (c5_regs_build(s, sv, &o, &b.r, err) != 0)
         return -1;
+    int ncells = o.cells[0] * o.cells[1] * o.cells[2];
+    if (o.sched == C5_SCHED_EXTERNAL)
+        for (int i = 0; i < o.schedule_len; i++)
+            if (o.schedule[i] < 0 || o.schedule[i] >= ncells)
+                return c5_fail(err, "schedule entry %d: cell %d is outside the %d cells of the split", i,
+                               o.schedule[i], ncells);
     c5_supervol dummy;
     uint8_t voxel;
     const c5_supervol *grid = grid_or_dummy(sv, &dummy, &voxel);
@@ -270,7 +291,10 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     b.slot = malloc((size_t)o.queue_capacity * C5_PACKET_BYTES);
     b.free_slots = malloc((size_t)o.queue_capacity * sizeof *b.free_slots);
     b.fb = calloc(npx * 3, sizeof *b.fb);
-    if (!b.q || !b.slot || !b.free_slots || !b.fb || c5_rq_init(&b.edram, &qcfg) != 0) {
+    b.tree = o.tree;
+    if (!b.tree && (b.tree = b.own_tree = malloc(sizeof *b.own_tree)) != NULL)
+        c5_ctree_init(b.tree, 0);
+    if (!b.q || !b.slot || !b.free_slots || !b.fb || !b.tree || c5_rq_init(&b.edram, &qcfg) != 0) {
         board_free(&b);
         return c5_fail(err, "out of memory for the board model (or queue capacity %d outside 1..%u)",
                        o.queue_capacity, C5_RQ_MAX_CAPACITY);
@@ -331,6 +355,12 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->cache_misses = ps->cache_misses;
     stats->saturations = ps->saturations;
     stats->queue_max = b.edram.stats.max_count;
+    stats->tree_nodes = b.tree->nodes;
+    stats->tree_slots = b.tree->used;
+    stats->tree_overflow = b.tree->overflow;
+    stats->tree_tags = b.tree->tags;
+    stats->tree_reads = b.tree->reads;
+    stats->tree_writes = b.tree->writes;
     stats->cycles = stats->cycles_process + stats->cycles_fetch;
     stats->board_s = (double)stats->cycles / CLOCK_HZ;
     board_free(&b);

@@ -10,6 +10,7 @@
 
 #include <stdint.h>
 
+#include "cell_tree.h"
 #include "cref.h"
 #include "fixed.h"
 #include "image.h"
@@ -26,15 +27,17 @@ typedef enum {
 typedef enum {
     C5_SCHED_MAXWORK = 1,   /* the online Max Work rule: most queued rays, ties to the lowest id */
     C5_SCHED_MINWORK = 2,   /* fewest queued rays first: a deliberately different order (tests) */
-    C5_SCHED_EXTERNAL = 3,  /* follow opts.schedule, then Max Work (the Cell Tree seam, issue 4) */
+    C5_SCHED_EXTERNAL = 3,  /* follow opts.schedule (skipping cells without rays), then Max Work */
 } c5_sched_kind;
 
 typedef struct {
     int cells[3];            /* split of the grid into cells per axis; 0 or 1: one cell */
     c5_queue_key key;        /* 0: C5_KEY_MORTON */
     c5_sched_kind sched;     /* 0: C5_SCHED_MAXWORK */
-    const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order */
+    const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order (the Cell Tree's) */
     int schedule_len;
+    c5_ctree *tree;          /* the DSP's Cell Tree of this frame, filled here after the caller's
+                              * c5_ctree_init (which sets its capacity); NULL: built and dropped */
     int queue_capacity;      /* eDRAM sorter entries, 0: 256 */
     int all_stages;          /* 1: keep every stage on even when the scene does not need it */
     double host_bw;          /* bytes/s from host memory/disk to RDRAM, 0: 132e6 (PCI 33 MHz x 32 bit) */
@@ -66,6 +69,13 @@ typedef struct {
     uint32_t queue_max;      /* largest eDRAM queue occupancy */
     uint64_t cache_hits, cache_misses; /* voxel-block cache model (the queue key's benefit) */
     uint64_t saturations;    /* datapath results clamped (all datapaths together) */
+    uint64_t sched_loads;    /* fetches that followed the external schedule */
+    uint64_t sched_skipped;  /* schedule entries passed over: the cell had no rays */
+    uint64_t sched_fallback; /* fetches chosen by Max Work after the schedule ran out */
+    uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
+    int tree_overflow;       /* the tree outgrew the DSP RAM (the frame is still right) */
+    uint64_t tree_tags, tree_reads, tree_writes; /* DSP work building it: packets, node accesses */
+    double tree_wall_s;      /* host time of building it */
     c5_board_stages stages;
     int cells;               /* cells in the split */
     double wall_s;           /* host time of the model */
