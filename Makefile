@@ -27,7 +27,7 @@ LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
 LAYOUTS_VHD := $(BUILD)/gen/c5_layouts_pkg.vhd
 GEN_LAYOUTS := python3 scripts/gen-layouts.py spec/layouts.toml
 
-.PHONY: all demo test asan bench tb deps docs clean
+.PHONY: all demo test asan bench tb results deps docs clean
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
 
 deps: $(DEPS_OK)
@@ -94,6 +94,10 @@ bench: $(BUILD)/cube5
 # The board model against cref on every built-in scene, 1, 8 and 27 cells (tb/README.md).
 tb: $(BUILD)/cube5
 	bash tb/compare_scenes.sh $(BUILD)
+
+# The paper's Section 4 (Figures 6, 7, 10 and an animation) into docs/results/ (docs/cell-tree.md).
+results: $(BUILD)/cube5
+	bash scripts/results.sh $(BUILD)
 
 clean:
 	rm -rf build out

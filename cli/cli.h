@@ -49,6 +49,7 @@ int c5_cli_help(int argc, char **argv, const char *usage);
 typedef int (*c5_cmd_fn)(int argc, char **argv);
 int c5_cmd_compare(int argc, char **argv);
 int c5_cmd_render(int argc, char **argv);
+int c5_cmd_schedule(int argc, char **argv);
 int c5_cmd_scenes(int argc, char **argv);
 
 #endif

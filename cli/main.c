@@ -11,6 +11,7 @@ static const struct {
 } cmds[] = {
     {"compare", c5_cmd_compare, "render a frame with cref and the board model and compare the images"},
     {"render", c5_cmd_render, "render a scene with cref or the board model (--model rtl)"},
+    {"schedule", c5_cmd_schedule, "the Cell Tree scheduler against Max Work over a scene's frames"},
     {"scenes", c5_cmd_scenes, "list the built-in scenes"},
 };
 

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Installs the Debian/Ubuntu packages cube5 needs, only those missing. Called by the
 # Makefile before the first build; safe to run again. Uses sudo when not root.
+# With arguments, installs those packages instead (e.g. gnuplot-nox for `make results`).
 set -euo pipefail
 pkgs=(build-essential g++ pkg-config zlib1g-dev
       python3               # test and bench scripts read JSON with it
       libjansson-dev        # scene files (JSON)
       libteem-dev           # NRRD volumes (Teem's nrrd)
       libopenimageio-dev)   # PNG / EXR output (OpenImageIO)
+[ $# -eq 0 ] || pkgs=("$@")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

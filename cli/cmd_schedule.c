@@ -1,0 +1,336 @@
+/* cube5 schedule: the Cell Tree across the frames of an animation against Max Work
+ * (docs/cell-tree.md), per frame on stdout (text or --json). */
+#include <jansson.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "board.h"
+#include "cli.h"
+#include "dsp_sched.h"
+
+static const char usage_text[] =
+    "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
+    "                      [--split paper|lookahead] [--exact-states N] [--tree-nodes N]\n"
+    "                      [--still] [--volume [I=]FILE] [--json]\n\n"
+    "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
+    "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
+    "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"
+    "after an overflow of the DSP RAM). Per frame: rays, the tree's nodes and bytes, the cell\n"
+    "fetches of each, the lower bound and the exact optimum of the frame's own tree (when the\n"
+    "search fits its budget), the peels and the cost of building and scheduling. The two\n"
+    "images of a frame must be the same bits; a difference is reported as an error.\n"
+    "docs/cell-tree.md.\n\n"
+    "  --cells N|NxMxK   split into NxNxN (or NxMxK) cells; default 2: memory holds 1/8\n"
+    "  --frames N        frames (default: the camera path's, or 2 for a still camera, so\n"
+    "                    that frame 1 follows frame 0's tree); a path is spread over N frames\n"
+    "  --still           every frame from the path's first camera: the next frame repeats\n"
+    "                    this one, so only the scheduling differs (the paper's Figure 6)\n"
+    "  --size WxH        image size instead of the scene's\n"
+    "  --split R         split-peel rule of the schedule the board follows: paper (the cell\n"
+    "                    with most leaf nodes, default) or lookahead (docs/cell-tree.md)\n"
+    "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed)\n"
+    "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
+    "  --json            one JSON object instead of the text\n"
+    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n";
+
+#define EXACT_STATES_DEFAULT 200000
+#define EXACT_NODES_MAX 4096
+
+typedef struct {
+    const char *scene_arg;
+    int cells[3], w, h, json, still;
+    long frames, exact_states, tree_nodes;
+    c5_split_rule rule;
+    const char *volumes[C5_MAX_VOLUMES];
+    int n_volumes;
+} sched_args;
+
+static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
+{
+    memset(a, 0, sizeof *a);
+    a->scene_arg = "default";
+    a->cells[0] = a->cells[1] = a->cells[2] = 2;
+    a->rule = C5_SPLIT_MOST_LEAVES;
+    a->exact_states = EXACT_STATES_DEFAULT;
+    a->tree_nodes = C5_TREE_MAX_SLOTS;
+    int have_scene = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
+            !strcmp(o, "--exact-states") || !strcmp(o, "--tree-nodes") || !strcmp(o, "--volume")) {
+            if (i + 1 >= argc)
+                return c5_fail(err, "%s: missing value", o);
+            const char *v = argv[++i];
+            if (!strcmp(o, "--cells") && c5_cli_cells(o, v, a->cells, err))
+                return -1;
+            else if (!strcmp(o, "--frames") && c5_cli_int(o, v, 1, C5_MAX_FRAMES, &a->frames, err))
+                return -1;
+            else if (!strcmp(o, "--size") && c5_cli_size(o, v, &a->w, &a->h, err))
+                return -1;
+            else if (!strcmp(o, "--exact-states") && c5_cli_int(o, v, 0, 100000000, &a->exact_states, err))
+                return -1;
+            else if (!strcmp(o, "--tree-nodes") && c5_cli_int(o, v, 1, C5_TREE_MAX_SLOTS, &a->tree_nodes, err))
+                return -1;
+            else if (!strcmp(o, "--split")) {
+                if (!strcmp(v, "paper"))
+                    a->rule = C5_SPLIT_MOST_LEAVES;
+                else if (!strcmp(v, "lookahead"))
+                    a->rule = C5_SPLIT_LOOKAHEAD;
+                else
+                    return c5_fail(err, "--split: '%s' is not a rule (paper or lookahead)", v);
+            } else if (!strcmp(o, "--volume")) {
+                if (a->n_volumes == C5_MAX_VOLUMES)
+                    return c5_fail(err, "--volume: at most %d", C5_MAX_VOLUMES);
+                a->volumes[a->n_volumes++] = v;
+            }
+        } else if (!strcmp(o, "--json")) {
+            a->json = 1;
+        } else if (!strcmp(o, "--still")) {
+            a->still = 1;
+        } else if (o[0] == '-') {
+            return c5_fail(err, "unknown option '%s' (see 'cube5 schedule --help')", o);
+        } else if (have_scene) {
+            return c5_fail(err, "unexpected argument '%s': one scene at a time", o);
+        } else {
+            a->scene_arg = o;
+            have_scene = 1;
+        }
+    }
+    return 0;
+}
+
+/* One frame's row. */
+typedef struct {
+    uint64_t rays, fetches_maxwork, fetches_celltree;
+    const char *followed; /* what the Cell Tree run followed */
+    c5_board_stats ct;    /* the Cell Tree run (the board as it runs) */
+    double board_s_maxwork;
+    c5_dsp_sched_result sch; /* the DSP's work on this frame's tree */
+} frame_row;
+
+static uint64_t rays_of(const c5_board_stats *st)
+{
+    uint64_t n = 0;
+    for (int t = 0; t < C5_RAY_TYPES; t++)
+        n += st->rays[t];
+    return n;
+}
+
+static double reduction(uint64_t mw, uint64_t ct)
+{
+    return mw ? 100.0 * ((double)mw - (double)ct) / (double)mw : 0.0;
+}
+
+static const char *rule_name(c5_split_rule r)
+{
+    return r == C5_SPLIT_LOOKAHEAD ? "lookahead" : "paper";
+}
+
+static json_t *row_json(int f, const frame_row *r)
+{
+    const c5_dsp_sched_result *s = &r->sch;
+    json_t *o = json_object();
+    json_object_set_new(o, "frame", json_integer(f));
+    json_object_set_new(o, "rays", json_integer((json_int_t)r->rays));
+    json_object_set_new(o, "nodes", json_integer(s->nodes));
+    json_object_set_new(o, "tree_slots", json_integer(s->slots));
+    json_object_set_new(o, "tree_bytes", json_integer((json_int_t)s->slots * C5_CELL_TREE_NODE_BYTES));
+    json_object_set_new(o, "tree_overflow", json_boolean(s->overflow));
+    json_object_set_new(o, "fetches_maxwork", json_integer((json_int_t)r->fetches_maxwork));
+    json_object_set_new(o, "fetches_celltree", json_integer((json_int_t)r->fetches_celltree));
+    json_object_set_new(o, "reduction_pct", json_real(reduction(r->fetches_maxwork, r->fetches_celltree)));
+    json_object_set_new(o, "followed", json_string(r->followed));
+    json_object_set_new(o, "sched_loads", json_integer((json_int_t)r->ct.sched_loads));
+    json_object_set_new(o, "sched_skipped", json_integer((json_int_t)r->ct.sched_skipped));
+    json_object_set_new(o, "sched_fallback", json_integer((json_int_t)r->ct.sched_fallback));
+    json_object_set_new(o, "lower_bound", s->overflow ? json_null() : json_integer(s->lower_bound));
+    json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
+    json_object_set_new(o, "optimum", s->optimum >= 0 ? json_integer(s->optimum) : json_null());
+    json_object_set_new(o, "schedule_len", json_pack("{s:i, s:i}", "paper", s->len_paper, "lookahead", s->len_lookahead));
+    json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
+    json_object_set_new(o, "nodes_examined", json_integer((json_int_t)s->nodes_examined));
+    json_object_set_new(o, "max_generation", json_integer(s->max_gen));
+    json_object_set_new(o, "build", json_pack("{s:I, s:I, s:I, s:f}", "packets", (json_int_t)r->ct.tree_tags,
+                                              "node_reads", (json_int_t)r->ct.tree_reads, "node_writes",
+                                              (json_int_t)r->ct.tree_writes, "host_s", r->ct.tree_wall_s));
+    json_object_set_new(o, "schedule_host_s", json_real(s->sched_wall_s));
+    json_object_set_new(o, "exact_host_s", json_real(s->exact_wall_s));
+    json_object_set_new(o, "board_s_maxwork", json_real(r->board_s_maxwork));
+    json_object_set_new(o, "board_s_celltree", json_real(r->ct.board_s));
+    return o;
+}
+
+static void print_json(const sched_args *a, const c5_scene *s, const frame_row *rows, int frames)
+{
+    json_t *o = json_object(), *arr = json_array();
+    uint64_t mw = 0, ct = 0;
+    for (int f = 0; f < frames; f++) {
+        json_array_append_new(arr, row_json(f, &rows[f]));
+        if (f > 0) {
+            mw += rows[f].fetches_maxwork;
+            ct += rows[f].fetches_celltree;
+        }
+    }
+    json_object_set_new(o, "scene", json_string(s->name));
+    json_object_set_new(o, "size", json_pack("[i, i]", s->render.width, s->render.height));
+    json_object_set_new(o, "cells", json_integer(a->cells[0] * a->cells[1] * a->cells[2]));
+    json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a->cells[0], a->cells[1], a->cells[2]));
+    json_object_set_new(o, "split_rule", json_string(rule_name(a->rule)));
+    json_object_set_new(o, "still", json_boolean(a->still));
+    json_object_set_new(o, "tree_capacity_nodes", json_integer(a->tree_nodes));
+    json_object_set_new(o, "exact_states", json_integer(a->exact_states));
+    json_object_set_new(o, "frames", arr);
+    json_object_set_new(o, "scheduled_frames",
+                        json_pack("{s:I, s:I, s:f}", "fetches_maxwork", (json_int_t)mw, "fetches_celltree",
+                                  (json_int_t)ct, "reduction_pct", reduction(mw, ct)));
+    char *text = json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(9));
+    puts(text);
+    free(text);
+    json_decref(o);
+}
+
+static void print_text(const char *label, const sched_args *a, const c5_scene *s, const frame_row *rows, int frames)
+{
+    printf("cube5 schedule: %s, %dx%d, %d cells (%dx%dx%d), %d frame(s), split rule %s\n", label, s->render.width,
+           s->render.height, a->cells[0] * a->cells[1] * a->cells[2], a->cells[0], a->cells[1], a->cells[2], frames,
+           rule_name(a->rule));
+    printf("  fetches: Max Work vs the board following the previous frame's Cell Tree schedule;\n"
+           "  bound, optimum, schedule lengths and peels: of this frame's own tree\n");
+    printf("%6s %9s %6s %7s %8s %8s %7s %6s %7s %6s %6s %9s %s\n", "frame", "rays", "nodes", "bytes", "maxwork",
+           "celltree", "reduct", "bound", "optimum", "paper", "lookah", "peels c/s", "followed");
+    uint64_t mw = 0, ct = 0;
+    for (int f = 0; f < frames; f++) {
+        const frame_row *r = &rows[f];
+        const c5_dsp_sched_result *x = &r->sch;
+        char opt[16], peels[24];
+        snprintf(opt, sizeof opt, x->optimum >= 0 ? "%d" : "-", x->optimum);
+        snprintf(peels, sizeof peels, "%d/%d", x->peels_completion, x->peels_split);
+        printf("%6d %9llu %6d %7d %8llu %8llu %6.1f%% %6d %7s %6d %6d %9s %s%s\n", f, (unsigned long long)r->rays,
+               x->nodes, x->slots * C5_CELL_TREE_NODE_BYTES, (unsigned long long)r->fetches_maxwork,
+               (unsigned long long)r->fetches_celltree, reduction(r->fetches_maxwork, r->fetches_celltree),
+               x->lower_bound, opt, x->len_paper, x->len_lookahead, peels, r->followed,
+               x->overflow ? " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)" : "");
+        if (f > 0) {
+            mw += r->fetches_maxwork;
+            ct += r->fetches_celltree;
+        }
+    }
+    if (frames > 1)
+        printf("  frames 1..%d: %llu fetches with Max Work, %llu following the Cell Tree: %.1f%% fewer\n", frames - 1,
+               (unsigned long long)mw, (unsigned long long)ct, reduction(mw, ct));
+    double build = 0, sched = 0;
+    uint64_t reads = 0, writes = 0, examined = 0;
+    for (int f = 0; f < frames; f++) {
+        build += rows[f].ct.tree_wall_s;
+        sched += rows[f].sch.sched_wall_s;
+        reads += rows[f].ct.tree_reads;
+        writes += rows[f].ct.tree_writes;
+        examined += rows[f].sch.nodes_examined;
+    }
+    printf("  cost: building %llu node reads, %llu writes, %.3f ms host; scheduling %llu nodes examined, %.3f ms "
+           "host (all frames)\n",
+           (unsigned long long)reads, (unsigned long long)writes, 1e3 * build, (unsigned long long)examined, 1e3 * sched);
+}
+
+static int same_bits(const c5_image *a, const c5_image *b)
+{
+    return a->w == b->w && a->h == b->h && !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * (size_t)a->h);
+}
+
+/* Frame f: the Max Work baseline, then the board as it runs (following `prev`, the schedule
+ * made from frame f-1's tree, when there is one), then the DSP's work on this frame's tree. */
+static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f, const c5_schedule *prev,
+                     c5_ctree *trees, frame_row *row, c5_err *err)
+{
+    c5_image mw_img = {0}, ct_img = {0};
+    c5_board_stats mw;
+    c5_board_opts o = {.tree = &trees[0]};
+    memcpy(o.cells, a->cells, sizeof o.cells);
+    c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
+    int rc = -1;
+    if (c5_board_render(s, sv, f, &o, &mw_img, &mw, err) != 0)
+        goto done;
+    c5_ctree *tree = &trees[0];
+    row->ct = mw;
+    row->followed = f == 0 ? "maxwork (first frame)" : "maxwork (previous tree overflowed)";
+    if (prev && prev->len > 0) {
+        o.sched = C5_SCHED_EXTERNAL;
+        o.schedule = prev->cells;
+        o.schedule_len = prev->len;
+        o.tree = tree = &trees[1];
+        c5_ctree_init(tree, (uint32_t)a->tree_nodes);
+        if (c5_board_render(s, sv, f, &o, &ct_img, &row->ct, err) != 0)
+            goto done;
+        if (!same_bits(&mw_img, &ct_img)) {
+            c5_fail(err, "frame %d: the image under the Cell Tree schedule differs from Max Work's (a model bug)", f);
+            goto done;
+        }
+        row->followed = row->ct.sched_fallback ? "celltree, then maxwork" : "celltree";
+    }
+    row->rays = rays_of(&mw);
+    row->fetches_maxwork = mw.fetches;
+    row->fetches_celltree = row->ct.fetches;
+    row->board_s_maxwork = mw.board_s;
+    c5_dsp_sched_opts so = {a->rule, a->exact_states, EXACT_NODES_MAX};
+    rc = c5_dsp_schedule(tree, &so, &row->sch, err);
+done:
+    c5_image_free(&mw_img);
+    c5_image_free(&ct_img);
+    return rc;
+}
+
+int c5_cmd_schedule(int argc, char **argv)
+{
+    if (c5_cli_help(argc, argv, usage_text))
+        return 0;
+    sched_args a;
+    c5_err err;
+    static c5_scene s;
+    static c5_ctree trees[2];
+    char label[1100];
+    c5_supervol sv = {0};
+    frame_row *rows = NULL;
+    int frames = 0, rc = C5_EXIT_INPUT;
+    if (parse_args(argc, argv, &a, &err) != 0 || c5_cli_load_scene(a.scene_arg, &s, label, sizeof label, &err) != 0)
+        goto fail;
+    for (int i = 0; i < a.n_volumes; i++)
+        if (c5_cli_replace_volume(&s, a.volumes[i], &err) != 0)
+            goto fail;
+    if (a.w) {
+        s.render.width = a.w;
+        s.render.height = a.h;
+    }
+    if (a.still) {
+        s.camera = c5_scene_camera_at(&s, 0);
+        s.path.n_keys = 0;
+    }
+    frames = a.frames ? (int)a.frames : c5_scene_frames(&s) > 1 ? c5_scene_frames(&s) : 2;
+    if (s.path.n_keys > 0)
+        s.path.frames = frames;
+    if (c5_supervol_build(&s, &sv, &err) != 0 || c5_cli_check_cells(a.cells, &sv, &err) != 0)
+        goto fail;
+    rc = C5_EXIT_RUNTIME;
+    rows = calloc((size_t)frames, sizeof *rows);
+    if (!rows) {
+        c5_fail(&err, "out of memory for %d frames", frames);
+        goto fail;
+    }
+    for (int f = 0; f < frames; f++)
+        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch.next : NULL, trees, &rows[f], &err) != 0)
+            goto fail;
+    if (a.json)
+        print_json(&a, &s, rows, frames);
+    else
+        print_text(label, &a, &s, rows, frames);
+    rc = 0;
+fail:
+    if (rows)
+        for (int f = 0; f < frames; f++)
+            c5_dsp_sched_free(&rows[f].sch);
+    free(rows);
+    c5_supervol_free(&sv);
+    if (rc)
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
+    return rc;
+}

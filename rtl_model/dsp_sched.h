@@ -1,0 +1,36 @@
+/* The DSP between two frames: the Cell Tree of frame i, as left in its RAM, turned into the
+ * cell schedule that frame i+1 follows (Section 3.3), with the bounds that say how good
+ * that schedule is (Section 3.4) and what it cost to make. docs/cell-tree.md. */
+#ifndef C5_DSP_SCHED_H
+#define C5_DSP_SCHED_H
+
+#include "cell_tree.h"
+#include "err.h"
+#include "tree_sched.h"
+
+typedef struct {
+    c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
+    long exact_states;  /* state budget of the exact optimum; 0: not computed */
+    int exact_nodes;    /* largest tree the exact search is tried on */
+} c5_dsp_sched_opts;
+
+typedef struct {
+    int nodes, slots, overflow; /* the tree as found in the RAM */
+    int lower_bound;            /* the paper's bound (tree_sched.h) */
+    int sum_maxgen;             /* its first term alone */
+    int optimum;                /* shortest feasible schedule; -1: not computed (budget, or overflow) */
+    int len_paper, len_lookahead; /* schedule length under each split rule */
+    int peels_completion, peels_split; /* of the chosen rule */
+    uint64_t nodes_examined;    /* of the chosen rule */
+    int max_gen;
+    double sched_wall_s;        /* host time: export, both rules, bound, annotation */
+    double exact_wall_s;        /* host time of the exact search */
+    c5_schedule next;           /* the chosen rule's schedule; empty when the tree overflowed */
+} c5_dsp_sched_result;
+
+/* Schedules from tree t (and writes the generations and ready flags into its RAM). An
+ * overflowed tree is not scheduled: r->next is empty, so the next frame runs Max Work. */
+int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err);
+void c5_dsp_sched_free(c5_dsp_sched_result *r);
+
+#endif

@@ -1,0 +1,213 @@
+/* The Cell Tree on the board: the tree a frame builds, the schedule the DSP makes from it,
+ * and the board following that schedule (rtl_model/dsp_sched.h, docs/cell-tree.md). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "board.h"
+#include "builtin_scenes.h"
+#include "dsp_sched.h"
+#include "harness.h"
+
+static c5_scene scene;
+static c5_supervol grid;
+
+/* brain_mirrors (three mirrors: rays return into cells already processed) at a small size. */
+static int load(const char *name, int size)
+{
+    c5_err err;
+    c5_supervol_free(&grid);
+    memset(&grid, 0, sizeof grid);
+    if (c5_scene_parse(c5_builtin_scene_json(name), NULL, "test", &scene, &err) != 0 ||
+        c5_supervol_build(&scene, &grid, &err) != 0) {
+        fprintf(stderr, "load: %s\n", err.msg);
+        return -1;
+    }
+    scene.render.width = scene.render.height = size;
+    return 0;
+}
+
+static int render(int frame, c5_board_opts o, c5_image *img, c5_board_stats *st)
+{
+    c5_err err;
+    if (c5_board_render(&scene, &grid, frame, &o, img, st, &err) != 0) {
+        fprintf(stderr, "render: %s\n", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+static int same_bits(const c5_image *a, const c5_image *b)
+{
+    return a->w == b->w && a->h == b->h && !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * a->h);
+}
+
+static int cmp_str(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* The tree as its sorted set of root-to-node cell paths: independent of node numbering. */
+static char **paths(const c5_ctree *t)
+{
+    int n = (int)t->nodes;
+    int *parent = malloc(sizeof(int) * (size_t)n), *cell = malloc(sizeof(int) * (size_t)n);
+    uint32_t *id = malloc(sizeof(uint32_t) * (size_t)n);
+    char **p = calloc((size_t)n + 1, sizeof *p);
+    c5_ctree_export(t, parent, cell, id);
+    for (int i = 0; i < n; i++) {
+        int depth = 0;
+        for (int k = i; k >= 0; k = parent[k])
+            depth++;
+        p[i] = malloc((size_t)depth + 1);
+        p[i][depth] = 0;
+        for (int k = i, d = depth - 1; k >= 0; k = parent[k], d--)
+            p[i][d] = (char)('A' + cell[k]);
+    }
+    qsort(p, (size_t)n, sizeof *p, cmp_str);
+    free(parent);
+    free(cell);
+    free(id);
+    return p;
+}
+
+static void paths_free(char **p)
+{
+    for (char **q = p; *q; q++)
+        free(*q);
+    free(p);
+}
+
+static c5_ctree trees[3];
+
+/* A frame builds the same tree whatever order its cells are processed in (the tree is the
+ * union of the rays' dependency paths), and renders the same bits under every scheduler,
+ * the Cell Tree's included. */
+TEST(celltree_same_tree_and_bits_whatever_the_scheduler)
+{
+    CHECK(load("brain_mirrors", 40) == 0);
+    c5_image a, b, c;
+    c5_board_stats sa, sb, sc;
+    c5_ctree_init(&trees[0], 0);
+    c5_ctree_init(&trees[1], 0);
+    c5_ctree_init(&trees[2], 0);
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .tree = &trees[0]}, &a, &sa) == 0);
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_MINWORK, .tree = &trees[1]}, &b, &sb) == 0);
+    c5_dsp_sched_result r;
+    c5_err err;
+    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){0}, &r, &err) == 0);
+    CHECK(r.next.len > 0);
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
+                                    .schedule_len = r.next.len, .tree = &trees[2]}, &c, &sc) == 0);
+    CHECK(same_bits(&a, &b) && same_bits(&a, &c));
+    CHECK(trees[0].nodes > 27 && !trees[0].overflow);
+    CHECK_INT(trees[1].nodes, trees[0].nodes);
+    CHECK_INT(trees[2].nodes, trees[0].nodes);
+    char **pa = paths(&trees[0]), **pb = paths(&trees[1]), **pc = paths(&trees[2]);
+    for (uint32_t i = 0; i < trees[0].nodes; i++)
+        CHECK_MSG(!strcmp(pa[i], pb[i]) && !strcmp(pa[i], pc[i]), "path %u: %s / %s / %s", i, pa[i], pb[i], pc[i]);
+    paths_free(pa);
+    paths_free(pb);
+    paths_free(pc);
+    /* The orders really differed. */
+    CHECK(sa.fetches != sb.fetches || sa.fetches != sc.fetches);
+    c5_dsp_sched_free(&r);
+    c5_image_free(&a);
+    c5_image_free(&b);
+    c5_image_free(&c);
+}
+
+/* The schedule made from a frame's own tree covers every ray of that frame: following it
+ * the board never falls back to Max Work, fetches no more than the schedule is long, and
+ * no scheduler beats the exact optimum, which is at least the lower bound. */
+TEST(celltree_own_schedule_covers_the_frame)
+{
+    CHECK(load("brain_mirrors", 32) == 0);
+    int splits[2][3] = {{2, 2, 2}, {3, 3, 3}};
+    for (int k = 0; k < 2; k++) {
+        c5_image a, b;
+        c5_board_stats mw, ct;
+        c5_ctree_init(&trees[0], 0);
+        CHECK(render(0, (c5_board_opts){.cells = {splits[k][0], splits[k][1], splits[k][2]}, .tree = &trees[0]}, &a,
+                     &mw) == 0);
+        c5_dsp_sched_result r;
+        c5_err err;
+        CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){C5_SPLIT_MOST_LEAVES, 200000, 4096}, &r, &err) == 0);
+        CHECK(render(0, (c5_board_opts){.cells = {splits[k][0], splits[k][1], splits[k][2]},
+                                        .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
+                                        .schedule_len = r.next.len}, &b, &ct) == 0);
+        CHECK(same_bits(&a, &b));
+        CHECK_INT(ct.sched_fallback, 0);
+        CHECK(ct.fetches <= (uint64_t)r.next.len);
+        CHECK_INT(ct.sched_loads + ct.sched_skipped, r.next.len);
+        CHECK(r.lower_bound <= r.next.len && r.sum_maxgen <= r.lower_bound);
+        CHECK_MSG(r.optimum >= 0, "exact optimum not found within the budget (%d nodes)", r.nodes);
+        CHECK(r.lower_bound <= r.optimum);
+        CHECK(r.optimum <= (int)ct.fetches && r.optimum <= (int)mw.fetches);
+        CHECK(r.optimum <= r.len_paper && r.optimum <= r.len_lookahead);
+        /* The RAM now holds each node's generation and its ready flag. */
+        int n = (int)trees[0].nodes;
+        int *parent = malloc(sizeof(int) * (size_t)n), *cell = malloc(sizeof(int) * (size_t)n);
+        int *gen = malloc(sizeof(int) * (size_t)n);
+        uint32_t *id = malloc(sizeof(uint32_t) * (size_t)n);
+        c5_ctree_export(&trees[0], parent, cell, id);
+        c5_tree_generations(&(c5_dep_tree){n, parent, cell}, gen);
+        int bad = 0;
+        for (int i = 0; i < n; i++) {
+            c5_cell_tree_node_t nd;
+            c5_ctree_read(&trees[0], id[i], &nd);
+            bad += (int)nd.generation != gen[i] || nd.ready != 1;
+        }
+        free(parent);
+        free(cell);
+        free(gen);
+        free(id);
+        CHECK_INT(bad, 0);
+        c5_dsp_sched_free(&r);
+        c5_image_free(&a);
+        c5_image_free(&b);
+    }
+}
+
+/* A tree that outgrows the RAM: the frame renders the same bits, the flag is up, the DSP
+ * makes no schedule (the next frame runs Max Work), and the bounds are not claimed. */
+TEST(celltree_overflow_keeps_the_frame_and_drops_the_schedule)
+{
+    CHECK(load("brain_mirrors", 32) == 0);
+    c5_image a, b;
+    c5_board_stats sa, sb;
+    c5_ctree_init(&trees[0], 0);
+    c5_ctree_init(&trees[1], 12);
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .tree = &trees[0]}, &a, &sa) == 0);
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .tree = &trees[1]}, &b, &sb) == 0);
+    CHECK(same_bits(&a, &b));
+    CHECK(!sa.tree_overflow && sb.tree_overflow);
+    CHECK(sb.tree_slots <= 12);
+    c5_dsp_sched_result r;
+    c5_err err;
+    CHECK(c5_dsp_schedule(&trees[1], &(c5_dsp_sched_opts){0, 1000, 64}, &r, &err) == 0);
+    CHECK(r.overflow && r.next.len == 0 && r.optimum == -1);
+    /* Following an empty schedule is Max Work from the first fetch. */
+    c5_board_stats sc;
+    c5_image c;
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
+                                    .schedule_len = 0}, &c, &sc) == 0);
+    CHECK_INT(sc.fetches, sa.fetches);
+    CHECK_INT(sc.sched_fallback, sc.fetches);
+    c5_dsp_sched_free(&r);
+    c5_image_free(&a);
+    c5_image_free(&b);
+    c5_image_free(&c);
+}
+
+/* A schedule naming a cell the split does not have is refused, not skipped. */
+TEST(celltree_schedule_outside_the_split_refused)
+{
+    CHECK(load("default", 16) == 0);
+    int sched[3] = {0, 8, 1};
+    c5_image img;
+    c5_board_stats st;
+    c5_err err;
+    c5_board_opts o = {.cells = {2, 2, 2}, .sched = C5_SCHED_EXTERNAL, .schedule = sched, .schedule_len = 3};
+    CHECK(c5_board_render(&scene, &grid, 0, &o, &img, &st, &err) == -1);
+    CHECK_HAS(err.msg, "cell 8 is outside the 8 cells");
+}
