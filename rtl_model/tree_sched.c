@@ -343,7 +343,10 @@ static int best_by_simulation(peeler *p, int (*score)(peeler *))
 
 /* Lookahead: the completion peels the split unlocks, plus a lower bound on what is left
  * (sum of maxGen, +1 when the rest is non-empty: the completions stopped, so the next peel
- * is a split, which lowers no maxGen). */
+ * is a split, which lowers no maxGen). As each of those completions lowers the sum by one,
+ * this is 1 + the sum before the split + (stuck again): it only tells apart the splits after
+ * which completions finish the tree; every other choice falls to the tie-break, which is the
+ * paper's rule. */
 static int score_lookahead(peeler *p) { return complete(p, NULL) + p->sum_maxgen + (p->live_total > 0); }
 
 /* Rollout: the length of the rest under the cheap policy (completions, else most leaves). */

@@ -32,7 +32,11 @@ typedef enum {
     C5_SPLIT_MOST_LEAVES = 1, /* the paper's rule: the cell with most leaf nodes (ties: lowest id) */
     C5_SPLIT_LOOKAHEAD = 2,   /* ours: simulate each candidate's split plus the completion peels
                                  it unlocks; lowest (peels + remaining lower bound) wins
-                                 (ties: most leaves, then lowest id) */
+                                 (ties: most leaves, then lowest id). Since each completion
+                                 lowers the sum of maxGen by exactly one, the score is
+                                 1 + sum + (stuck again), so this is the paper's rule except
+                                 when some split lets completions finish the tree: never
+                                 longer than rule 1, rarely shorter. */
     C5_SPLIT_ROLLOUT = 3,     /* ours, best and dearest: at every peel (not only splits) a cell
                                  with only leaves left is peeled at once (provably optimal);
                                  otherwise each cell with a leaf, ready or not, is tried and the

@@ -391,7 +391,7 @@ TEST(tree_sched_rules_and_bounds_random)
 {
     uint64_t rng = 0x5EED;
     int par[32], cel[32], gen[32];
-    long lb_over = 0, better2 = 0, worse2 = 0;
+    long lb_over = 0, better2 = 0;
     c5_err err;
     for (int trial = 0; trial < 3000; trial++) {
         int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 20), 2 + (int)(c5_splitmix64(&rng) % 4),
@@ -422,14 +422,16 @@ TEST(tree_sched_rules_and_bounds_random)
             len[r] = s.len;
             c5_schedule_free(&s);
         }
+        /* The lookahead's score is 1 + sum of maxGen + (stuck again), so it makes the paper's
+         * choice unless a split lets completions finish, and then it is done with one split
+         * where the paper needs at least one: never longer. */
+        CHECK_MSG(len[2] <= len[1], "trial %d: lookahead %d, paper %d", trial, len[2], len[1]);
         better2 += len[2] < len[1];
-        worse2 += len[2] > len[1];
     }
     /* Seen with this seed: the paper's bound overshoots on a few dozen trees, and the
      * lookahead beats the paper's rule on some; these only guard against a silent change. */
     CHECK(lb_over > 0);
     CHECK(better2 > 0);
-    (void)worse2;
 }
 
 /* ---- budgets, big trees ------------------------------------------------------------------- */
