@@ -1,0 +1,436 @@
+/* The exact optimum schedule of a Cell Tree: A* over interim trees, in peel (reverse)
+ * direction.
+ *
+ * State: the set of nodes not yet peeled. It is ancestor-closed, so it is a tree again; it
+ * is stored as an n-bit set in one arena and found again through a hash table keyed by the
+ * bits. Action: peel cell c (it must have a leaf), cost 1. Goal: the empty set.
+ *
+ * Heuristic h = sum over cells of maxGen + 1 when the state is non-empty and no cell is
+ * ready. Admissible without any claim from the paper: a peel lowers maxGen(c) by at most
+ * one and only for the peeled cell, and only when c is ready; so with no ready cell the next
+ * peel lowers nothing and one more peel than the sum is needed. It is even consistent
+ * (h(S) <= 1 + h(S') for every peel: with the +1 in S no peel lowers the sum; without it the
+ * sum drops by at most one), so a state's g is final when it is expanded; a state still
+ * waiting in the open list may be reached again more cheaply, which pushes a new entry and
+ * leaves the old one to be skipped.
+ *
+ * Two reductions keep the search exact:
+ *  - a cell whose live nodes are all leaves is the only action expanded (peeling it first is
+ *    optimal, proof at first_ready in tree_sched.c). The paper's wider claim, that any ready
+ *    cell may be peeled first, is false and is NOT used;
+ *  - the rollout rule's schedule (length U) is an upper bound: successors with f >= U are
+ *    never stored, and when the open list runs dry nothing shorter than U exists.
+ * Both are checked by tests/test_tree_sched.c against a forward brute force.
+ *
+ * The open list prefers smaller f, then larger g (deeper states finish tight instances
+ * fast), then the newest entry; every key is an integer, so the search is deterministic. */
+#include "tree_sched.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    int f, g, state;
+    unsigned seq;
+} open_entry;
+
+typedef struct {
+    int n, words;
+    const int *parent, *cell;
+    int *gen;
+    /* the arena: states 0..nstates-1 */
+    uint64_t *bits;  /* [cap * words] */
+    int *g, *back;   /* best g found, predecessor state */
+    uint8_t *action; /* the cell peeled to get here from back */
+    uint64_t *hash;
+    long nstates, cap, max_states;
+    int *table; /* open addressing, -1 = empty; size is a power of two */
+    size_t tmask;
+    open_entry *heap;
+    size_t nheap, heapcap;
+    unsigned seq;
+    /* scratch for one expansion */
+    uint64_t *cur, *next;
+    int *livekids, *leaves; /* leaves: grouped by cell, [lstart[c], lstart[c] + nleaf[c]) */
+} astar;
+
+static uint64_t hash_bits(const uint64_t *b, int words)
+{
+    uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (int k = 0; k < words; k++) {
+        h ^= b[k];
+        h *= 0xBF58476D1CE4E5B9ull;
+        h ^= h >> 31;
+    }
+    return h;
+}
+
+static int heap_before(const open_entry *a, const open_entry *b)
+{
+    if (a->f != b->f)
+        return a->f < b->f;
+    if (a->g != b->g)
+        return a->g > b->g;
+    return a->seq > b->seq;
+}
+
+static int heap_push(astar *a, int f, int g, int state)
+{
+    if (a->nheap == a->heapcap) {
+        size_t cap = a->heapcap ? 2 * a->heapcap : 1024;
+        open_entry *h = realloc(a->heap, cap * sizeof *h);
+        if (!h)
+            return -1;
+        a->heap = h;
+        a->heapcap = cap;
+    }
+    size_t k = a->nheap++;
+    open_entry e = {f, g, state, a->seq++};
+    while (k > 0 && heap_before(&e, &a->heap[(k - 1) / 2])) {
+        a->heap[k] = a->heap[(k - 1) / 2];
+        k = (k - 1) / 2;
+    }
+    a->heap[k] = e;
+    return 0;
+}
+
+static open_entry heap_pop(astar *a)
+{
+    open_entry top = a->heap[0], last = a->heap[--a->nheap];
+    size_t k = 0, n = a->nheap;
+    for (;;) {
+        size_t c = 2 * k + 1;
+        if (c >= n)
+            break;
+        if (c + 1 < n && heap_before(&a->heap[c + 1], &a->heap[c]))
+            c++;
+        if (!heap_before(&a->heap[c], &last))
+            break;
+        a->heap[k] = a->heap[c];
+        k = c;
+    }
+    if (n > 0)
+        a->heap[k] = last;
+    return top;
+}
+
+static int table_grow(astar *a)
+{
+    size_t size = a->table ? 2 * (a->tmask + 1) : 4096;
+    int *t = malloc(size * sizeof *t);
+    if (!t)
+        return -1;
+    memset(t, 0xff, size * sizeof *t);
+    for (long s = 0; s < a->nstates; s++) {
+        size_t k = a->hash[s] & (size - 1);
+        while (t[k] >= 0)
+            k = (k + 1) & (size - 1);
+        t[k] = (int)s;
+    }
+    free(a->table);
+    a->table = t;
+    a->tmask = size - 1;
+    return 0;
+}
+
+/* Slot of the state with these bits, or of the empty slot where it would go. */
+static size_t table_find(const astar *a, const uint64_t *b, uint64_t h)
+{
+    size_t k = h & a->tmask;
+    for (int s; (s = a->table[k]) >= 0; k = (k + 1) & a->tmask)
+        if (a->hash[s] == h && memcmp(a->bits + (size_t)s * a->words, b, (size_t)a->words * 8) == 0)
+            return k;
+    return k;
+}
+
+/* Appends a state; 1 = stored, 0 = over budget, -1 = out of memory. */
+static int arena_add(astar *a, const uint64_t *b, uint64_t h, int g, int back, int action, size_t slot)
+{
+    if (a->nstates >= a->max_states)
+        return 0;
+    if (a->nstates == a->cap) {
+        long cap = a->cap ? 2 * a->cap : 1024;
+        if (cap > a->max_states)
+            cap = a->max_states;
+        uint64_t *bits = realloc(a->bits, (size_t)cap * a->words * sizeof *bits);
+        if (bits)
+            a->bits = bits;
+        int *gg = realloc(a->g, (size_t)cap * sizeof *gg);
+        if (gg)
+            a->g = gg;
+        int *bk = realloc(a->back, (size_t)cap * sizeof *bk);
+        if (bk)
+            a->back = bk;
+        uint8_t *ac = realloc(a->action, (size_t)cap);
+        if (ac)
+            a->action = ac;
+        uint64_t *hh = realloc(a->hash, (size_t)cap * sizeof *hh);
+        if (hh)
+            a->hash = hh;
+        if (!bits || !gg || !bk || !ac || !hh)
+            return -1;
+        a->cap = cap;
+    }
+    long s = a->nstates++;
+    memcpy(a->bits + (size_t)s * a->words, b, (size_t)a->words * 8);
+    a->g[s] = g;
+    a->back[s] = back;
+    a->action[s] = (uint8_t)action;
+    a->hash[s] = h;
+    a->table[slot] = (int)s;
+    if ((size_t)a->nstates * 2 > a->tmask + 1 && table_grow(a) != 0)
+        return -1;
+    return 1;
+}
+
+/* Per-cell summary of one state, enough to score every successor without rebuilding it. */
+typedef struct {
+    int maxgen[C5_SCHED_MAX_CELLS];
+    int block_top[C5_SCHED_MAX_CELLS];  /* non-leaf nodes at generation maxGen */
+    int nleaf[C5_SCHED_MAX_CELLS], lstart[C5_SCHED_MAX_CELLS + 1];
+    int nlive[C5_SCHED_MAX_CELLS];
+    int sum, live;
+} summary;
+
+static void summarize(astar *a, const uint64_t *b, summary *s)
+{
+    memset(s, 0, sizeof *s);
+    memset(a->livekids, 0, (size_t)a->n * sizeof *a->livekids);
+    for (int i = 0; i < a->n; i++)
+        if (b[i >> 6] >> (i & 63) & 1) {
+            s->live++;
+            s->nlive[a->cell[i]]++;
+            if (a->parent[i] >= 0)
+                a->livekids[a->parent[i]]++;
+            if (a->gen[i] > s->maxgen[a->cell[i]])
+                s->maxgen[a->cell[i]] = a->gen[i];
+        }
+    for (int i = 0; i < a->n; i++)
+        if (b[i >> 6] >> (i & 63) & 1) {
+            int c = a->cell[i], d = s->maxgen[c] - a->gen[i];
+            if (a->livekids[i] == 0)
+                s->nleaf[c]++;
+            else if (d == 0)
+                s->block_top[c]++;
+        }
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+        s->lstart[c + 1] = s->lstart[c] + s->nleaf[c];
+        s->sum += s->maxgen[c];
+    }
+    int fill[C5_SCHED_MAX_CELLS];
+    memcpy(fill, s->lstart, sizeof fill);
+    for (int i = 0; i < a->n; i++)
+        if ((b[i >> 6] >> (i & 63) & 1) && a->livekids[i] == 0)
+            a->leaves[fill[a->cell[i]]++] = i;
+}
+
+static int is_ready(const summary *s, int c) { return s->maxgen[c] > 0 && s->block_top[c] == 0; }
+
+static int state_h(const summary *s)
+{
+    int any = 0;
+    for (int c = 0; c < C5_SCHED_MAX_CELLS && !any; c++)
+        any = is_ready(s, c);
+    return s->sum + (s->live > 0 && !any);
+}
+
+/* h of the state reached by peeling c (whose leaves are listed in s), from s alone. Peeling
+ * c lowers maxGen(c) iff c is ready (its maxGen nodes are all leaves and go). c is not ready
+ * afterwards: each removed maxGen node has a same-cell ancestor of the generation below with
+ * another cell's node between them, which stays. Another cell d is ready afterwards iff it
+ * was, or the peel turns its last blocking (non-leaf) maxGen node into a leaf. livekids is
+ * restored before returning. The search checks this against state_h at every expansion. */
+static int successor_h(astar *a, const summary *s, int c)
+{
+    int sum = s->sum - is_ready(s, c), live = s->live - s->nleaf[c];
+    if (live == 0)
+        return sum;
+    int any = 0;
+    for (int d = 0; d < C5_SCHED_MAX_CELLS && !any; d++)
+        any = d != c && is_ready(s, d);
+    int block[C5_SCHED_MAX_CELLS];
+    const int *lv = a->leaves + s->lstart[c];
+    if (!any) {
+        memcpy(block, s->block_top, sizeof block);
+        for (int k = 0; k < s->nleaf[c]; k++) {
+            int q = a->parent[lv[k]];
+            if (q >= 0 && --a->livekids[q] == 0 && a->gen[q] == s->maxgen[a->cell[q]] &&
+                --block[a->cell[q]] == 0)
+                any = 1;
+        }
+        for (int k = 0; k < s->nleaf[c]; k++) {
+            int q = a->parent[lv[k]];
+            if (q >= 0)
+                a->livekids[q]++;
+        }
+    }
+    return sum + !any;
+}
+
+static void astar_free(astar *a)
+{
+    free(a->gen);
+    free(a->bits);
+    free(a->g);
+    free(a->back);
+    free(a->action);
+    free(a->hash);
+    free(a->table);
+    free(a->heap);
+    free(a->cur);
+    free(a->next);
+    free(a->livekids);
+    free(a->leaves);
+}
+
+/* 1 found, 2 nothing shorter than ub exists, 0 over budget, -1 out of memory, -2 the
+ * incremental heuristic disagrees with the state's own (a bug). */
+static int search(astar *a, int ub, int *len_out, int **sched_out)
+{
+    summary s;
+    memset(a->cur, 0, (size_t)a->words * 8);
+    for (int i = 0; i < a->n; i++)
+        a->cur[i >> 6] |= 1ull << (i & 63);
+    uint64_t h0 = hash_bits(a->cur, a->words);
+    int rc = arena_add(a, a->cur, h0, 0, -1, 0, table_find(a, a->cur, h0));
+    if (rc <= 0)
+        return rc;
+    summarize(a, a->cur, &s);
+    if (state_h(&s) >= ub)
+        return 2;
+    if (heap_push(a, state_h(&s), 0, 0) != 0)
+        return -1;
+    while (a->nheap > 0) {
+        open_entry e = heap_pop(a);
+        if (e.g != a->g[e.state])
+            continue; /* superseded by a cheaper path to the same state */
+        memcpy(a->cur, a->bits + (size_t)e.state * a->words, (size_t)a->words * 8);
+        summarize(a, a->cur, &s);
+        if (state_h(&s) != e.f - e.g)
+            return -2; /* successor_h is checked against the full count at every expansion */
+        if (s.live == 0) {
+            *len_out = e.g;
+            if (sched_out) {
+                int *out = malloc((size_t)(e.g > 0 ? e.g : 1) * sizeof *out);
+                if (!out)
+                    return -1;
+                /* Walking back from the goal meets the last peel first: that is the
+                 * forward (load) order. */
+                int k = 0;
+                for (int st = e.state; a->back[st] >= 0; st = a->back[st])
+                    out[k++] = a->action[st];
+                *sched_out = out;
+            }
+            return 1;
+        }
+        /* A cell whose live nodes are all leaves is peeled first by some optimal schedule
+         * (proof at first_ready in tree_sched.c; tested against brute force): expand only
+         * that one. */
+        int only = -1;
+        for (int c = 0; c < C5_SCHED_MAX_CELLS && only < 0; c++)
+            if (s.nlive[c] > 0 && s.nleaf[c] == s.nlive[c])
+                only = c;
+        for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+            if (s.nleaf[c] == 0 || (only >= 0 && c != only))
+                continue;
+            memcpy(a->next, a->cur, (size_t)a->words * 8);
+            const int *lv = a->leaves + s.lstart[c];
+            for (int k = 0; k < s.nleaf[c]; k++)
+                a->next[lv[k] >> 6] &= ~(1ull << (lv[k] & 63));
+            int g = e.g + 1, f = g + successor_h(a, &s, c);
+            if (f >= ub)
+                continue; /* cannot beat the heuristic schedule: never stored */
+            uint64_t h = hash_bits(a->next, a->words);
+            size_t slot = table_find(a, a->next, h);
+            int st = a->table[slot];
+            if (st < 0) {
+                rc = arena_add(a, a->next, h, g, e.state, c, slot);
+                if (rc <= 0)
+                    return rc;
+                st = (int)(a->nstates - 1);
+            } else if (g < a->g[st]) {
+                a->g[st] = g; /* waiting in the open list, reached more cheaply */
+                a->back[st] = e.state;
+                a->action[st] = (uint8_t)c;
+            } else {
+                continue;
+            }
+            if (heap_push(a, f, g, st) != 0)
+                return -1;
+        }
+    }
+    return 2;
+}
+
+static int solve(const c5_dep_tree *t, long max_states, int max_nodes, int use_ub, int *len_out, int **sched_out,
+                 c5_err *err)
+{
+    if (sched_out)
+        *sched_out = NULL;
+    if (c5_tree_check(t, err) != 0)
+        return -1;
+    if (t->n > max_nodes || max_states < 1)
+        return 0;
+    if (max_states > 0x7fffffffL)
+        max_states = 0x7fffffffL; /* states are numbered by int */
+    /* The rollout rule's schedule is an upper bound: states that cannot beat it are not
+     * stored, and when none can, it is the optimum. Without it (or should it ever be
+     * infeasible) the bound is n + 1: every peel removes a node, so n peels always do. */
+    c5_schedule heur;
+    memset(&heur, 0, sizeof heur);
+    int ub = t->n + 1;
+    if (use_ub) {
+        if (c5_sched_celltree(t, C5_SPLIT_ROLLOUT, &heur, err) != 0)
+            return -1;
+        if (c5_sched_feasible(t, heur.cells, heur.len) == 1)
+            ub = heur.len;
+    }
+    astar a;
+    memset(&a, 0, sizeof a);
+    a.n = t->n;
+    a.words = t->n > 0 ? (t->n + 63) / 64 : 1;
+    a.parent = t->parent;
+    a.cell = t->cell;
+    a.max_states = max_states;
+    size_t sz = (size_t)(t->n > 0 ? t->n : 1);
+    a.gen = malloc(sz * sizeof *a.gen);
+    a.livekids = malloc(sz * sizeof *a.livekids);
+    a.leaves = malloc(sz * sizeof *a.leaves);
+    a.cur = malloc((size_t)a.words * 8);
+    a.next = malloc((size_t)a.words * 8);
+    int rc = -1;
+    if (a.gen && a.livekids && a.leaves && a.cur && a.next && c5_tree_generations(t, a.gen) >= 0 &&
+        table_grow(&a) == 0)
+        rc = search(&a, ub, len_out, sched_out);
+    astar_free(&a);
+    if (rc == 2 && ub > t->n) {
+        c5_schedule_free(&heur); /* cannot happen: n peels always empty the tree */
+        return c5_fail(err, "cell tree optimum: search ended without a schedule");
+    }
+    if (rc == 2) { /* nothing beats the rollout schedule */
+        *len_out = heur.len;
+        if (sched_out) {
+            *sched_out = heur.cells;
+            heur.cells = NULL;
+        }
+        rc = 1;
+    }
+    c5_schedule_free(&heur);
+    if (rc == -2)
+        return c5_fail(err, "cell tree optimum: incremental heuristic disagrees with the state's");
+    if (rc < 0)
+        return c5_fail(err, "cell tree optimum: out of memory (%d nodes)", t->n);
+    return rc;
+}
+
+int c5_sched_optimum(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
+                     c5_err *err)
+{
+    return solve(t, max_states, max_nodes, 1, len_out, sched_out, err);
+}
+
+int c5_sched_optimum_plain(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
+                           c5_err *err)
+{
+    return solve(t, max_states, max_nodes, 0, len_out, sched_out, err);
+}

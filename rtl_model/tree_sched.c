@@ -1,0 +1,450 @@
+/* The Cell Tree algorithm (paper Section 3.3), its lower bound (Section 3.4), the tree
+ * checks and the feasibility test. The exact solver is in tree_exact.c.
+ *
+ * The interim tree is kept so that a peel costs the cell's live nodes and everything else is
+ * O(1) per cell: per node the number of live children (0 = leaf), per cell and generation
+ * the number of live nodes and of live leaves. maxGen(c) is then the highest generation with
+ * live nodes, and c is ready when that generation's live count equals its leaf count.
+ * Removals are journalled so that the lookahead and rollout rules can simulate a peel
+ * sequence and undo it in time proportional to what it removed, instead of copying the tree
+ * per candidate. */
+#include "tree_sched.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- checks and generations ------------------------------------------------------------ */
+
+int c5_tree_check(const c5_dep_tree *t, c5_err *err)
+{
+    if (!t)
+        return c5_fail(err, "cell tree: no tree");
+    if (t->n < 0)
+        return c5_fail(err, "cell tree: negative node count %d", t->n);
+    if (t->n == 0)
+        return 0;
+    if (!t->parent || !t->cell)
+        return c5_fail(err, "cell tree: %d nodes but no parent or cell array", t->n);
+    /* kids[p + 1]: cells already used by the children of p (kids[0]: by the roots). */
+    uint64_t *kids = calloc((size_t)t->n + 1, sizeof *kids);
+    if (!kids)
+        return c5_fail(err, "cell tree: out of memory for %d nodes", t->n);
+    int rc = 0;
+    for (int i = 0; i < t->n && rc == 0; i++) {
+        int c = t->cell[i], p = t->parent[i];
+        if (c < 0 || c >= C5_SCHED_MAX_CELLS)
+            rc = c5_fail(err, "cell tree: node %d: cell %d outside 0..%d", i, c, C5_SCHED_MAX_CELLS - 1);
+        else if (p < -1 || p >= i)
+            rc = c5_fail(err, "cell tree: node %d: parent %d is not -1 or a lower index", i, p);
+        else if (p >= 0 && t->cell[p] == c)
+            rc = c5_fail(err, "cell tree: node %d: same cell %d as its parent %d", i, c, p);
+        else if (kids[p + 1] >> c & 1)
+            rc = c5_fail(err, "cell tree: node %d: a sibling (parent %d) already has cell %d", i, p, c);
+        else
+            kids[p + 1] |= 1ull << c;
+    }
+    free(kids);
+    return rc;
+}
+
+int c5_tree_generations(const c5_dep_tree *t, int *gen)
+{
+    int n = t->n;
+    if (n == 0)
+        return 0;
+    /* Depth-first over children lists, keeping per cell the number of same-cell nodes on
+     * the current root path: O(n), where walking up each node's ancestors is O(n * depth). */
+    int *first = malloc(((size_t)n + 1) * sizeof *first);
+    int *kids = malloc((size_t)n * sizeof *kids);
+    int *stack = malloc((size_t)n * sizeof *stack);
+    int *cursor = malloc((size_t)n * sizeof *cursor);
+    int best = -1;
+    if (first && kids && stack && cursor) {
+        memset(first, 0, ((size_t)n + 1) * sizeof *first);
+        for (int i = 0; i < n; i++)
+            if (t->parent[i] >= 0)
+                first[t->parent[i] + 1]++;
+        for (int i = 0; i < n; i++)
+            first[i + 1] += first[i];
+        memcpy(cursor, first, (size_t)n * sizeof *cursor);
+        for (int i = 0; i < n; i++)
+            if (t->parent[i] >= 0)
+                kids[cursor[t->parent[i]]++] = i;
+        int onpath[C5_SCHED_MAX_CELLS] = {0};
+        best = 0;
+        for (int r = 0; r < n; r++) {
+            if (t->parent[r] >= 0)
+                continue;
+            int sp = 0;
+            stack[sp++] = r;
+            cursor[r] = first[r];
+            gen[r] = ++onpath[t->cell[r]];
+            while (sp > 0) {
+                int v = stack[sp - 1];
+                if (cursor[v] < first[v + 1]) {
+                    int k = kids[cursor[v]++];
+                    gen[k] = ++onpath[t->cell[k]];
+                    if (gen[k] > best)
+                        best = gen[k];
+                    cursor[k] = first[k];
+                    stack[sp++] = k;
+                } else {
+                    onpath[t->cell[v]]--;
+                    sp--;
+                }
+            }
+            if (gen[r] > best)
+                best = gen[r];
+        }
+    }
+    free(first);
+    free(kids);
+    free(stack);
+    free(cursor);
+    return best;
+}
+
+/* ---- feasibility ---------------------------------------------------------------------- */
+
+int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len)
+{
+    if (t->n == 0)
+        return 1;
+    /* pos[i]: where node i embeds, the first load of its cell after its parent's (greedy
+     * earliest embedding is optimal for subsequence tests). Parents come first (parent < i). */
+    int *pos = malloc((size_t)t->n * sizeof *pos);
+    if (!pos)
+        return -1;
+    int ok = 1;
+    for (int i = 0; i < t->n && ok; i++) {
+        int k = t->parent[i] < 0 ? 0 : pos[t->parent[i]] + 1;
+        while (k < len && sched[k] != t->cell[i])
+            k++;
+        pos[i] = k;
+        ok = k < len;
+    }
+    free(pos);
+    return ok;
+}
+
+/* ---- the interim tree ------------------------------------------------------------------ */
+
+typedef struct {
+    int n;
+    const int *parent, *cell;
+    int *gen;                          /* [n] */
+    int *livekids;                     /* [n] live children; 0 = leaf */
+    int *list;                         /* per cell node lists: cell c at [cstart[c], cstart[c+1]) */
+    int cstart[C5_SCHED_MAX_CELLS + 1];
+    int nlive[C5_SCHED_MAX_CELLS];     /* live nodes of c = list[cstart[c] .. + nlive[c]) */
+    int nleaf[C5_SCHED_MAX_CELLS];     /* live leaves of c */
+    int gbase[C5_SCHED_MAX_CELLS + 1]; /* cnt[gbase[c] + g], g in 0..maxGen(c) at the start */
+    int *cnt, *leafcnt;                /* live nodes / live leaves per cell and generation */
+    int maxgen[C5_SCHED_MAX_CELLS];
+    int sum_maxgen, live_total, max_gen;
+    uint64_t examined;
+    int *log, nlog; /* removed nodes in removal order (for undo) */
+    int full_first; /* completion order: cells with only leaves left first (rollout rule) */
+} peeler;
+
+static void peeler_free(peeler *p)
+{
+    free(p->gen);
+    free(p->livekids);
+    free(p->list);
+    free(p->cnt);
+    free(p->leafcnt);
+    free(p->log);
+    memset(p, 0, sizeof *p);
+}
+
+static int peeler_init(peeler *p, const c5_dep_tree *t)
+{
+    memset(p, 0, sizeof *p);
+    int n = p->n = t->n;
+    p->parent = t->parent;
+    p->cell = t->cell;
+    size_t sz = (size_t)(n > 0 ? n : 1);
+    p->gen = malloc(sz * sizeof *p->gen);
+    p->livekids = calloc(sz, sizeof *p->livekids);
+    p->list = malloc(sz * sizeof *p->list);
+    p->log = malloc(sz * sizeof *p->log);
+    if (!p->gen || !p->livekids || !p->list || !p->log)
+        goto fail;
+    if ((p->max_gen = c5_tree_generations(t, p->gen)) < 0)
+        goto fail;
+    for (int i = 0; i < n; i++) {
+        int c = t->cell[i];
+        p->nlive[c]++;
+        if (p->gen[i] > p->maxgen[c])
+            p->maxgen[c] = p->gen[i];
+        if (t->parent[i] >= 0)
+            p->livekids[t->parent[i]]++;
+    }
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+        p->cstart[c + 1] = p->cstart[c] + p->nlive[c];
+        p->gbase[c + 1] = p->gbase[c] + p->maxgen[c] + 1;
+        p->sum_maxgen += p->maxgen[c];
+    }
+    int fill[C5_SCHED_MAX_CELLS];
+    memcpy(fill, p->cstart, sizeof fill);
+    for (int i = 0; i < n; i++)
+        p->list[fill[t->cell[i]]++] = i;
+    p->cnt = calloc((size_t)p->gbase[C5_SCHED_MAX_CELLS], sizeof *p->cnt);
+    p->leafcnt = calloc((size_t)p->gbase[C5_SCHED_MAX_CELLS], sizeof *p->leafcnt);
+    if (!p->cnt || !p->leafcnt)
+        goto fail;
+    for (int i = 0; i < n; i++) {
+        int c = t->cell[i], k = p->gbase[c] + p->gen[i];
+        p->cnt[k]++;
+        if (p->livekids[i] == 0) {
+            p->leafcnt[k]++;
+            p->nleaf[c]++;
+        }
+    }
+    p->live_total = n;
+    return 0;
+fail:
+    peeler_free(p);
+    return -1;
+}
+
+static int ready(const peeler *p, int c)
+{
+    int g = p->maxgen[c], k = p->gbase[c] + g;
+    return g > 0 && p->leafcnt[k] == p->cnt[k];
+}
+
+/* The cell for the next completion peel, -1 when none is ready. The paper (and rules 1, 2)
+ * take the lowest ready id. That order matters: the paper's claim that a completion peel is
+ * always part of some optimal schedule is false (tests/test_tree_sched.c, paths 0-1-2 and
+ * 1-0-1: peeling the ready cell 1 first costs a load). A narrower claim holds: when every
+ * live node of c is a leaf ("full"), peeling c first is optimal. Proof: the rest of the
+ * tree then has no node of c, so from any optimal forward schedule of the whole tree,
+ * deleting one load of c leaves a schedule of the rest: OPT(rest) <= OPT(tree) - 1. The
+ * rollout rule therefore takes full cells first (full_first). */
+static int first_ready(const peeler *p)
+{
+    if (p->full_first)
+        for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+            if (p->nlive[c] > 0 && p->nleaf[c] == p->nlive[c])
+                return c;
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+        if (ready(p, c))
+            return c;
+    return -1;
+}
+
+/* Peels cell c: walks its live nodes, removes the leaves. A removed leaf can only turn its
+ * parent (another cell) into a leaf, so the walk never meets a node that changes under it.
+ * Removed nodes move to just past the live part of the list (swap with the last live one),
+ * which lets undo re-admit them in reverse order. */
+static int peel(peeler *p, int c)
+{
+    int base = p->cstart[c], k = base, end = base + p->nlive[c], removed = 0;
+    p->examined += (uint64_t)p->nlive[c];
+    while (k < end) {
+        int i = p->list[k];
+        if (p->livekids[i] != 0) {
+            k++;
+            continue;
+        }
+        p->list[k] = p->list[end - 1];
+        p->list[--end] = i;
+        int gk = p->gbase[c] + p->gen[i];
+        p->cnt[gk]--;
+        p->leafcnt[gk]--;
+        p->nleaf[c]--;
+        p->live_total--;
+        p->log[p->nlog++] = i;
+        removed++;
+        int q = p->parent[i];
+        if (q >= 0 && --p->livekids[q] == 0) {
+            int cq = p->cell[q];
+            p->leafcnt[p->gbase[cq] + p->gen[q]]++;
+            p->nleaf[cq]++;
+        }
+    }
+    p->nlive[c] = end - base;
+    while (p->maxgen[c] > 0 && p->cnt[p->gbase[c] + p->maxgen[c]] == 0) {
+        p->maxgen[c]--;
+        p->sum_maxgen--;
+    }
+    return removed;
+}
+
+/* Re-admits every node removed since the journal held `mark` entries. */
+static void undo(peeler *p, int mark)
+{
+    while (p->nlog > mark) {
+        int i = p->log[--p->nlog], c = p->cell[i];
+        p->nlive[c]++; /* i sits at list[cstart[c] + old nlive[c]] (see peel) */
+        int gk = p->gbase[c] + p->gen[i];
+        p->cnt[gk]++;
+        p->leafcnt[gk]++;
+        p->nleaf[c]++;
+        p->live_total++;
+        int q = p->parent[i];
+        if (q >= 0 && p->livekids[q]++ == 0) {
+            int cq = p->cell[q];
+            p->leafcnt[p->gbase[cq] + p->gen[q]]--;
+            p->nleaf[cq]--;
+        }
+        if (p->gen[i] > p->maxgen[c]) {
+            p->sum_maxgen += p->gen[i] - p->maxgen[c];
+            p->maxgen[c] = p->gen[i];
+        }
+    }
+}
+
+/* Completion peels until none is ready; returns how many. If seq is not NULL the peeled
+ * cells are stored there. */
+static int complete(peeler *p, int *seq)
+{
+    int k = 0;
+    for (int c; (c = first_ready(p)) >= 0; k++) {
+        peel(p, c);
+        if (seq)
+            seq[k] = c;
+    }
+    return k;
+}
+
+/* ---- split rules ----------------------------------------------------------------------- */
+
+static int split_most_leaves(const peeler *p)
+{
+    int best = -1;
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+        if (p->nleaf[c] > 0 && (best < 0 || p->nleaf[c] > p->nleaf[best]))
+            best = c;
+    return best;
+}
+
+/* Peels c, scores the outcome with `score`, undoes the peel; lowest score wins, ties: most
+ * leaves, then lowest id. */
+static int best_by_simulation(peeler *p, int (*score)(peeler *))
+{
+    int best = -1, best_score = 0;
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+        if (p->nleaf[c] == 0)
+            continue;
+        int mark = p->nlog;
+        peel(p, c);
+        int sc = 1 + score(p);
+        undo(p, mark);
+        if (best < 0 || sc < best_score || (sc == best_score && p->nleaf[c] > p->nleaf[best])) {
+            best = c;
+            best_score = sc;
+        }
+    }
+    return best;
+}
+
+/* Lookahead: the completion peels the split unlocks, plus a lower bound on what is left
+ * (sum of maxGen, +1 when the rest is non-empty: the completions stopped, so the next peel
+ * is a split, which lowers no maxGen). As each of those completions lowers the sum by one,
+ * this is 1 + the sum before the split + (stuck again): it only tells apart the splits after
+ * which completions finish the tree; every other choice falls to the tie-break, which is the
+ * paper's rule. */
+static int score_lookahead(peeler *p) { return complete(p, NULL) + p->sum_maxgen + (p->live_total > 0); }
+
+/* Rollout: the length of the rest under the cheap policy (completions, else most leaves). */
+static int score_rollout(peeler *p)
+{
+    int k = 0;
+    for (; p->live_total > 0; k++) {
+        int c = first_ready(p);
+        peel(p, c >= 0 ? c : split_most_leaves(p));
+    }
+    return k;
+}
+
+/* ---- the algorithm --------------------------------------------------------------------- */
+
+void c5_schedule_free(c5_schedule *s)
+{
+    if (s) {
+        free(s->cells);
+        memset(s, 0, sizeof *s);
+    }
+}
+
+/* One peel of the rollout rule: a cell with only leaves left is peeled at once (optimal, see
+ * first_ready); otherwise every cell with a leaf, ready or not, is tried by rollout. Since the
+ * rollouts follow the same policy from the next state on, the result is never longer than
+ * that policy's own schedule. */
+static int pick_rollout(peeler *p)
+{
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+        if (p->nlive[c] > 0 && p->nleaf[c] == p->nlive[c])
+            return c;
+    return best_by_simulation(p, score_rollout);
+}
+
+int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out, c5_err *err)
+{
+    memset(out, 0, sizeof *out);
+    if (rule != C5_SPLIT_MOST_LEAVES && rule != C5_SPLIT_LOOKAHEAD && rule != C5_SPLIT_ROLLOUT)
+        return c5_fail(err, "cell tree schedule: unknown split rule %d", (int)rule);
+    if (c5_tree_check(t, err) != 0)
+        return -1;
+    peeler p;
+    /* Every peel removes at least one node: n entries are enough. */
+    int *rev = malloc((size_t)(t->n > 0 ? t->n : 1) * sizeof *rev);
+    if (!rev || peeler_init(&p, t) != 0) {
+        free(rev);
+        return c5_fail(err, "cell tree schedule: out of memory for %d nodes", t->n);
+    }
+    p.full_first = rule == C5_SPLIT_ROLLOUT;
+    int len = 0;
+    while (p.live_total > 0) {
+        int c;
+        if (rule == C5_SPLIT_ROLLOUT)
+            c = pick_rollout(&p);
+        else if ((c = first_ready(&p)) < 0)
+            c = rule == C5_SPLIT_MOST_LEAVES ? split_most_leaves(&p) : best_by_simulation(&p, score_lookahead);
+        if (ready(&p, c))
+            out->peels_completion++;
+        else
+            out->peels_split++;
+        peel(&p, c);
+        rev[len++] = c;
+    }
+    for (int a = 0, b = len - 1; a < b; a++, b--) {
+        int x = rev[a];
+        rev[a] = rev[b];
+        rev[b] = x;
+    }
+    out->len = len;
+    out->cells = rev;
+    out->nodes_examined = p.examined;
+    out->max_gen = p.max_gen;
+    peeler_free(&p);
+    return 0;
+}
+
+int c5_sched_sum_maxgen(const c5_dep_tree *t)
+{
+    peeler p;
+    if (peeler_init(&p, t) != 0)
+        return -1;
+    int s = p.sum_maxgen;
+    peeler_free(&p);
+    return s;
+}
+
+int c5_sched_lower_bound(const c5_dep_tree *t)
+{
+    peeler p;
+    if (peeler_init(&p, t) != 0)
+        return -1;
+    /* Every completion peel lowers the sum by exactly one (the peeled maxGen nodes have
+     * generation-(g-1) ancestors of the same cell, which stay), so the sum is the bound so
+     * far; one split is forced when completions get stuck before the end. */
+    int s = p.sum_maxgen;
+    complete(&p, NULL);
+    s += p.live_total > 0;
+    peeler_free(&p);
+    return s;
+}
