@@ -92,9 +92,10 @@ int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
  * 0: gave up because the search would store more than max_states states or the tree has
  *    more than max_nodes nodes;
  * -1: error (bad tree, out of memory).
- * Memory budget: each stored state costs 8*ceil(n/64) bytes of node bitset plus about 40
- * bytes of bookkeeping (g, back pointer, hash, hash slot, heap entries), so max_states =
- * 200000 on a 200-node tree is about 13 MB. Deterministic: no pointer hashing, no clock. */
+ * Memory budget: each stored state costs 8*ceil(n/64) bytes of node bitset plus about 50
+ * bytes of bookkeeping (g, back pointer, action, hash, hash-table slots, heap entries), so
+ * max_states = 200000 on a 200-node tree is about 16 MB. Deterministic: no pointer hashing,
+ * no clock. */
 int c5_sched_optimum(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                      c5_err *err);
 /* The same search without the rollout rule's schedule as an upper bound: slower, but its
