@@ -11,7 +11,7 @@
 
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
-    "                      [--split paper|lookahead] [--exact-states N] [--tree-nodes N]\n"
+    "                      [--split paper|lookahead|rollout] [--exact-states N] [--tree-nodes N]\n"
     "                      [--still] [--volume [I=]FILE] [--json]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
@@ -27,8 +27,9 @@ static const char usage_text[] =
     "  --still           every frame from the path's first camera: the next frame repeats\n"
     "                    this one, so only the scheduling differs (the paper's Figure 6)\n"
     "  --size WxH        image size instead of the scene's\n"
-    "  --split R         split-peel rule of the schedule the board follows: paper (the cell\n"
-    "                    with most leaf nodes, default) or lookahead (docs/cell-tree.md)\n"
+    "  --split R         rule of the schedule the board follows: paper (split peels take the\n"
+    "                    cell with most leaf nodes, default), lookahead or rollout (ours,\n"
+    "                    docs/cell-tree.md); the lengths of all three are reported\n"
     "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed)\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
     "  --json            one JSON object instead of the text\n"
@@ -77,8 +78,10 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                     a->rule = C5_SPLIT_MOST_LEAVES;
                 else if (!strcmp(v, "lookahead"))
                     a->rule = C5_SPLIT_LOOKAHEAD;
+                else if (!strcmp(v, "rollout"))
+                    a->rule = C5_SPLIT_ROLLOUT;
                 else
-                    return c5_fail(err, "--split: '%s' is not a rule (paper or lookahead)", v);
+                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead or rollout)", v);
             } else if (!strcmp(o, "--volume")) {
                 if (a->n_volumes == C5_MAX_VOLUMES)
                     return c5_fail(err, "--volume: at most %d", C5_MAX_VOLUMES);
@@ -124,7 +127,7 @@ static double reduction(uint64_t mw, uint64_t ct)
 
 static const char *rule_name(c5_split_rule r)
 {
-    return r == C5_SPLIT_LOOKAHEAD ? "lookahead" : "paper";
+    return r == C5_SPLIT_LOOKAHEAD ? "lookahead" : r == C5_SPLIT_ROLLOUT ? "rollout" : "paper";
 }
 
 static json_t *row_json(int f, const frame_row *r)
@@ -146,8 +149,10 @@ static json_t *row_json(int f, const frame_row *r)
     json_object_set_new(o, "sched_fallback", json_integer((json_int_t)r->ct.sched_fallback));
     json_object_set_new(o, "lower_bound", s->overflow ? json_null() : json_integer(s->lower_bound));
     json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
+    json_object_set_new(o, "paper_bound", s->overflow ? json_null() : json_integer(s->paper_bound));
     json_object_set_new(o, "optimum", s->optimum >= 0 ? json_integer(s->optimum) : json_null());
-    json_object_set_new(o, "schedule_len", json_pack("{s:i, s:i}", "paper", s->len_paper, "lookahead", s->len_lookahead));
+    json_object_set_new(o, "schedule_len", json_pack("{s:i, s:i, s:i}", "paper", s->len_paper, "lookahead",
+                                                     s->len_lookahead, "rollout", s->len_rollout));
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
     json_object_set_new(o, "nodes_examined", json_integer((json_int_t)s->nodes_examined));
     json_object_set_new(o, "max_generation", json_integer(s->max_gen));
@@ -196,9 +201,11 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
            s->render.height, a->cells[0] * a->cells[1] * a->cells[2], a->cells[0], a->cells[1], a->cells[2], frames,
            rule_name(a->rule));
     printf("  fetches: Max Work vs the board following the previous frame's Cell Tree schedule;\n"
-           "  bound, optimum, schedule lengths and peels: of this frame's own tree\n");
-    printf("%6s %9s %6s %7s %8s %8s %7s %6s %7s %6s %6s %9s %s\n", "frame", "rays", "nodes", "bytes", "maxwork",
-           "celltree", "reduct", "bound", "optimum", "paper", "lookah", "peels c/s", "followed");
+           "  of this frame's own tree: bound (proven), s3.4 (Section 3.4's formula, not a bound),\n"
+           "  optimum (exact search), schedule lengths by rule paper/lookahead/rollout, peels\n");
+    printf("%5s %8s %5s %6s %7s %8s %6s %5s %5s %7s %5s %5s %5s %9s %s\n", "frame", "rays", "nodes", "bytes",
+           "maxwork", "celltree", "fewer", "bound", "s3.4", "optimum", "paper", "look", "roll", "peels c/s",
+           "followed");
     uint64_t mw = 0, ct = 0;
     for (int f = 0; f < frames; f++) {
         const frame_row *r = &rows[f];
@@ -206,10 +213,11 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
         char opt[16], peels[24];
         snprintf(opt, sizeof opt, x->optimum >= 0 ? "%d" : "-", x->optimum);
         snprintf(peels, sizeof peels, "%d/%d", x->peels_completion, x->peels_split);
-        printf("%6d %9llu %6d %7d %8llu %8llu %6.1f%% %6d %7s %6d %6d %9s %s%s\n", f, (unsigned long long)r->rays,
-               x->nodes, x->slots * C5_CELL_TREE_NODE_BYTES, (unsigned long long)r->fetches_maxwork,
-               (unsigned long long)r->fetches_celltree, reduction(r->fetches_maxwork, r->fetches_celltree),
-               x->lower_bound, opt, x->len_paper, x->len_lookahead, peels, r->followed,
+        printf("%5d %8llu %5d %6d %7llu %8llu %5.1f%% %5d %5d %7s %5d %5d %5d %9s %s%s\n", f,
+               (unsigned long long)r->rays, x->nodes, x->slots * C5_CELL_TREE_NODE_BYTES,
+               (unsigned long long)r->fetches_maxwork, (unsigned long long)r->fetches_celltree,
+               reduction(r->fetches_maxwork, r->fetches_celltree), x->lower_bound, x->paper_bound, opt, x->len_paper,
+               x->len_lookahead, x->len_rollout, peels, r->followed,
                x->overflow ? " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)" : "");
         if (f > 0) {
             mw += r->fetches_maxwork;
@@ -272,7 +280,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
     row->board_s_maxwork = mw.board_s;
-    c5_dsp_sched_opts so = {a->rule, a->exact_states, EXACT_NODES_MAX};
+    c5_dsp_sched_opts so = {a->rule, 1, a->exact_states, EXACT_NODES_MAX};
     rc = c5_dsp_schedule(tree, &so, &row->sch, err);
 done:
     c5_image_free(&mw_img);

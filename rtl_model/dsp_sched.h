@@ -10,20 +10,22 @@
 
 typedef struct {
     c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
+    int all_rules;      /* also run the other rules, for their lengths (len_*) */
     long exact_states;  /* state budget of the exact optimum; 0: not computed */
     int exact_nodes;    /* largest tree the exact search is tried on */
 } c5_dsp_sched_opts;
 
 typedef struct {
     int nodes, slots, overflow; /* the tree as found in the RAM */
-    int lower_bound;            /* the paper's bound (tree_sched.h) */
-    int sum_maxgen;             /* its first term alone */
+    int lower_bound;            /* the best proven bound on the optimum (tree_sched.h) */
+    int sum_maxgen;             /* the simplest proven bound: every cell maxGen times */
+    int paper_bound;            /* Section 3.4's formula: NOT a bound (docs/cell-tree.md) */
     int optimum;                /* shortest feasible schedule; -1: not computed (budget, or overflow) */
-    int len_paper, len_lookahead; /* schedule length under each split rule */
+    int len_paper, len_lookahead, len_rollout; /* schedule length under each rule; 0: not run */
     int peels_completion, peels_split; /* of the chosen rule */
     uint64_t nodes_examined;    /* of the chosen rule */
     int max_gen;
-    double sched_wall_s;        /* host time: export, both rules, bound, annotation */
+    double sched_wall_s;        /* host time of the DSP's work: read the tree, the chosen rule, write back */
     double exact_wall_s;        /* host time of the exact search */
     c5_schedule next;           /* the chosen rule's schedule; empty when the tree overflowed */
 } c5_dsp_sched_result;

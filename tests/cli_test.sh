@@ -203,5 +203,37 @@ expect compare_refuse_diff_over_scene 2 "refusing to overwrite an input" -- \
 if cmp -s "$tmp/ok.json" "$tmp/keep.json"; then ok compare_scene_intact; else bad compare_scene_intact "scene changed"; fi
 expect compare_diff_bad_ext 2 "unsupported image extension" -- "$cube5" compare default --diff "$tmp/d.txt"
 
+# cube5 schedule: the JSON the issue names, the Cell Tree followed from frame 1, the
+# overflow path, and refusals.
+json=$("$cube5" schedule brain_mirrors --size 24x24 --cells 2 --still --frames 2 --json)
+if python3 - "$json" <<'PY'
+import json, sys
+d = json.loads(sys.argv[1])
+f0, f1 = d["frames"]
+for k in ("rays", "nodes", "tree_bytes", "fetches_maxwork", "fetches_celltree", "lower_bound", "optimum"):
+    assert k in f1, k
+assert f1["tree_bytes"] >= 12 * f1["nodes"] > 0
+assert f0["followed"] == "maxwork (first frame)" and f0["fetches_celltree"] == f0["fetches_maxwork"]
+assert f1["followed"] == "celltree" and f1["sched_fallback"] == 0
+assert f1["lower_bound"] <= min(f1["fetches_celltree"], f1["fetches_maxwork"])
+assert f1["optimum"] is None or f1["lower_bound"] <= f1["optimum"] <= f1["fetches_celltree"]
+assert f0["nodes"] == f1["nodes"]  # the same view builds the same tree
+PY
+then ok schedule_json; else bad schedule_json "$json"; fi
+json=$("$cube5" schedule brain_mirrors --size 16x16 --cells 2 --still --tree-nodes 5 --json)
+if python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+f0, f1 = d["frames"]
+assert f0["tree_overflow"] and f0["lower_bound"] is None and f0["optimum"] is None
+assert f1["followed"] == "maxwork (previous tree overflowed)"
+assert f1["fetches_celltree"] == f1["fetches_maxwork"]' "$json"; then ok schedule_overflow_falls_back; else bad schedule_overflow_falls_back "$json"; fi
+expect schedule_overflow_text 0 "" -- bash -c "\"$cube5\" schedule default --size 8x8 --tree-nodes 3 | grep -q 'OVERFLOWED the DSP RAM'"
+expect schedule_bad_split 2 "--split: 'best' is not a rule" -- "$cube5" schedule default --split best
+expect schedule_bad_frames 2 "--frames: expected an integer" -- "$cube5" schedule default --frames 0
+expect schedule_bad_tree_nodes 2 "--tree-nodes: expected an integer" -- "$cube5" schedule default --tree-nodes 8192
+expect schedule_bad_cells 2 "--cells: expected N or NxMxK" -- "$cube5" schedule default --cells 0
+expect schedule_unknown_option 2 "unknown option '--model'" -- "$cube5" schedule default --model rtl
+
 echo "SUMMARY passed=$passed failed=$failed"
 [ "$failed" -eq 0 ]

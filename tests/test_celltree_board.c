@@ -121,9 +121,10 @@ TEST(celltree_same_tree_and_bits_whatever_the_scheduler)
  * no scheduler beats the exact optimum, which is at least the lower bound. */
 TEST(celltree_own_schedule_covers_the_frame)
 {
-    CHECK(load("brain_mirrors", 32) == 0);
-    int splits[2][3] = {{2, 2, 2}, {3, 3, 3}};
-    for (int k = 0; k < 2; k++) {
+    const char *scenes[3] = {"clouds_lake", "brain_mirrors", "brain_mirrors"};
+    int splits[3][3] = {{2, 2, 2}, {2, 2, 2}, {3, 3, 3}};
+    for (int k = 0; k < 3; k++) {
+        CHECK(load(scenes[k], 32) == 0);
         c5_image a, b;
         c5_board_stats mw, ct;
         c5_ctree_init(&trees[0], 0);
@@ -131,7 +132,9 @@ TEST(celltree_own_schedule_covers_the_frame)
                      &mw) == 0);
         c5_dsp_sched_result r;
         c5_err err;
-        CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){C5_SPLIT_MOST_LEAVES, 200000, 4096}, &r, &err) == 0);
+        c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES, .all_rules = 1, .exact_states = 200000,
+                                .exact_nodes = 4096};
+        CHECK(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0);
         CHECK(render(0, (c5_board_opts){.cells = {splits[k][0], splits[k][1], splits[k][2]},
                                         .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
                                         .schedule_len = r.next.len}, &b, &ct) == 0);
@@ -139,11 +142,16 @@ TEST(celltree_own_schedule_covers_the_frame)
         CHECK_INT(ct.sched_fallback, 0);
         CHECK(ct.fetches <= (uint64_t)r.next.len);
         CHECK_INT(ct.sched_loads + ct.sched_skipped, r.next.len);
-        CHECK(r.lower_bound <= r.next.len && r.sum_maxgen <= r.lower_bound);
-        CHECK_MSG(r.optimum >= 0, "exact optimum not found within the budget (%d nodes)", r.nodes);
-        CHECK(r.lower_bound <= r.optimum);
-        CHECK(r.optimum <= (int)ct.fetches && r.optimum <= (int)mw.fetches);
-        CHECK(r.optimum <= r.len_paper && r.optimum <= r.len_lookahead);
+        CHECK(r.sum_maxgen <= r.lower_bound);
+        CHECK(r.lower_bound <= (int)ct.fetches && r.lower_bound <= (int)mw.fetches);
+        CHECK(r.len_paper > 0 && r.len_lookahead > 0 && r.len_rollout > 0);
+        /* The small tree (clouds_lake, 8 cells) is within the exact search's budget. */
+        CHECK_MSG(k > 0 || r.optimum >= 0, "exact optimum not found within the budget (%d nodes)", r.nodes);
+        if (r.optimum >= 0) {
+            CHECK(r.lower_bound <= r.optimum);
+            CHECK(r.optimum <= (int)ct.fetches && r.optimum <= (int)mw.fetches);
+            CHECK(r.optimum <= r.len_paper && r.optimum <= r.len_lookahead && r.optimum <= r.len_rollout);
+        }
         /* The RAM now holds each node's generation and its ready flag. */
         int n = (int)trees[0].nodes;
         int *parent = malloc(sizeof(int) * (size_t)n), *cell = malloc(sizeof(int) * (size_t)n);
@@ -184,7 +192,7 @@ TEST(celltree_overflow_keeps_the_frame_and_drops_the_schedule)
     CHECK(sb.tree_slots <= 12);
     c5_dsp_sched_result r;
     c5_err err;
-    CHECK(c5_dsp_schedule(&trees[1], &(c5_dsp_sched_opts){0, 1000, 64}, &r, &err) == 0);
+    CHECK(c5_dsp_schedule(&trees[1], &(c5_dsp_sched_opts){.exact_states = 1000, .exact_nodes = 64}, &r, &err) == 0);
     CHECK(r.overflow && r.next.len == 0 && r.optimum == -1);
     /* Following an empty schedule is Max Work from the first fetch. */
     c5_board_stats sc;
