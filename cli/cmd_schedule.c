@@ -210,15 +210,18 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
     for (int f = 0; f < frames; f++) {
         const frame_row *r = &rows[f];
         const c5_dsp_sched_result *x = &r->sch;
-        char opt[16], peels[24];
-        snprintf(opt, sizeof opt, x->optimum >= 0 ? "%d" : "-", x->optimum);
-        snprintf(peels, sizeof peels, "%d/%d", x->peels_completion, x->peels_split);
-        printf("%5d %8llu %5d %6d %7llu %8llu %5.1f%% %5d %5d %7s %5d %5d %5d %9s %s%s\n", f,
+        /* Of this frame's own tree: nothing to show when it overflowed. */
+        char v[6][16];
+        int vals[6] = {x->lower_bound, x->paper_bound, x->optimum, x->len_paper, x->len_lookahead, x->len_rollout};
+        for (int k = 0; k < 6; k++)
+            snprintf(v[k], sizeof v[k], x->overflow || vals[k] < 0 ? "-" : "%d", vals[k]);
+        char peels[24];
+        snprintf(peels, sizeof peels, x->overflow ? "-" : "%d/%d", x->peels_completion, x->peels_split);
+        printf("%5d %8llu %5d %6d %7llu %8llu %5.1f%% %5s %5s %7s %5s %5s %5s %9s %s%s\n", f,
                (unsigned long long)r->rays, x->nodes, x->slots * C5_CELL_TREE_NODE_BYTES,
                (unsigned long long)r->fetches_maxwork, (unsigned long long)r->fetches_celltree,
-               reduction(r->fetches_maxwork, r->fetches_celltree), x->lower_bound, x->paper_bound, opt, x->len_paper,
-               x->len_lookahead, x->len_rollout, peels, r->followed,
-               x->overflow ? " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)" : "");
+               reduction(r->fetches_maxwork, r->fetches_celltree), v[0], v[1], v[2], v[3], v[4], v[5], peels,
+               r->followed, x->overflow ? " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)" : "");
         if (f > 0) {
             mw += r->fetches_maxwork;
             ct += r->fetches_celltree;

@@ -28,6 +28,7 @@ run() { # name, args...
 for s in $SCENES; do
   for c in 2 3; do
     run "fig6_${s}_c$c" "$s" --cells "$c" --still --frames 2 --size 256x256
+    run "fig6rollout_${s}_c$c" "$s" --cells "$c" --still --frames 2 --size 256x256 --split rollout --exact-states 0
   done
 done
 for sz in 100 256 512; do
@@ -36,7 +37,7 @@ for sz in 100 256 512; do
   done
 done
 for c in 2 3; do
-  run "anim_brain_mirrors_c$c" brain_mirrors --cells "$c" --size 256x256
+  run "anim_brain_mirrors_c$c" brain_mirrors --cells "$c" --size 256x256 --exact-states 0
 done
 
 python3 scripts/results_tables.py "$RAW" "$OUT"

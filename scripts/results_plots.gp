@@ -11,8 +11,10 @@ set style histogram clustered gap 1
 set style fill solid 0.85 border -1
 set ylabel "cell fetches"
 set xtics rotate by -20
-plot "fig6.dat" using 2:xtic(1) title "Max Work", "" using 3 title "Cell Tree", \
-     "" using 5 title "optimum (exact)", "" using 4 title "lower bound"
+set key top center
+plot "fig6.dat" using 2:xtic(1) title "Max Work", "" using 3 title "Cell Tree (paper's rule)", \
+     "" using 4 title "Cell Tree (rollout)", "" using 6 title "optimum (exact)", "" using 5 title "proven bound"
+set key top left
 
 set output "anim_fetches.png"
 set title "brain\\_mirrors camera path: frame i follows frame i-1's Cell Tree"
