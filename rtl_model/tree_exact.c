@@ -29,6 +29,133 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* ---- the projection heuristic ------------------------------------------------------------
+ *
+ * The cells are split into disjoint groups (the packing c5_sched_bound_partition picks for
+ * the whole tree); h = sum over groups G of OPT(R|G), the exact optimum of the state R
+ * projected onto G (tree_bound.c), which is at most OPT(R) (Claim 2 there). A group over its
+ * memo budget counts its sum of maxGen instead, which is still a lower bound.
+ * Consistent: a peel of c removes leaves of c only, so the projections onto the groups
+ * without c do not change, and R'|G (G the group of c) is R|G minus some of its leaves of
+ * cell c (a removed node's trie node goes when its last live preimage goes, and it is then a
+ * leaf of R|G: its preimages were leaves of R). A schedule of R'|G followed by one load of c
+ * serves R|G, so OPT(R|G) <= 1 + OPT(R'|G). (The fallback may break consistency; the search
+ * re-opens a state reached more cheaply, so it stays exact with any admissible h.)
+ *
+ * The state's projections are rebuilt from its node bitset at each expansion (O(n)); a
+ * successor changes only its peeled cell's group: its live-preimage counts are lowered for
+ * the peeled leaves, the group's optimum looked up (memoized), and the counts restored. */
+typedef struct {
+    int ng, n;
+    const int *cell;
+    c5_group *g[C5_SCHED_MAX_CELLS];
+    int gof[C5_SCHED_MAX_CELLS];      /* group of each cell, -1: absent */
+    int toff[C5_SCHED_MAX_CELLS + 1]; /* offsets of the groups' trie nodes in cnt */
+    int woff[C5_SCHED_MAX_CELLS + 1]; /* offsets of the groups' bitsets in bits */
+    int *tnode;                       /* [n] global trie node (toff[g] + local) of each node */
+    int *cnt;                         /* live preimages per trie node */
+    uint64_t *bits, *scratch;         /* per group downsets; one group's copy */
+    int val[C5_SCHED_MAX_CELLS], total;
+} hpart;
+
+static void hpart_free(hpart *h)
+{
+    for (int k = 0; k < h->ng; k++)
+        c5_group_free(h->g[k]);
+    free(h->tnode);
+    free(h->cnt);
+    free(h->bits);
+    free(h->scratch);
+    memset(h, 0, sizeof *h);
+}
+
+/* 0, or -1 when out of memory. */
+static int hpart_init(hpart *h, const c5_dep_tree *t, const uint64_t *groups, int ng, long budget)
+{
+    memset(h, 0, sizeof *h);
+    h->n = t->n;
+    h->cell = t->cell;
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+        h->gof[c] = -1;
+    size_t sz = (size_t)(t->n > 0 ? t->n : 1);
+    int *map = malloc(sz * sizeof *map);
+    h->tnode = malloc(sz * sizeof *h->tnode);
+    if (!map || !h->tnode) {
+        free(map);
+        return -1;
+    }
+    int maxw = 1;
+    for (int k = 0; k < ng; k++) {
+        h->g[k] = c5_group_new(t, groups[k], budget, map);
+        if (!h->g[k]) {
+            free(map);
+            hpart_free(h);
+            return -1;
+        }
+        h->ng = k + 1;
+        for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+            if (groups[k] >> c & 1)
+                h->gof[c] = k;
+        for (int i = 0; i < t->n; i++)
+            if (h->gof[t->cell[i]] == k)
+                h->tnode[i] = h->toff[k] + map[i];
+        h->toff[k + 1] = h->toff[k] + c5_group_size(h->g[k]);
+        h->woff[k + 1] = h->woff[k] + c5_group_words(h->g[k]);
+        if (c5_group_words(h->g[k]) > maxw)
+            maxw = c5_group_words(h->g[k]);
+    }
+    free(map);
+    h->cnt = malloc((size_t)(h->toff[ng] > 0 ? h->toff[ng] : 1) * sizeof *h->cnt);
+    h->bits = malloc((size_t)(h->woff[ng] > 0 ? h->woff[ng] : 1) * sizeof *h->bits);
+    h->scratch = malloc((size_t)maxw * sizeof *h->scratch);
+    if (!h->cnt || !h->bits || !h->scratch) {
+        hpart_free(h);
+        return -1;
+    }
+    return 0;
+}
+
+/* Loads the state b; returns its h (-1: out of memory). */
+static int hpart_load(hpart *h, const uint64_t *b)
+{
+    memset(h->cnt, 0, (size_t)h->toff[h->ng] * sizeof *h->cnt);
+    memset(h->bits, 0, (size_t)h->woff[h->ng] * sizeof *h->bits);
+    for (int w = 0; w * 64 < h->n; w++)
+        for (uint64_t x = b[w]; x; x &= x - 1) {
+            int i = w * 64 + __builtin_ctzll(x), v = h->tnode[i];
+            if (h->cnt[v]++ == 0) {
+                int k = h->gof[h->cell[i]], local = v - h->toff[k];
+                h->bits[h->woff[k] + (local >> 6)] |= 1ull << (local & 63);
+            }
+        }
+    h->total = 0;
+    for (int k = 0; k < h->ng; k++) {
+        if ((h->val[k] = c5_group_opt(h->g[k], h->bits + h->woff[k], NULL)) < 0)
+            return -1;
+        h->total += h->val[k];
+    }
+    return h->total;
+}
+
+/* h of the loaded state without these leaves (all of cell c); -1: out of memory. */
+static int hpart_without(hpart *h, int c, const int *leaves, int count)
+{
+    int k = h->gof[c];
+    int words = h->woff[k + 1] - h->woff[k];
+    memcpy(h->scratch, h->bits + h->woff[k], (size_t)words * sizeof *h->scratch);
+    for (int q = 0; q < count; q++) {
+        int v = h->tnode[leaves[q]];
+        if (--h->cnt[v] == 0) {
+            int local = v - h->toff[k];
+            h->scratch[local >> 6] &= ~(1ull << (local & 63));
+        }
+    }
+    for (int q = 0; q < count; q++)
+        h->cnt[h->tnode[leaves[q]]]++;
+    int v = c5_group_opt(h->g[k], h->scratch, NULL);
+    return v < 0 ? -1 : h->total - h->val[k] + v;
+}
+
 typedef struct {
     int f, g, state;
     unsigned seq;
@@ -52,6 +179,9 @@ typedef struct {
     /* scratch for one expansion */
     uint64_t *cur, *next;
     int *livekids, *leaves; /* leaves: grouped by cell, [lstart[c], lstart[c] + nleaf[c]) */
+    hpart *hp;              /* the projection heuristic, NULL: sum of maxGen only */
+    long expanded;
+    int root_h, lower; /* h at the root; on giving up, the least f still open */
 } astar;
 
 static uint64_t hash_bits(const uint64_t *b, int words)
@@ -267,6 +397,21 @@ static int successor_h(astar *a, const summary *s, int c)
     return sum + !any;
 }
 
+/* h of the state summarized in s (and, for the projection heuristic, in a->cur), which
+ * loads the state into a->hp; -1 out of memory. */
+static int full_h(astar *a, const summary *s)
+{
+    int h = state_h(s);
+    if (a->hp) {
+        int hg = hpart_load(a->hp, a->cur);
+        if (hg < 0)
+            return -1;
+        if (hg > h)
+            h = hg;
+    }
+    return h;
+}
+
 static void astar_free(astar *a)
 {
     free(a->gen);
@@ -296,9 +441,13 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
     if (rc <= 0)
         return rc;
     summarize(a, a->cur, &s);
-    if (state_h(&s) >= ub)
+    int h_root = full_h(a, &s);
+    if (h_root < 0)
+        return -1;
+    a->root_h = h_root;
+    if (h_root >= ub)
         return 2;
-    if (heap_push(a, state_h(&s), 0, 0) != 0)
+    if (heap_push(a, h_root, 0, 0) != 0)
         return -1;
     while (a->nheap > 0) {
         open_entry e = heap_pop(a);
@@ -306,8 +455,12 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
             continue; /* superseded by a cheaper path to the same state */
         memcpy(a->cur, a->bits + (size_t)e.state * a->words, (size_t)a->words * 8);
         summarize(a, a->cur, &s);
-        if (state_h(&s) != e.f - e.g)
-            return -2; /* successor_h is checked against the full count at every expansion */
+        int h_here = full_h(a, &s);
+        if (h_here < 0)
+            return -1;
+        if (h_here != e.f - e.g)
+            return -2; /* the successor's h is checked against the full count at every expansion */
+        a->expanded++;
         if (s.live == 0) {
             *len_out = e.g;
             if (sched_out) {
@@ -337,7 +490,15 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
             const int *lv = a->leaves + s.lstart[c];
             for (int k = 0; k < s.nleaf[c]; k++)
                 a->next[lv[k] >> 6] &= ~(1ull << (lv[k] & 63));
-            int g = e.g + 1, f = g + successor_h(a, &s, c);
+            int hs = successor_h(a, &s, c);
+            if (a->hp) {
+                int hg = hpart_without(a->hp, c, lv, s.nleaf[c]);
+                if (hg < 0)
+                    return -1;
+                if (hg > hs)
+                    hs = hg;
+            }
+            int g = e.g + 1, f = g + hs;
             if (f >= ub)
                 continue; /* cannot beat the heuristic schedule: never stored */
             uint64_t h = hash_bits(a->next, a->words);
@@ -345,7 +506,16 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
             int st = a->table[slot];
             if (st < 0) {
                 rc = arena_add(a, a->next, h, g, e.state, c, slot);
-                if (rc <= 0)
+                if (rc == 0) {
+                    /* Giving up. Some state on an optimal path, reached by an optimal g,
+                     * is waiting (or is e): its f <= OPT, so the least f is a bound. */
+                    a->lower = e.f;
+                    for (size_t k = 0; k < a->nheap; k++)
+                        if (a->heap[k].f < a->lower)
+                            a->lower = a->heap[k].f;
+                    return 0;
+                }
+                if (rc < 0)
                     return rc;
                 st = (int)(a->nstates - 1);
             } else if (g < a->g[st]) {
@@ -362,14 +532,36 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
     return 2;
 }
 
-static int solve(const c5_dep_tree *t, long max_states, int max_nodes, int use_ub, int *len_out, int **sched_out,
-                 c5_err *err)
+/* The largest group size up to max whose packing costs at most about 1e8 node visits: every
+ * group of k of the m cells present is projected in O(n). */
+static int group_size(const c5_dep_tree *t, int max)
+{
+    uint64_t present = 0;
+    for (int i = 0; i < t->n; i++)
+        present |= 1ull << t->cell[i];
+    int m = __builtin_popcountll(present), k = 1;
+    double groups = (double)m; /* C(m, k) */
+    while (k < max && k < m) {
+        double next = groups * (m - k) / (k + 1);
+        if (next * (t->n + 64) > 1e8)
+            break;
+        groups = next;
+        k++;
+    }
+    return k;
+}
+
+int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_out, int **sched_out,
+                        c5_exact_stats *stats, c5_err *err)
 {
     if (sched_out)
         *sched_out = NULL;
+    if (stats)
+        memset(stats, 0, sizeof *stats);
     if (c5_tree_check(t, err) != 0)
         return -1;
-    if (t->n > max_nodes || max_states < 1)
+    long max_states = o->max_states;
+    if (t->n > o->max_nodes || max_states < 1)
         return 0;
     if (max_states > 0x7fffffffL)
         max_states = 0x7fffffffL; /* states are numbered by int */
@@ -379,14 +571,27 @@ static int solve(const c5_dep_tree *t, long max_states, int max_nodes, int use_u
     c5_schedule heur;
     memset(&heur, 0, sizeof heur);
     int ub = t->n + 1;
-    if (use_ub) {
+    if (o->use_rollout_ub) {
         if (c5_sched_celltree(t, C5_SPLIT_ROLLOUT, &heur, err) != 0)
             return -1;
         if (c5_sched_feasible(t, heur.cells, heur.len) == 1)
             ub = heur.len;
     }
     astar a;
+    hpart hp;
     memset(&a, 0, sizeof a);
+    memset(&hp, 0, sizeof hp);
+    int rc = -1;
+    int k = group_size(t, o->group_max);
+    if (k >= 2) {
+        uint64_t groups[C5_SCHED_MAX_CELLS];
+        int ng = 0;
+        long budget = o->group_budget > 0 ? o->group_budget : max_states;
+        int lb = c5_sched_bound_partition(t, k, budget < 20000 ? budget : 20000, groups, &ng);
+        if (lb < 0 || hpart_init(&hp, t, groups, ng, budget) != 0)
+            goto done;
+        a.hp = &hp;
+    }
     a.n = t->n;
     a.words = t->n > 0 ? (t->n + 63) / 64 : 1;
     a.parent = t->parent;
@@ -398,11 +603,20 @@ static int solve(const c5_dep_tree *t, long max_states, int max_nodes, int use_u
     a.leaves = malloc(sz * sizeof *a.leaves);
     a.cur = malloc((size_t)a.words * 8);
     a.next = malloc((size_t)a.words * 8);
-    int rc = -1;
     if (a.gen && a.livekids && a.leaves && a.cur && a.next && c5_tree_generations(t, a.gen) >= 0 &&
         table_grow(&a) == 0)
         rc = search(&a, ub, len_out, sched_out);
+done:
+    if (stats) {
+        stats->states = a.nstates;
+        stats->expanded = a.expanded;
+        stats->root_h = a.root_h;
+        stats->lower = rc == 0 ? a.lower : rc == 2 ? ub : rc == 1 ? *len_out : 0;
+        for (int k = 0; k < hp.ng; k++)
+            stats->memo += c5_group_memo(hp.g[k]);
+    }
     astar_free(&a);
+    hpart_free(&hp);
     if (rc == 2 && ub > t->n) {
         c5_schedule_free(&heur); /* cannot happen: n peels always empty the tree */
         return c5_fail(err, "cell tree optimum: search ended without a schedule");
@@ -426,11 +640,13 @@ static int solve(const c5_dep_tree *t, long max_states, int max_nodes, int use_u
 int c5_sched_optimum(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                      c5_err *err)
 {
-    return solve(t, max_states, max_nodes, 1, len_out, sched_out, err);
+    c5_exact_opts o = {max_states, max_nodes, 1, C5_EXACT_GROUPS_DEFAULT, 0};
+    return c5_sched_optimum_ex(t, &o, len_out, sched_out, NULL, err);
 }
 
 int c5_sched_optimum_plain(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                            c5_err *err)
 {
-    return solve(t, max_states, max_nodes, 0, len_out, sched_out, err);
+    c5_exact_opts o = {max_states, max_nodes, 0, 0, 0};
+    return c5_sched_optimum_ex(t, &o, len_out, sched_out, NULL, err);
 }

@@ -21,6 +21,7 @@
 #include "err.h"
 
 #define C5_SCHED_MAX_CELLS 64
+#define C5_GROUP_MAX 8 /* largest group of cells c5_sched_lower_bound_groups projects onto */
 
 typedef struct {
     int n;
@@ -82,6 +83,20 @@ int c5_sched_lower_bound(const c5_dep_tree *t);
  * be loaded at least maxGen(c) times). -1 when out of memory. */
 int c5_sched_sum_maxgen(const c5_dep_tree *t);
 
+/* A lower bound on the optimum that rests on no unproven claim: the sum of maxGen improved
+ * by the exact optima of two-cell projections, matched over disjoint pairs (tree_bound.c,
+ * proofs there). At least c5_sched_sum_maxgen (hence at least the longest root-to-leaf
+ * path: a path holds each cell c at most maxGen(c) times). Each pair's optimum is searched
+ * within 100,000 memoized states; a pair over that budget is left out (never seen on the
+ * board model's trees). -1 when out of memory. */
+int c5_sched_lower_bound_pairs(const c5_dep_tree *t);
+
+/* The same with groups of 2..max_group cells (at most C5_GROUP_MAX), each group's
+ * optimum searched within `budget` memoized states. Packing the groups is exact up to 16
+ * cells and a branch and bound with a node budget beyond (any packing is a valid bound).
+ * Triples cost about 10x pairs, groups of four about 10x triples. -1 when out of memory. */
+int c5_sched_lower_bound_groups(const c5_dep_tree *t, int max_group, long budget);
+
 /* 1 iff every root-to-leaf path is a subsequence of sched[0..len); 0 otherwise; -1 when out
  * of memory. Entries outside 0..63 are loads that serve no node. */
 int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
@@ -102,5 +117,41 @@ int c5_sched_optimum(const c5_dep_tree *t, long max_states, int max_nodes, int *
  * answer does not depend on that rule (the tests check the search alone with it). */
 int c5_sched_optimum_plain(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                            c5_err *err);
+
+/* The exact search with its knobs exposed (c5_sched_optimum: rollout bound on, default
+ * groups; c5_sched_optimum_plain: both off). */
+#define C5_EXACT_GROUPS_DEFAULT 4
+typedef struct {
+    long max_states;    /* as c5_sched_optimum */
+    int max_nodes;      /* as c5_sched_optimum */
+    int use_rollout_ub; /* the rollout rule's schedule as the initial upper bound */
+    int group_max;      /* heuristic: projections onto groups of up to this many cells (the
+                           packing of c5_sched_lower_bound_groups); < 2: sum of maxGen only */
+    long group_budget;  /* memoized states per group; 0: max_states */
+} c5_exact_opts;
+typedef struct {
+    long states;   /* states stored */
+    long expanded; /* states expanded */
+    long memo;     /* projected states memoized by the heuristic */
+    int root_h;    /* the heuristic at the root (a lower bound on the optimum) */
+    int lower;     /* proven lower bound: the optimum when found; on giving up, the least f
+                      still open (at least root_h) */
+} c5_exact_stats;
+int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_out, int **sched_out,
+                        c5_exact_stats *stats, c5_err *err);
+
+/* ---- internal: tree_bound.c for tree_exact.c ---------------------------------------------- */
+
+/* The projection of a tree onto a group of cells (a trie) and its memoized exact optimum. */
+typedef struct c5_group c5_group;
+c5_group *c5_group_new(const c5_dep_tree *t, uint64_t cells, long budget, int *map);
+void c5_group_free(c5_group *g);
+int c5_group_size(const c5_group *g);
+int c5_group_words(const c5_group *g);
+int c5_group_over_budget(const c5_group *g);
+long c5_group_memo(const c5_group *g);
+int c5_group_opt(c5_group *g, const uint64_t *downset, int *exact);
+int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, uint64_t *groups_out,
+                             int *ngroups_out);
 
 #endif
