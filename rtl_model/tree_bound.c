@@ -48,7 +48,7 @@
 
 struct c5_group {
     uint64_t cells;
-    int k, gcell[C5_GROUP_MAX]; /* the group's cells, ascending; local index 0..k-1 */
+    int k, gcell[C5_SCHED_MAX_CELLS]; /* the group's cells, ascending; local index 0..k-1 */
     int nt, words;               /* trie nodes; 64-bit words of a trie bitset */
     int *tpar;                   /* [nt] trie parent, -1 for a root; tpar[v] < v */
     uint8_t *tloc;               /* [nt] local cell index */
@@ -168,7 +168,7 @@ c5_group *c5_group_new(const c5_dep_tree *t, uint64_t cells, long budget, int *m
     int loc[C5_SCHED_MAX_CELLS];
     for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
         loc[c] = -1;
-        if ((cells >> c & 1) && g->k < C5_GROUP_MAX) {
+        if (cells >> c & 1) {
             loc[c] = g->k;
             g->gcell[g->k++] = c;
         }
@@ -214,9 +214,8 @@ c5_group *c5_group_new(const c5_dep_tree *t, uint64_t cells, long budget, int *m
     m = NULL;
     g->words = g->nt > 0 ? (g->nt + 63) / 64 : 1;
     g->livekids = malloc(cap * sizeof *g->livekids);
-    g->stack = malloc(((size_t)g->nt + 2) * (size_t)k * (size_t)g->words * sizeof *g->stack);
     g->probe = malloc((size_t)g->words * sizeof *g->probe);
-    if (!g->livekids || !g->stack || !g->probe || memo_grow_table(g) != 0)
+    if (!g->livekids || !g->probe || memo_grow_table(g) != 0)
         goto fail;
     return g;
 fail:
@@ -232,11 +231,19 @@ int c5_group_words(const c5_group *g) { return g->words; }
 int c5_group_over_budget(const c5_group *g) { return g->over; }
 long c5_group_memo(const c5_group *g) { return g->nmemo; }
 
+void c5_group_tree(const c5_group *g, int *parent, int *cell)
+{
+    for (int v = 0; v < g->nt; v++) {
+        parent[v] = g->tpar[v];
+        cell[v] = g->gcell[g->tloc[v]];
+    }
+}
+
 /* Sum over the group's cells of the largest trie generation among the live nodes: a valid
  * lower bound on OPT(D) (each cell c needs maxGen(c) loads). */
 static int fallback(const c5_group *g, const uint64_t *d)
 {
-    int mg[C5_GROUP_MAX] = {0}, s = 0;
+    int mg[C5_SCHED_MAX_CELLS] = {0}, s = 0;
     for (int w = 0; w < g->words; w++)
         for (uint64_t b = d[w]; b; b &= b - 1) {
             int v = w * 64 + __builtin_ctzll(b);
@@ -275,7 +282,12 @@ static int opt_rec(c5_group *g, const uint64_t *d, int level)
             if (g->tpar[v] >= 0)
                 g->livekids[g->tpar[v]]++;
         }
-    int nlive[C5_GROUP_MAX] = {0}, nleaf[C5_GROUP_MAX] = {0};
+    if (!g->stack) { /* the recursion's rows: allocated on first use */
+        g->stack = malloc(((size_t)g->nt + 2) * (size_t)g->k * (size_t)words * sizeof *g->stack);
+        if (!g->stack)
+            return -2;
+    }
+    int nlive[C5_SCHED_MAX_CELLS] = {0}, nleaf[C5_SCHED_MAX_CELLS] = {0};
     uint64_t *rows = g->stack + (size_t)level * g->k * words;
     for (int l = 0; l < g->k; l++)
         memcpy(rows + (size_t)l * words, d, (size_t)words * 8);
@@ -588,3 +600,42 @@ int c5_sched_lower_bound_groups(const c5_dep_tree *t, int max_group, long budget
 }
 
 int c5_sched_lower_bound_pairs(const c5_dep_tree *t) { return c5_sched_bound_partition(t, 2, 100000, NULL, NULL); }
+
+/* ---- big groups ------------------------------------------------------------------------------ */
+
+int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int ngroups, long max_states,
+                               int *all_exact)
+{
+    uint64_t seen = 0;
+    int sum = 0, exact = 1;
+    for (int k = 0; k < ngroups; k++) {
+        if (groups[k] & seen)
+            return -1; /* not disjoint: the loads would be counted twice */
+        seen |= groups[k];
+        /* a group none of whose cells is in the tree projects onto nothing */
+        c5_exact_opts o = {max_states, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 0};
+        c5_exact_stats st;
+        c5_err err;
+        int len = 0, rc = c5_sched_projection_optimum(t, groups[k], &o, &len, &st, &err);
+        if (rc < 0)
+            return -1;
+        sum += rc == 1 ? len : st.lower;
+        exact &= rc == 1;
+    }
+    /* the cells of no group count their maxGen */
+    int *gen = malloc((size_t)(t->n > 0 ? t->n : 1) * sizeof *gen);
+    if (!gen || c5_tree_generations(t, gen) < 0) {
+        free(gen);
+        return -1;
+    }
+    int maxgen[C5_SCHED_MAX_CELLS] = {0};
+    for (int i = 0; i < t->n; i++)
+        if (!(seen >> t->cell[i] & 1) && gen[i] > maxgen[t->cell[i]])
+            maxgen[t->cell[i]] = gen[i];
+    free(gen);
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+        sum += maxgen[c];
+    if (all_exact)
+        *all_exact = exact;
+    return sum;
+}

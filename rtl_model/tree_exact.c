@@ -5,14 +5,23 @@
  * is stored as an n-bit set in one arena and found again through a hash table keyed by the
  * bits. Action: peel cell c (it must have a leaf), cost 1. Goal: the empty set.
  *
- * Heuristic h = sum over cells of maxGen + 1 when the state is non-empty and no cell is
- * ready. Admissible without any claim from the paper: a peel lowers maxGen(c) by at most
- * one and only for the peeled cell, and only when c is ready; so with no ready cell the next
- * peel lowers nothing and one more peel than the sum is needed. It is even consistent
- * (h(S) <= 1 + h(S') for every peel: with the +1 in S no peel lowers the sum; without it the
- * sum drops by at most one), so a state's g is final when it is expanded; a state still
- * waiting in the open list may be reached again more cheaply, which pushes a new entry and
- * leaves the old one to be skipped.
+ * Heuristic h = max(h1, h2).
+ * h1 = sum over cells of maxGen + 1 when the state is non-empty and no cell is ready.
+ * Admissible without any claim from the paper: a peel lowers maxGen(c) by at most one and
+ * only for the peeled cell, and only when c is ready; so with no ready cell the next peel
+ * lowers nothing and one more peel than the sum is needed. It is even consistent
+ * (h1(S) <= 1 + h1(S') for every peel: with the +1 in S no peel lowers the sum; without it
+ * the sum drops by at most one).
+ * h2 = the projection heuristic (hpart below): exact optima of the state's projections onto
+ * a fixed partition of the cells, also consistent. A maximum of consistent heuristics is
+ * consistent, so a state's g is final when it is expanded; a state still waiting in the
+ * open list may be reached again more cheaply, which pushes a new entry and leaves the old
+ * one to be skipped. (Should h2 lose consistency, through a group over its memo budget,
+ * a closed state reached more cheaply is opened again the same way: the search stays
+ * exact with any admissible h.)
+ *
+ * The search also runs on projections (c5_sched_projection_optimum, for tree_bound.c),
+ * where a node may have a child of its own cell; successor_h covers that case.
  *
  * Two reductions keep the search exact:
  *  - a cell whose live nodes are all leaves is the only action expanded (peeling it first is
@@ -317,6 +326,7 @@ static int arena_add(astar *a, const uint64_t *b, uint64_t h, int g, int back, i
 typedef struct {
     int maxgen[C5_SCHED_MAX_CELLS];
     int block_top[C5_SCHED_MAX_CELLS];  /* non-leaf nodes at generation maxGen */
+    int block_next[C5_SCHED_MAX_CELLS]; /* non-leaf nodes at generation maxGen - 1 */
     int nleaf[C5_SCHED_MAX_CELLS], lstart[C5_SCHED_MAX_CELLS + 1];
     int nlive[C5_SCHED_MAX_CELLS];
     int sum, live;
@@ -342,6 +352,8 @@ static void summarize(astar *a, const uint64_t *b, summary *s)
                 s->nleaf[c]++;
             else if (d == 0)
                 s->block_top[c]++;
+            else if (d == 1)
+                s->block_next[c]++;
         }
     for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
         s->lstart[c + 1] = s->lstart[c] + s->nleaf[c];
@@ -365,11 +377,18 @@ static int state_h(const summary *s)
 }
 
 /* h of the state reached by peeling c (whose leaves are listed in s), from s alone. Peeling
- * c lowers maxGen(c) iff c is ready (its maxGen nodes are all leaves and go). c is not ready
- * afterwards: each removed maxGen node has a same-cell ancestor of the generation below with
- * another cell's node between them, which stays. Another cell d is ready afterwards iff it
- * was, or the peel turns its last blocking (non-leaf) maxGen node into a leaf. livekids is
- * restored before returning. The search checks this against state_h at every expansion. */
+ * c lowers maxGen(c) iff c is ready (its maxGen nodes are all leaves and go), and by one
+ * only: each removed maxGen node G has a same-cell ancestor of generation G - 1, which is
+ * no leaf. Another cell d is ready afterwards iff it was, or the peel turns its last
+ * blocking (non-leaf) maxGen node into a leaf (its maxGen does not change). c itself:
+ *  - not ready before: not ready after (a blocking maxGen node of c has no child of cell c,
+ *    which would be of a higher generation, so it keeps its children);
+ *  - ready before, maxGen G >= 2: ready after iff every non-leaf node of c of generation
+ *    G - 1 loses all its children. In a Cell Tree a child never has its parent's cell, so
+ *    such a node keeps the other-cell node between it and the removed one: never. In a
+ *    projection (tree_bound.c: a -> x -> a becomes a -> a) it can happen.
+ * livekids is restored before returning. The search checks this against state_h at every
+ * expansion. */
 static int successor_h(astar *a, const summary *s, int c)
 {
     int sum = s->sum - is_ready(s, c), live = s->live - s->nleaf[c];
@@ -382,12 +401,19 @@ static int successor_h(astar *a, const summary *s, int c)
     const int *lv = a->leaves + s->lstart[c];
     if (!any) {
         memcpy(block, s->block_top, sizeof block);
+        int gc = s->maxgen[c], next = is_ready(s, c) && gc >= 2 ? s->block_next[c] : -1;
         for (int k = 0; k < s->nleaf[c]; k++) {
             int q = a->parent[lv[k]];
-            if (q >= 0 && --a->livekids[q] == 0 && a->gen[q] == s->maxgen[a->cell[q]] &&
-                --block[a->cell[q]] == 0)
+            if (q < 0 || --a->livekids[q] != 0)
+                continue;
+            int cq = a->cell[q];
+            if (cq != c && a->gen[q] == s->maxgen[cq] && --block[cq] == 0)
                 any = 1;
+            if (cq == c && next > 0 && a->gen[q] == gc - 1)
+                next--;
         }
+        if (next == 0)
+            any = 1;
         for (int k = 0; k < s->nleaf[c]; k++) {
             int q = a->parent[lv[k]];
             if (q >= 0)
@@ -551,15 +577,147 @@ static int group_size(const c5_dep_tree *t, int max)
     return k;
 }
 
-int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_out, int **sched_out,
-                        c5_exact_stats *stats, c5_err *err)
+/* The search on t, which passed c5_tree_check, or is a projection (a trie: parent[i] < i,
+ * sibling cells distinct, a child may have its parent's cell), where `projection` is set:
+ * then the rollout rule (whose peel walk assumes no such child) is not run. */
+/* ---- beam search: a schedule, not a proof --------------------------------------------------
+ *
+ * Level by level in peel direction, keeping the `width` successors with the least h (ties:
+ * fewer live nodes, then generation order); a state met on an earlier level is dropped.
+ * Every kept state is stored in the arena (for the schedule's back pointers). */
+typedef struct {
+    int h, live, back, action;
+    uint64_t hash;
+    size_t off; /* bits in the candidate buffer */
+} beam_cand;
+
+static int beam_cmp(const void *x, const void *y)
+{
+    const beam_cand *a = x, *b = y;
+    if (a->h != b->h)
+        return a->h < b->h ? -1 : 1;
+    if (a->live != b->live)
+        return a->live < b->live ? -1 : 1;
+    return a->off < b->off ? -1 : a->off > b->off;
+}
+
+static int beam(astar *a, int width, int *len_out, int **sched_out)
+{
+    summary s;
+    int rc = -1;
+    size_t ccap = (size_t)width * 8;
+    beam_cand *cand = malloc(ccap * sizeof *cand);
+    uint64_t *cbits = malloc(ccap * (size_t)a->words * 8);
+    int *level = malloc((size_t)width * sizeof *level);
+    if (!cand || !cbits || !level)
+        goto out;
+    memset(a->cur, 0, (size_t)a->words * 8);
+    for (int i = 0; i < a->n; i++)
+        a->cur[i >> 6] |= 1ull << (i & 63);
+    uint64_t h0 = hash_bits(a->cur, a->words);
+    if ((rc = arena_add(a, a->cur, h0, 0, -1, 0, table_find(a, a->cur, h0))) <= 0)
+        goto out;
+    level[0] = 0;
+    int nlevel = 1;
+    for (int depth = 0;; depth++) {
+        size_t nc = 0;
+        for (int q = 0; q < nlevel; q++) {
+            int st = level[q];
+            memcpy(a->cur, a->bits + (size_t)st * a->words, (size_t)a->words * 8);
+            summarize(a, a->cur, &s);
+            if (full_h(a, &s) < 0) {
+                rc = -1;
+                goto out;
+            }
+            a->expanded++;
+            if (s.live == 0) {
+                *len_out = depth;
+                if (sched_out) {
+                    int *outs = malloc((size_t)(depth > 0 ? depth : 1) * sizeof *outs);
+                    if (!outs) {
+                        rc = -1;
+                        goto out;
+                    }
+                    int k = 0;
+                    for (int x = st; a->back[x] >= 0; x = a->back[x])
+                        outs[k++] = a->action[x];
+                    *sched_out = outs;
+                }
+                rc = 1;
+                goto out;
+            }
+            int only = -1;
+            for (int c = 0; c < C5_SCHED_MAX_CELLS && only < 0; c++)
+                if (s.nlive[c] > 0 && s.nleaf[c] == s.nlive[c])
+                    only = c;
+            for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+                if (s.nleaf[c] == 0 || (only >= 0 && c != only))
+                    continue;
+                if (nc == ccap) {
+                    beam_cand *nc2 = realloc(cand, 2 * ccap * sizeof *cand);
+                    if (nc2)
+                        cand = nc2;
+                    uint64_t *nb = realloc(cbits, 2 * ccap * (size_t)a->words * 8);
+                    if (nb)
+                        cbits = nb;
+                    if (!nc2 || !nb) {
+                        rc = -1;
+                        goto out;
+                    }
+                    ccap *= 2;
+                }
+                uint64_t *nb = cbits + nc * a->words;
+                memcpy(nb, a->cur, (size_t)a->words * 8);
+                const int *lv = a->leaves + s.lstart[c];
+                for (int k = 0; k < s.nleaf[c]; k++)
+                    nb[lv[k] >> 6] &= ~(1ull << (lv[k] & 63));
+                uint64_t hh = hash_bits(nb, a->words);
+                if (a->table[table_find(a, nb, hh)] >= 0)
+                    continue; /* met on an earlier level */
+                int hs = successor_h(a, &s, c);
+                if (a->hp) {
+                    int hg = hpart_without(a->hp, c, lv, s.nleaf[c]);
+                    if (hg < 0) {
+                        rc = -1;
+                        goto out;
+                    }
+                    if (hg > hs)
+                        hs = hg;
+                }
+                cand[nc] = (beam_cand){hs, s.live - s.nleaf[c], st, c, hh, nc};
+                nc++;
+            }
+        }
+        qsort(cand, nc, sizeof *cand, beam_cmp);
+        nlevel = 0;
+        for (size_t k = 0; k < nc && nlevel < width; k++) {
+            const uint64_t *nb = cbits + cand[k].off * a->words;
+            size_t slot = table_find(a, nb, cand[k].hash);
+            if (a->table[slot] >= 0)
+                continue; /* the same state twice on this level */
+            if ((rc = arena_add(a, nb, cand[k].hash, depth + 1, cand[k].back, cand[k].action, slot)) <= 0)
+                goto out;
+            level[nlevel++] = (int)(a->nstates - 1);
+        }
+        if (nlevel == 0) {
+            rc = 0;
+            goto out;
+        }
+    }
+out:
+    free(cand);
+    free(cbits);
+    free(level);
+    return rc;
+}
+
+static int solve(const c5_dep_tree *t, const c5_exact_opts *o, int projection, int beam_width, int *len_out,
+                 int **sched_out, c5_exact_stats *stats, c5_err *err)
 {
     if (sched_out)
         *sched_out = NULL;
     if (stats)
         memset(stats, 0, sizeof *stats);
-    if (c5_tree_check(t, err) != 0)
-        return -1;
     long max_states = o->max_states;
     if (t->n > o->max_nodes || max_states < 1)
         return 0;
@@ -571,7 +729,7 @@ int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_o
     c5_schedule heur;
     memset(&heur, 0, sizeof heur);
     int ub = t->n + 1;
-    if (o->use_rollout_ub) {
+    if (o->use_rollout_ub && !projection) {
         if (c5_sched_celltree(t, C5_SPLIT_ROLLOUT, &heur, err) != 0)
             return -1;
         if (c5_sched_feasible(t, heur.cells, heur.len) == 1)
@@ -605,7 +763,7 @@ int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_o
     a.next = malloc((size_t)a.words * 8);
     if (a.gen && a.livekids && a.leaves && a.cur && a.next && c5_tree_generations(t, a.gen) >= 0 &&
         table_grow(&a) == 0)
-        rc = search(&a, ub, len_out, sched_out);
+        rc = beam_width > 0 ? beam(&a, beam_width, len_out, sched_out) : search(&a, ub, len_out, sched_out);
 done:
     if (stats) {
         stats->states = a.nstates;
@@ -617,6 +775,14 @@ done:
     }
     astar_free(&a);
     hpart_free(&hp);
+    if (beam_width > 0 && ub <= t->n && (rc == 0 || (rc == 1 && ub < *len_out))) {
+        /* the beam died out (every successor met before) or the rollout rule did better */
+        if (sched_out) {
+            free(*sched_out);
+            *sched_out = NULL;
+        }
+        rc = 2;
+    }
     if (rc == 2 && ub > t->n) {
         c5_schedule_free(&heur); /* cannot happen: n peels always empty the tree */
         return c5_fail(err, "cell tree optimum: search ended without a schedule");
@@ -634,6 +800,53 @@ done:
         return c5_fail(err, "cell tree optimum: incremental heuristic disagrees with the state's");
     if (rc < 0)
         return c5_fail(err, "cell tree optimum: out of memory (%d nodes)", t->n);
+    return rc;
+}
+
+int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_out, int **sched_out,
+                        c5_exact_stats *stats, c5_err *err)
+{
+    if (sched_out)
+        *sched_out = NULL;
+    if (stats)
+        memset(stats, 0, sizeof *stats);
+    if (c5_tree_check(t, err) != 0)
+        return -1;
+    return solve(t, o, 0, 0, len_out, sched_out, stats, err);
+}
+
+int c5_sched_beam(const c5_dep_tree *t, int width, int *len_out, int **sched_out, c5_err *err)
+{
+    if (sched_out)
+        *sched_out = NULL;
+    if (c5_tree_check(t, err) != 0)
+        return -1;
+    if (width < 1)
+        return c5_fail(err, "cell tree beam search: width %d", width);
+    c5_exact_opts o = {0x7fffffffL, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 0};
+    int rc = solve(t, &o, 0, width, len_out, sched_out, NULL, err);
+    return rc == 1 ? 0 : rc < 0 ? -1 : c5_fail(err, "cell tree beam search: no schedule");
+}
+
+int c5_sched_projection_optimum(const c5_dep_tree *t, uint64_t cells, const c5_exact_opts *o, int *len_out,
+                                c5_exact_stats *stats, c5_err *err)
+{
+    if (stats)
+        memset(stats, 0, sizeof *stats);
+    c5_group *g = c5_group_new(t, cells, 1, NULL);
+    int nt = g ? c5_group_size(g) : 0;
+    int *par = malloc((size_t)(nt > 0 ? nt : 1) * sizeof *par), *cel = malloc((size_t)(nt > 0 ? nt : 1) * sizeof *cel);
+    int rc = -1;
+    if (g && par && cel) {
+        c5_group_tree(g, par, cel);
+        c5_dep_tree p = {nt, par, cel};
+        rc = solve(&p, o, 1, 0, len_out, NULL, stats, err);
+    } else {
+        rc = c5_fail(err, "cell tree projection: out of memory (%d nodes)", t->n);
+    }
+    c5_group_free(g);
+    free(par);
+    free(cel);
     return rc;
 }
 

@@ -16,8 +16,8 @@
 
 static int random_tree(uint64_t *rng, int n, int ncells, int maxdepth, int *parent, int *cell)
 {
-    uint64_t used[128];
-    int depth[128], m = 0;
+    uint64_t used[256];
+    int depth[256], m = 0;
     memset(used, 0, ((size_t)n + 1) * sizeof *used);
     double proot = 0.1 + 0.3 * c5_uniform(rng);
     for (int i = 0; i < n; i++) {
@@ -202,6 +202,16 @@ TEST(tree_bound_projection_optimum_matches_brute_force)
         int exact = 0, v = group_opt(&t, cells, 100000, &exact), bf = brute_opt(&p);
         CHECK(exact);
         CHECK_MSG(v == bf, "trial %d: projection optimum %d, brute force %d", trial, v, bf);
+        /* the A* on the projection (whose successor h must handle a child of its parent's
+         * cell; it checks itself at every expansion) */
+        for (int k = 0; k <= 2; k += 2) {
+            c5_exact_opts o = {100000, 64, 1, k, 0};
+            c5_exact_stats st;
+            c5_err err;
+            int len = -1;
+            CHECK_INT(c5_sched_projection_optimum(&t, cells, &o, &len, &st, &err), 1);
+            CHECK_MSG(len == bf, "trial %d groups %d: A* on the projection %d, brute force %d", trial, k, len, bf);
+        }
         nontrivial += v > c5_sched_sum_maxgen(&p); /* sum of maxGen of the projection */
     }
     CHECK(nontrivial > 100);
@@ -275,6 +285,45 @@ TEST(tree_bound_branch_and_bound_packing)
     }
 }
 
+/* Caller-chosen groups: any disjoint groups give a bound; one group holding every cell gives
+ * the optimum; overlapping groups are refused. */
+TEST(tree_bound_split_random_trees)
+{
+    uint64_t rng = 0x5917;
+    int par[16], cel[16];
+    long better = 0;
+    for (int trial = 0; trial < 500; trial++) {
+        int ncells = 2 + (int)(c5_splitmix64(&rng) % 5);
+        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), ncells, 8, par, cel);
+        c5_dep_tree t = {n, par, cel};
+        int opt = brute_opt(&t), sum = c5_sched_sum_maxgen(&t), exact = 0;
+        /* cells split in two at random (one side may be empty); a third group of absent cells */
+        uint64_t a = c5_splitmix64(&rng) & ((1ull << ncells) - 1), b = ((1ull << ncells) - 1) & ~a;
+        uint64_t groups[3] = {a, b, 0xF00ull};
+        int v = c5_sched_lower_bound_split(&t, groups, 3, 100000, &exact);
+        CHECK(exact);
+        CHECK_MSG(sum <= v && v <= opt, "trial %d: split %d, sum %d, optimum %d", trial, v, sum, opt);
+        better += v > sum;
+        /* only one group: the other cells count their maxGen */
+        int w = c5_sched_lower_bound_split(&t, groups, 1, 100000, &exact);
+        CHECK_MSG(sum <= w && w <= v, "trial %d: %d %d", trial, w, v);
+        uint64_t all = (1ull << ncells) - 1;
+        CHECK_INT(c5_sched_lower_bound_split(&t, &all, 1, 100000, &exact), opt);
+        uint64_t overlap[2] = {0x3, 0x6};
+        CHECK_INT(c5_sched_lower_bound_split(&t, overlap, 2, 100000, NULL), -1);
+    }
+    CHECK(better > 10); /* 30 with this seed: a random split often cuts the interacting pairs */
+    /* A budget too small to finish: the group reports the bound its search proved. */
+    static const int par2[] = {-1, 0, -1, 2, -1, 4, -1, 6}, cel2[] = {0, 1, 1, 0, 2, 3, 3, 2};
+    c5_dep_tree pp = {8, par2, cel2};
+    uint64_t g2[1] = {0xF};
+    int exact = 1, v = c5_sched_lower_bound_split(&pp, g2, 1, 1, &exact);
+    CHECK(!exact);
+    CHECK(v >= 4 && v <= 6);
+    CHECK_INT(c5_sched_lower_bound_split(&pp, g2, 1, 1000, &exact), 6);
+    CHECK(exact);
+}
+
 /* ---- the search with the projection heuristic --------------------------------------------- */
 
 TEST(tree_bound_search_heuristics_match_brute_force)
@@ -333,4 +382,59 @@ TEST(tree_bound_search_gives_up_with_a_bound)
     }
     CHECK(gave_up > 10);
     CHECK(improved > 0);
+}
+
+/* ---- beam search ------------------------------------------------------------------------------ */
+
+TEST(tree_bound_beam_schedules)
+{
+    uint64_t rng = 0xBEA3;
+    int par[16], cel[16];
+    c5_err err;
+    long optimal = 0, better = 0;
+    for (int trial = 0; trial < 500; trial++) {
+        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), 2 + (int)(c5_splitmix64(&rng) % 4), 8, par,
+                            cel);
+        c5_dep_tree t = {n, par, cel};
+        int opt = brute_opt(&t);
+        c5_schedule roll;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_ROLLOUT, &roll, &err), 0);
+        for (int width = 1; width <= 16; width *= 4) {
+            int len = -1, *s = NULL;
+            CHECK_INT(c5_sched_beam(&t, width, &len, &s, &err), 0);
+            CHECK(s != NULL);
+            CHECK_INT(c5_sched_feasible(&t, s, len), 1);
+            CHECK_MSG(opt <= len && len <= roll.len, "trial %d width %d: beam %d, optimum %d, rollout %d", trial,
+                      width, len, opt, roll.len);
+            optimal += width == 16 && len == opt;
+            better += len < roll.len;
+            free(s);
+        }
+        c5_schedule_free(&roll);
+    }
+    CHECK(optimal > 450);
+    /* bigger trees, against c5_sched_optimum: there the beam beats the rollout rule */
+    static int bpar[120], bcel[120];
+    for (int trial = 0; trial < 10; trial++) {
+        int n = random_tree(&rng, 120, 6, 12, bpar, bcel), opt = -1, len = -1;
+        c5_dep_tree t = {n, bpar, bcel};
+        c5_schedule roll;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_ROLLOUT, &roll, &err), 0);
+        CHECK_INT(c5_sched_optimum(&t, 1000000, 200, &opt, NULL, &err), 1);
+        CHECK_INT(c5_sched_beam(&t, 50, &len, NULL, &err), 0);
+        CHECK_MSG(opt <= len && len <= roll.len, "trial %d: beam %d, optimum %d, rollout %d", trial, len, opt, roll.len);
+        better += len < roll.len;
+        c5_schedule_free(&roll);
+    }
+    CHECK_MSG(better > 0, "%ld", better);
+    int len, *s = (int *)&len;
+    static const int par2[] = {-1, 0}, cel2[] = {0, 1};
+    c5_dep_tree t2 = {2, par2, cel2};
+    CHECK_INT(c5_sched_beam(&t2, 0, &len, &s, &err), -1);
+    CHECK(s == NULL);
+    CHECK_HAS(err.msg, "width 0");
+    c5_dep_tree empty = {0, NULL, NULL};
+    CHECK_INT(c5_sched_beam(&empty, 4, &len, &s, &err), 0);
+    CHECK_INT(len, 0);
+    free(s);
 }
