@@ -823,7 +823,8 @@ int c5_sched_beam(const c5_dep_tree *t, int width, int *len_out, int **sched_out
         return -1;
     if (width < 1)
         return c5_fail(err, "cell tree beam search: width %d", width);
-    c5_exact_opts o = {0x7fffffffL, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 0};
+    /* the arena holds only the kept states; each group's memo at most a million */
+    c5_exact_opts o = {0x7fffffffL, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 1000000};
     int rc = solve(t, &o, 0, width, len_out, sched_out, NULL, err);
     return rc == 1 ? 0 : rc < 0 ? -1 : c5_fail(err, "cell tree beam search: no schedule");
 }
