@@ -59,7 +59,6 @@ struct c5_group {
     long nmemo, cap, budget;
     int *table;
     size_t tmask;
-    int over; /* the budget was reached at least once */
     /* scratch */
     int *livekids;    /* [nt] */
     uint64_t *stack;  /* [(nt + 2) * k * words]: the children of each recursion level */
@@ -228,7 +227,6 @@ fail:
 
 int c5_group_size(const c5_group *g) { return g->nt; }
 int c5_group_words(const c5_group *g) { return g->words; }
-int c5_group_over_budget(const c5_group *g) { return g->over; }
 long c5_group_memo(const c5_group *g) { return g->nmemo; }
 
 void c5_group_tree(const c5_group *g, int *parent, int *cell)
@@ -268,10 +266,8 @@ static int opt_rec(c5_group *g, const uint64_t *d, int level)
     int s = g->table[memo_slot(g, d, h)];
     if (s >= 0)
         return g->val[s];
-    if (g->nmemo >= g->budget) {
-        g->over = 1;
+    if (g->nmemo >= g->budget)
         return -1;
-    }
     /* live children counts, then the leaves of each cell */
     for (int w = 0; w < words; w++)
         for (uint64_t b = d[w]; b; b &= b - 1)
