@@ -21,6 +21,7 @@
 #include "err.h"
 
 #define C5_SCHED_MAX_CELLS 64
+#define C5_GROUP_MAX 8 /* largest group of cells c5_sched_lower_bound_groups projects onto */
 
 typedef struct {
     int n;
@@ -82,6 +83,31 @@ int c5_sched_lower_bound(const c5_dep_tree *t);
  * be loaded at least maxGen(c) times). -1 when out of memory. */
 int c5_sched_sum_maxgen(const c5_dep_tree *t);
 
+/* A lower bound on the optimum that rests on no unproven claim: the sum of maxGen improved
+ * by the exact optima of two-cell projections, matched over disjoint pairs (tree_bound.c,
+ * proofs there). At least c5_sched_sum_maxgen (hence at least the longest root-to-leaf
+ * path: a path holds each cell c at most maxGen(c) times). Each pair's optimum is searched
+ * within 100,000 memoized states; a pair over that budget is left out (never seen on the
+ * board model's trees). -1 when out of memory. */
+int c5_sched_lower_bound_pairs(const c5_dep_tree *t);
+
+/* The same with groups of 2..max_group cells (at most C5_GROUP_MAX), each group's
+ * optimum searched within `budget` memoized states. Packing the groups is exact up to 16
+ * cells and a branch and bound with a node budget beyond (any packing is a valid bound).
+ * Cost on the board's 27-cell trees (up to 3946 nodes): pairs 0.02 s, up to 3 cells 0.05-0.08
+ * s, up to 4 0.1-0.4 s, up to 5 1-5 s. -1 when out of memory. */
+int c5_sched_lower_bound_groups(const c5_dep_tree *t, int max_group, long budget);
+
+/* The same claims with groups chosen by the caller, who may know which cells interact (the
+ * board's cells are a grid: its slabs of 9 cells give the best bounds seen on 27-cell trees):
+ * the sum over the disjoint groups (cell masks) of each projection's optimum, found by the
+ * exact search (groups heuristic, at most max_states states per group) or, when the search
+ * gives up, the bound it proved (c5_exact_stats.lower); cells in no group count their
+ * maxGen. *all_exact (if not NULL): 1 when every group was solved. -1 when the groups
+ * overlap or on error (out of memory). */
+int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int ngroups, long max_states,
+                               int *all_exact);
+
 /* 1 iff every root-to-leaf path is a subsequence of sched[0..len); 0 otherwise; -1 when out
  * of memory. Entries outside 0..63 are loads that serve no node. */
 int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
@@ -92,15 +118,77 @@ int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
  * 0: gave up because the search would store more than max_states states or the tree has
  *    more than max_nodes nodes;
  * -1: error (bad tree, out of memory).
+ * Heuristic: the larger of the sum of maxGen (+1 when no cell is ready) and the sum, over
+ * the groups of cells c5_sched_lower_bound_groups packs at the root (groups of up to 4
+ * cells, fewer when C(cells, 4) * n exceeds about 1e8), of the state's projection's exact
+ * optimum, memoized per group. Consistent; proofs in tree_exact.c and tree_bound.c. On the
+ * board model's 8-cell trees it starts within 3 of the optimum and needs a few thousand
+ * states (the sum of maxGen alone needed up to 450,000).
  * Memory budget: each stored state costs 8*ceil(n/64) bytes of node bitset plus about 50
  * bytes of bookkeeping (g, back pointer, action, hash, hash-table slots, heap entries), so
- * max_states = 200000 on a 200-node tree is about 16 MB. Deterministic: no pointer hashing,
- * no clock. */
+ * max_states = 200000 on a 200-node tree is about 16 MB; each group's memo stores at most
+ * about max_states projected states of 8*ceil(trie/64) + 20 bytes (a few thousand on the
+ * board's trees). Deterministic: no pointer hashing, no clock. */
 int c5_sched_optimum(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                      c5_err *err);
-/* The same search without the rollout rule's schedule as an upper bound: slower, but its
- * answer does not depend on that rule (the tests check the search alone with it). */
+/* The same search without the rollout rule's schedule as an upper bound and with the sum of
+ * maxGen as its only heuristic (the search as it was first written): slower, but its answer
+ * depends on neither (the tests check the search alone with it). */
 int c5_sched_optimum_plain(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                            c5_err *err);
+
+/* A short schedule, not a proof: beam search over interim trees (tree_exact.c), level by
+ * level keeping the `width` states with the least heuristic (that of c5_sched_optimum), and
+ * the rollout rule's schedule when that is shorter: never longer than C5_SPLIT_ROLLOUT.
+ * Fills *len_out and a malloc'd forward schedule (if sched_out != NULL); 0, or -1 on error.
+ * Stores at most width states per load; time about width * cells heuristic evaluations per
+ * load. On the board model's 27-cell trees, width 1000 takes 0.1-3 s and is 0-10 loads
+ * shorter than the rollout rule (on one tree the beam alone was 3 longer, hence the
+ * minimum). */
+int c5_sched_beam(const c5_dep_tree *t, int width, int *len_out, int **sched_out, c5_err *err);
+
+/* The exact search with its knobs exposed (c5_sched_optimum: rollout bound on, default
+ * groups; c5_sched_optimum_plain: both off). */
+#define C5_EXACT_GROUPS_DEFAULT 4
+typedef struct {
+    long max_states;    /* as c5_sched_optimum */
+    int max_nodes;      /* as c5_sched_optimum */
+    int use_rollout_ub; /* the rollout rule's schedule as the initial upper bound */
+    int group_max;      /* heuristic: projections onto groups of up to this many cells (the
+                           packing of c5_sched_lower_bound_groups); < 2: sum of maxGen only */
+    long group_budget;  /* memoized states per group (a group over it counts its sum of
+                           maxGen from then on); 0: max_states */
+} c5_exact_opts;
+typedef struct {
+    long states;   /* states stored */
+    long expanded; /* states expanded */
+    long memo;     /* projected states memoized by the heuristic */
+    int root_h;    /* the heuristic at the root (a lower bound on the optimum) */
+    int lower;     /* proven lower bound: the optimum when found; on giving up, the least f
+                      still open (at least root_h) */
+} c5_exact_stats;
+int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_out, int **sched_out,
+                        c5_exact_stats *stats, c5_err *err);
+
+/* ---- internal: tree_bound.c for tree_exact.c ---------------------------------------------- */
+
+/* The projection of a tree onto a group of cells (a trie) and its memoized exact optimum. */
+typedef struct c5_group c5_group;
+c5_group *c5_group_new(const c5_dep_tree *t, uint64_t cells, long budget, int *map);
+void c5_group_free(c5_group *g);
+int c5_group_size(const c5_group *g);
+int c5_group_words(const c5_group *g);
+long c5_group_memo(const c5_group *g);
+/* The trie as a tree (c5_group_size entries each; parent < index; a child may have its
+ * parent's cell). */
+void c5_group_tree(const c5_group *g, int *parent, int *cell);
+/* The exact search on the projection of t onto `cells` (tree_exact.c); as
+ * c5_sched_optimum_ex, without the rollout bound and without a schedule. */
+int c5_sched_projection_optimum(const c5_dep_tree *t, uint64_t cells, const c5_exact_opts *o, int *len_out,
+                                c5_exact_stats *stats, c5_err *err);
+
+int c5_group_opt(c5_group *g, const uint64_t *downset, int *exact);
+int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, uint64_t *groups_out,
+                             int *ngroups_out);
 
 #endif
