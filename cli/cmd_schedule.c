@@ -30,7 +30,8 @@ static const char usage_text[] =
     "  --split R         rule of the schedule the board follows: paper (split peels take the\n"
     "                    cell with most leaf nodes, default), lookahead or rollout (ours,\n"
     "                    docs/cell-tree.md); the lengths of all three are reported\n"
-    "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed)\n"
+    "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
+    "                    when it gives up: the best proven bound and the best schedule found\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
     "  --json            one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n";
@@ -151,6 +152,7 @@ static json_t *row_json(int f, const frame_row *r)
     json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
     json_object_set_new(o, "paper_bound", s->overflow ? json_null() : json_integer(s->paper_bound));
     json_object_set_new(o, "optimum", s->optimum >= 0 ? json_integer(s->optimum) : json_null());
+    json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
     json_object_set_new(o, "schedule_len", json_pack("{s:i, s:i, s:i}", "paper", s->len_paper, "lookahead",
                                                      s->len_lookahead, "rollout", s->len_rollout));
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
@@ -202,7 +204,8 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
            rule_name(a->rule));
     printf("  fetches: Max Work vs the board following the previous frame's Cell Tree schedule;\n"
            "  of this frame's own tree: bound (proven), s3.4 (Section 3.4's formula, not a bound),\n"
-           "  optimum (exact search), schedule lengths by rule paper/lookahead/rollout, peels\n");
+           "  optimum (exact search; <=N: not proven, the best schedule found), schedule lengths\n"
+           "  by rule paper/lookahead/rollout, peels\n");
     printf("%5s %8s %5s %6s %7s %8s %6s %5s %5s %7s %5s %5s %5s %9s %s\n", "frame", "rays", "nodes", "bytes",
            "maxwork", "celltree", "fewer", "bound", "s3.4", "optimum", "paper", "look", "roll", "peels c/s",
            "followed");
@@ -211,10 +214,12 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
         const frame_row *r = &rows[f];
         const c5_dsp_sched_result *x = &r->sch;
         /* Of this frame's own tree: nothing to show when it overflowed. */
-        char v[6][16];
+        char v[6][24];
         int vals[6] = {x->lower_bound, x->paper_bound, x->optimum, x->len_paper, x->len_lookahead, x->len_rollout};
         for (int k = 0; k < 6; k++)
             snprintf(v[k], sizeof v[k], x->overflow || vals[k] < 0 ? "-" : "%d", vals[k]);
+        if (!x->overflow && x->optimum < 0 && x->best_known > 0) /* not found: the best known, as "<=N" */
+            snprintf(v[2], sizeof v[2], "<=%d", x->best_known);
         char peels[24];
         snprintf(peels, sizeof peels, x->overflow ? "-" : "%d/%d", x->peels_completion, x->peels_split);
         printf("%5d %8llu %5d %6d %7llu %8llu %5.1f%% %5s %5s %7s %5s %5s %5s %9s %s%s\n", f,
@@ -283,7 +288,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
     row->board_s_maxwork = mw.board_s;
-    c5_dsp_sched_opts so = {a->rule, 1, a->exact_states, EXACT_NODES_MAX};
+    c5_dsp_sched_opts so = {.rule = a->rule, .all_rules = 1, .exact_states = a->exact_states,
+                            .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]}};
     rc = c5_dsp_schedule(tree, &so, &row->sch, err);
 done:
     c5_image_free(&mw_img);

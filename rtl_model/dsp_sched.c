@@ -17,6 +17,53 @@ void c5_dsp_sched_free(c5_dsp_sched_result *r)
     c5_schedule_free(&r->next);
 }
 
+/* Slabs of the cell grid along each axis as groups; the best axis's bound. */
+static int slab_bound(const c5_dep_tree *dt, const c5_dsp_sched_opts *o)
+{
+    const int *n = o->split;
+    if (n[0] < 1 || n[1] < 1 || n[2] < 1 || n[0] * n[1] * n[2] > C5_SCHED_MAX_CELLS)
+        return -1;
+    int best = -1;
+    for (int a = 0; a < 3; a++) {
+        if (n[a] < 2)
+            continue;
+        uint64_t groups[C5_SCHED_MAX_CELLS] = {0};
+        for (int z = 0; z < n[2]; z++)
+            for (int y = 0; y < n[1]; y++)
+                for (int x = 0; x < n[0]; x++) {
+                    int coord[3] = {x, y, z};
+                    groups[coord[a]] |= 1ull << (x + n[0] * (y + n[1] * z));
+                }
+        int b = c5_sched_lower_bound_split(dt, groups, n[a], o->exact_states, NULL);
+        best = b > best ? b : best;
+    }
+    return best;
+}
+
+static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
+{
+    double t1 = now_s();
+    c5_exact_opts eo = {.max_states = o->exact_states, .max_nodes = o->exact_nodes, .use_rollout_ub = 1,
+                        .group_max = C5_EXACT_GROUPS_DEFAULT};
+    c5_exact_stats es;
+    int len, found = c5_sched_optimum_ex(dt, &eo, &len, NULL, &es, err);
+    if (found < 0)
+        return -1;
+    if (es.lower > r->lower_bound)
+        r->lower_bound = es.lower;
+    if (found) {
+        r->optimum = r->best_known = len;
+    } else {
+        int slabs = slab_bound(dt, o);
+        if (slabs > r->lower_bound)
+            r->lower_bound = slabs;
+        if (c5_sched_beam(dt, o->beam_width > 0 ? o->beam_width : 200, &r->best_known, NULL, err) != 0)
+            return -1;
+    }
+    r->exact_wall_s = now_s() - t1;
+    return 0;
+}
+
 int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
 {
     memset(r, 0, sizeof *r);
@@ -62,14 +109,8 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     r->paper_bound = c5_sched_lower_bound(&dt);
     r->sum_maxgen = c5_sched_sum_maxgen(&dt);
     r->lower_bound = r->sum_maxgen;
-    if (o->exact_states > 0) {
-        double t1 = now_s();
-        int len, found = c5_sched_optimum(&dt, o->exact_states, o->exact_nodes, &len, NULL, err);
-        if (found < 0)
-            goto done;
-        r->optimum = found ? len : -1;
-        r->exact_wall_s = now_s() - t1;
-    }
+    if (o->exact_states > 0 && report_bounds(&dt, o, r, err) != 0)
+        goto done;
     rc = 0;
 done:
     c5_schedule_free(&other);

@@ -11,13 +11,20 @@
 typedef struct {
     c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
     int all_rules;      /* also run the other rules, for their lengths (len_*) */
+    /* The report's bounds (not the DSP's work): with exact_states > 0, the exact search,
+     * and when it gives up, the best proven bound (its own, and the grid's slabs of cells
+     * when split[] is given) and the best known schedule (beam search). */
     long exact_states;  /* state budget of the exact optimum; 0: not computed */
     int exact_nodes;    /* largest tree the exact search is tried on */
+    int split[3];       /* cells per axis (cell id = x + nx (y + ny z)); 0: no slab bound */
+    int beam_width;     /* beam of the best known schedule; 0: 200 */
 } c5_dsp_sched_opts;
 
 typedef struct {
     int nodes, slots, overflow; /* the tree as found in the RAM */
     int lower_bound;            /* the best proven bound on the optimum (tree_sched.h) */
+    int best_known;             /* the shortest schedule known: the optimum when found, else the
+                                 * best of the rules and the beam search; 0: not computed */
     int sum_maxgen;             /* the simplest proven bound: every cell maxGen times */
     int paper_bound;            /* Section 3.4's formula: NOT a bound (docs/cell-tree.md) */
     int optimum;                /* shortest feasible schedule; -1: not computed (budget, or overflow) */

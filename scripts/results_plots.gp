@@ -13,7 +13,7 @@ set ylabel "cell fetches"
 set xtics rotate by -20
 set key top center
 plot "fig6.dat" using 2:xtic(1) title "Max Work", "" using 3 title "Cell Tree (paper's rule)", \
-     "" using 4 title "Cell Tree (rollout)", "" using 6 title "optimum (exact)", "" using 5 title "proven bound"
+     "" using 4 title "Cell Tree (rollout)", "" using 6 title "optimum, or best schedule found", "" using 5 title "proven bound"
 set key top left
 
 set output "anim_fetches.png"

@@ -20,10 +20,6 @@ def pct(a, b):
     return 100.0 * (a - b) / a if a else 0.0
 
 
-def opt_text(v):
-    return "-" if v is None else str(v)
-
-
 lines = []
 w = lines.append
 w("# Results: the paper's Section 4 reproduced")
@@ -41,8 +37,10 @@ w("256x256, the view rendered twice (`--still --frames 2`): frame 0 runs Max Wor
 w("the tree, frame 1 follows the schedule made from it. Fetches are frame 1's: Max Work, the")
 w("board following the paper's rule (Cell Tree) and following our rollout rule (a second run,")
 w("`--split rollout`). Of frame 1's own tree: the proven lower bound, Section 3.4's formula")
-w("(which the paper calls a lower bound; it is not one, docs/cell-tree.md) and the exact optimum")
-w("(`-`: beyond the search's budget). Gaps: how many more fetches the Cell Tree run made.")
+w("(which the paper calls a lower bound; it is not one, docs/cell-tree.md) and the optimum:")
+w("exact where the search finished, else the interval [proven bound, best schedule found].")
+w("Gaps: how many more fetches the Cell Tree run made, in percent (over the optimum: a range")
+w("when only the interval is known).")
 w("")
 w("| scene | memory | Max Work | Cell Tree | fewer | rollout | fewer | proven bound | gap | s3.4 formula | gap | optimum | gap | peels completion / split | nodes | rays |")
 w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -64,11 +62,15 @@ for s in SCENES:
         red.append(pct(mw, ct))
         red_r.append(pct(mw, rt))
         gap_f.append(gap(ct, pb))
-        gopt = "-" if opt is None else "%.1f%%" % gap(ct, opt)
+        best = f["best_known"]
+        if opt is not None:
+            opt_cell, gopt = str(opt), "%.1f%%" % gap(ct, opt)
+        else:
+            opt_cell, gopt = f"[{lb}, {best}]", "%.0f%% to %.0f%%" % (gap(ct, best), gap(ct, lb))
         w(f"| {s} | {MEM[c]} | {mw} | {ct} | {pct(mw, ct):.1f}% | {rt} | {pct(mw, rt):.1f}% | {lb} | "
-          f"{gap(ct, lb):.0f}% | {pb} | {gap(ct, pb):.0f}% | {opt_text(opt)} | {gopt} | "
+          f"{gap(ct, lb):.0f}% | {pb} | {gap(ct, pb):.0f}% | {opt_cell} | {gopt} | "
           f"{f['peels']['completion']} / {f['peels']['split']} | {f['nodes']} | {f['rays']} |")
-        fig6.append((f"{s.split('_')[0]} {MEM[c]}", mw, ct, rt, lb, "NaN" if opt is None else opt))
+        fig6.append((f"{s.split('_')[0]} {MEM[c]}", mw, ct, rt, lb, best))
 w("")
 w(f"The paper's rule against Max Work: {sum(red) / len(red):.1f}% fewer fetches on average, from "
   f"{min(red):.1f}% to {max(red):.1f}%; the rollout rule: {sum(red_r) / len(red_r):.1f}% on average, from "
@@ -78,7 +80,7 @@ w("")
 w("![Figure 6](fig6_fetches.png)")
 w("")
 with open(os.path.join(out, "fig6.dat"), "w") as f:
-    f.write("# label maxwork celltree rollout lower_bound optimum\n")
+    f.write("# label maxwork celltree rollout proven_bound best_known(optimum when found)\n")
     for row in fig6:
         f.write('"%s" %s %s %s %s %s\n' % row)
 

@@ -145,6 +145,8 @@ TEST(celltree_own_schedule_covers_the_frame)
         CHECK(r.sum_maxgen <= r.lower_bound);
         CHECK(r.lower_bound <= (int)ct.fetches && r.lower_bound <= (int)mw.fetches);
         CHECK(r.len_paper > 0 && r.len_lookahead > 0 && r.len_rollout > 0);
+        /* The best known schedule lies between the proven bound and every rule. */
+        CHECK(r.lower_bound <= r.best_known && r.best_known <= r.len_rollout && r.best_known <= r.len_paper);
         /* The small tree (clouds_lake, 8 cells) is within the exact search's budget. */
         CHECK_MSG(k > 0 || r.optimum >= 0, "exact optimum not found within the budget (%d nodes)", r.nodes);
         if (r.optimum >= 0) {
