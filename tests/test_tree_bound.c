@@ -10,78 +10,10 @@
 
 #include "harness.h"
 #include "rng.h"
+#include "tree_fixtures.h"
 #include "tree_sched.h"
 
-/* ---- helpers (the same generator and brute force as test_tree_sched.c) ---------------- */
-
-static int random_tree(uint64_t *rng, int n, int ncells, int maxdepth, int *parent, int *cell)
-{
-    uint64_t used[256];
-    int depth[256], m = 0;
-    memset(used, 0, ((size_t)n + 1) * sizeof *used);
-    double proot = 0.1 + 0.3 * c5_uniform(rng);
-    for (int i = 0; i < n; i++) {
-        for (int tries = 0; tries < 20; tries++) {
-            int p = (m == 0 || c5_uniform(rng) < proot) ? -1 : (int)(c5_splitmix64(rng) % (uint64_t)m);
-            if (p >= 0 && depth[p] >= maxdepth)
-                continue;
-            uint64_t avail = (ncells == 64 ? ~0ull : (1ull << ncells) - 1) & ~used[p + 1];
-            if (p >= 0)
-                avail &= ~(1ull << cell[p]);
-            if (!avail)
-                continue;
-            int k = (int)(c5_splitmix64(rng) % (uint64_t)__builtin_popcountll(avail)), c = 0;
-            while (!(avail >> c & 1) || k-- > 0)
-                c++;
-            parent[m] = p;
-            cell[m] = c;
-            depth[m] = p < 0 ? 1 : depth[p] + 1;
-            used[p + 1] |= 1ull << c;
-            m++;
-            break;
-        }
-    }
-    return m;
-}
-
-/* Forward brute force over load sequences of growing length. It needs none of the tree
- * guarantees: a load of c serves every unserved node of c whose parent was served before
- * it, so it also solves projections (a node under a node of its own cell, siblings of one
- * cell). */
-static int bf_try(const c5_dep_tree *t, const unsigned char *done, int left, uint64_t used)
-{
-    int all = 1;
-    for (int i = 0; i < t->n && all; i++)
-        all = done[i];
-    if (all)
-        return 1;
-    if (left == 0)
-        return 0;
-    for (int c = 0; c < 64; c++) {
-        if (!(used >> c & 1))
-            continue;
-        unsigned char next[64];
-        int any = 0;
-        memcpy(next, done, (size_t)t->n);
-        for (int i = 0; i < t->n; i++)
-            if (!done[i] && t->cell[i] == c && (t->parent[i] < 0 || done[t->parent[i]]))
-                next[i] = any = 1;
-        if (any && bf_try(t, next, left - 1, used))
-            return 1;
-    }
-    return 0;
-}
-
-static int brute_opt(const c5_dep_tree *t)
-{
-    uint64_t used = 0;
-    for (int i = 0; i < t->n; i++)
-        used |= 1ull << t->cell[i];
-    unsigned char done[64] = {0};
-    for (int len = 0;; len++)
-        if (bf_try(t, done, len, used))
-            return len;
-}
+/* ---- helpers ---------------------------------------------------------------------------- */
 
 /* The projection onto `cells`, built the plain way: nodes of those cells, each under its
  * nearest kept ancestor (no merging of siblings). */
@@ -135,7 +67,7 @@ TEST(tree_bound_ping_pong_by_hand)
     CHECK_INT(c5_sched_lower_bound(&t), 7);
     CHECK_INT(c5_sched_lower_bound_pairs(&t), 9);
     CHECK_INT(c5_sched_lower_bound_groups(&t, 4, 1000), 9);
-    CHECK_INT(brute_opt(&t), 9);
+    CHECK_INT(c5t_brute_opt(&t), 9);
     static const int best[] = {0, 1, 0, 2, 3, 2, 4, 5, 4};
     CHECK_INT(c5_sched_feasible(&t, best, 9), 1);
     /* The search starts at the bound, which the rollout schedule meets: nothing to expand. */
@@ -161,7 +93,7 @@ TEST(tree_bound_long_ping_pong_by_hand)
     CHECK_INT(c5_tree_check(&t, NULL), 0);
     CHECK_INT(c5_sched_sum_maxgen(&t), 4);
     CHECK_INT(c5_sched_lower_bound_pairs(&t), 5);
-    CHECK_INT(brute_opt(&t), 5);
+    CHECK_INT(c5t_brute_opt(&t), 5);
 }
 
 /* Why a pair's optimum is searched, not read off an alternating schedule: the single path
@@ -179,7 +111,7 @@ TEST(tree_bound_projection_may_repeat_a_cell)
     CHECK(exact);
     CHECK_INT(c5_sched_sum_maxgen(&t), 4);
     CHECK_INT(c5_sched_lower_bound_pairs(&t), 4);
-    CHECK_INT(brute_opt(&t), 4);
+    CHECK_INT(c5t_brute_opt(&t), 4);
 }
 
 /* ---- projections against the brute force ------------------------------------------------- */
@@ -191,7 +123,7 @@ TEST(tree_bound_projection_optimum_matches_brute_force)
     long nontrivial = 0;
     for (int trial = 0; trial < 1500; trial++) {
         int ncells = 2 + (int)(c5_splitmix64(&rng) % 4);
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 12), ncells, 8, par, cel);
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 12), ncells, 8, par, cel);
         c5_dep_tree t = {n, par, cel};
         /* a random group of 2 or 3 cells */
         int size = 2 + (int)(c5_splitmix64(&rng) % 2);
@@ -199,7 +131,7 @@ TEST(tree_bound_projection_optimum_matches_brute_force)
         while (__builtin_popcountll(cells) < size && __builtin_popcountll(cells) < ncells)
             cells |= 1ull << (c5_splitmix64(&rng) % (uint64_t)ncells);
         c5_dep_tree p = {project(&t, cells, pp, pc), pp, pc};
-        int exact = 0, v = group_opt(&t, cells, 100000, &exact), bf = brute_opt(&p);
+        int exact = 0, v = group_opt(&t, cells, 100000, &exact), bf = c5t_brute_opt(&p);
         CHECK(exact);
         CHECK_MSG(v == bf, "trial %d: projection optimum %d, brute force %d", trial, v, bf);
         /* the A* on the projection (whose successor h must handle a child of its parent's
@@ -238,10 +170,10 @@ TEST(tree_bound_random_trees)
     int par[16], cel[16];
     long better_pairs = 0, better_groups = 0, above_paper = 0;
     for (int trial = 0; trial < 3000; trial++) {
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), 2 + (int)(c5_splitmix64(&rng) % 4),
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), 2 + (int)(c5_splitmix64(&rng) % 4),
                             1 + (int)(c5_splitmix64(&rng) % 8), par, cel);
         c5_dep_tree t = {n, par, cel};
-        int opt = brute_opt(&t), sum = c5_sched_sum_maxgen(&t), paper = c5_sched_lower_bound(&t);
+        int opt = c5t_brute_opt(&t), sum = c5_sched_sum_maxgen(&t), paper = c5_sched_lower_bound(&t);
         int pairs = c5_sched_lower_bound_pairs(&t);
         int g3 = c5_sched_lower_bound_groups(&t, 3, 100000), g4 = c5_sched_lower_bound_groups(&t, 4, 100000);
         int longest = 0, depth[16];
@@ -272,7 +204,7 @@ TEST(tree_bound_branch_and_bound_packing)
     uint64_t rng = 0xBB;
     int par[40], cel[40];
     for (int trial = 0; trial < 200; trial++) {
-        int n = random_tree(&rng, 4 + (int)(c5_splitmix64(&rng) % 20), 6, 6, par, cel);
+        int n = c5t_random_tree(&rng, 4 + (int)(c5_splitmix64(&rng) % 20), 6, 6, par, cel);
         c5_dep_tree t = {n, par, cel};
         int small = c5_sched_lower_bound_groups(&t, 3, 100000);
         for (int k = 0; k < 14; k++) {
@@ -294,9 +226,9 @@ TEST(tree_bound_split_random_trees)
     long better = 0;
     for (int trial = 0; trial < 500; trial++) {
         int ncells = 2 + (int)(c5_splitmix64(&rng) % 5);
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), ncells, 8, par, cel);
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), ncells, 8, par, cel);
         c5_dep_tree t = {n, par, cel};
-        int opt = brute_opt(&t), sum = c5_sched_sum_maxgen(&t), exact = 0;
+        int opt = c5t_brute_opt(&t), sum = c5_sched_sum_maxgen(&t), exact = 0;
         /* cells split in two at random (one side may be empty); a third group of absent cells */
         uint64_t a = c5_splitmix64(&rng) & ((1ull << ncells) - 1), b = ((1ull << ncells) - 1) & ~a;
         uint64_t groups[3] = {a, b, 0xF00ull};
@@ -332,10 +264,10 @@ TEST(tree_bound_search_heuristics_match_brute_force)
     int par[16], cel[16];
     c5_err err;
     for (int trial = 0; trial < 400; trial++) {
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), 2 + (int)(c5_splitmix64(&rng) % 4), 8, par,
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), 2 + (int)(c5_splitmix64(&rng) % 4), 8, par,
                             cel);
         c5_dep_tree t = {n, par, cel};
-        int bf = brute_opt(&t);
+        int bf = c5t_brute_opt(&t);
         /* groups of 2, 3, 4 with and without the rollout bound; memo budget 1 forces the
          * fallback (sum of maxGen per group) */
         for (int v = 0; v < 8; v++) {
@@ -360,7 +292,7 @@ TEST(tree_bound_search_gives_up_with_a_bound)
     c5_err err;
     long gave_up = 0, improved = 0;
     for (int trial = 0; trial < 20; trial++) {
-        int n = random_tree(&rng, 60, 6, 10, par, cel);
+        int n = c5t_random_tree(&rng, 60, 6, 10, par, cel);
         c5_dep_tree t = {n, par, cel};
         int opt = -1;
         c5_exact_opts full = {400000, 200, 1, 3, 0};
@@ -393,10 +325,10 @@ TEST(tree_bound_beam_schedules)
     c5_err err;
     long optimal = 0, better = 0;
     for (int trial = 0; trial < 500; trial++) {
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), 2 + (int)(c5_splitmix64(&rng) % 4), 8, par,
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 11), 2 + (int)(c5_splitmix64(&rng) % 4), 8, par,
                             cel);
         c5_dep_tree t = {n, par, cel};
-        int opt = brute_opt(&t);
+        int opt = c5t_brute_opt(&t);
         c5_schedule roll;
         CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_ROLLOUT, &roll, &err), 0);
         for (int width = 1; width <= 16; width *= 4) {
@@ -416,7 +348,7 @@ TEST(tree_bound_beam_schedules)
     /* bigger trees, against c5_sched_optimum: there the beam beats the rollout rule */
     static int bpar[120], bcel[120];
     for (int trial = 0; trial < 10; trial++) {
-        int n = random_tree(&rng, 120, 6, 12, bpar, bcel), opt = -1, len = -1;
+        int n = c5t_random_tree(&rng, 120, 6, 12, bpar, bcel), opt = -1, len = -1;
         c5_dep_tree t = {n, bpar, bcel};
         c5_schedule roll;
         CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_ROLLOUT, &roll, &err), 0);

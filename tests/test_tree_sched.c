@@ -9,81 +9,10 @@
 
 #include "harness.h"
 #include "rng.h"
+#include "tree_fixtures.h"
 #include "tree_sched.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
-
-/* Random forest honouring the guarantees: each node picks a parent among the earlier nodes
- * (or none), then a cell that neither the parent nor the parent's other children have. A
- * node that finds no free cell after a few tries is dropped; returns the node count. */
-static int random_tree(uint64_t *rng, int n, int ncells, int maxdepth, int *parent, int *cell)
-{
-    uint64_t used[9000]; /* used[p + 1]: cells of p's children (used[0]: roots) */
-    int depth[9000], m = 0;
-    memset(used, 0, ((size_t)n + 1) * sizeof *used);
-    double proot = 0.1 + 0.3 * c5_uniform(rng);
-    for (int i = 0; i < n; i++) {
-        for (int tries = 0; tries < 20; tries++) {
-            int p = (m == 0 || c5_uniform(rng) < proot) ? -1 : (int)(c5_splitmix64(rng) % (uint64_t)m);
-            if (p >= 0 && depth[p] >= maxdepth)
-                continue;
-            uint64_t avail = (ncells == 64 ? ~0ull : (1ull << ncells) - 1) & ~used[p + 1];
-            if (p >= 0)
-                avail &= ~(1ull << cell[p]);
-            if (!avail)
-                continue;
-            int k = (int)(c5_splitmix64(rng) % (uint64_t)__builtin_popcountll(avail)), c = 0;
-            while (!(avail >> c & 1) || k-- > 0)
-                c++;
-            parent[m] = p;
-            cell[m] = c;
-            depth[m] = p < 0 ? 1 : depth[p] + 1;
-            used[p + 1] |= 1ull << c;
-            m++;
-            break;
-        }
-    }
-    return m;
-}
-
-/* Forward brute force, independent of the peeling code: tries every load sequence of length
- * L = 0, 1, 2, ... over the used cells, embedding greedily (a load of c serves every
- * unserved node of c whose parent is served). A load that serves nothing is skipped: a
- * shortest schedule has none (deleting it would leave a shorter feasible one). */
-static int bf_try(const c5_dep_tree *t, const unsigned char *done, int left, uint64_t used)
-{
-    int all = 1;
-    for (int i = 0; i < t->n && all; i++)
-        all = done[i];
-    if (all)
-        return 1;
-    if (left == 0)
-        return 0;
-    for (int c = 0; c < 64; c++) {
-        if (!(used >> c & 1))
-            continue;
-        unsigned char next[64];
-        int any = 0;
-        memcpy(next, done, (size_t)t->n);
-        for (int i = 0; i < t->n; i++)
-            if (!done[i] && t->cell[i] == c && (t->parent[i] < 0 || done[t->parent[i]]))
-                next[i] = any = 1;
-        if (any && bf_try(t, next, left - 1, used))
-            return 1;
-    }
-    return 0;
-}
-
-static int brute_opt(const c5_dep_tree *t)
-{
-    uint64_t used = 0;
-    for (int i = 0; i < t->n; i++)
-        used |= 1ull << t->cell[i];
-    unsigned char done[64] = {0};
-    for (int len = 0;; len++)
-        if (bf_try(t, done, len, used))
-            return len;
-}
 
 /* The tree left after peeling cell c (removing its current leaves), renumbered. */
 static int peel_copy(const c5_dep_tree *t, int c, int *parent, int *cell)
@@ -198,7 +127,7 @@ TEST(tree_sched_paper_figure4)
     CHECK_INT(opt, 11);
     CHECK_INT(c5_sched_feasible(&fig4, os, opt), 1);
     free(os);
-    CHECK_INT(brute_opt(&fig4), 11);
+    CHECK_INT(c5t_brute_opt(&fig4), 11);
 }
 
 /* The lookahead's tie-break matters (found by random search): two candidates score the same
@@ -213,7 +142,7 @@ TEST(tree_sched_lookahead_ties_by_leaves)
     CHECK_INT(s.len, 5);
     CHECK_INT(c5_sched_feasible(&t, s.cells, s.len), 1);
     c5_schedule_free(&s);
-    CHECK_INT(brute_opt(&t), 5);
+    CHECK_INT(c5t_brute_opt(&t), 5);
 }
 
 /* ---- feasibility ------------------------------------------------------------------------- */
@@ -270,7 +199,7 @@ TEST(tree_sched_completion_claim_is_false)
     c5_dep_tree t = {6, par, cel};
     CHECK_INT(c5_tree_check(&t, NULL), 0);
     CHECK(ready_at_start(&t, 1));
-    CHECK_INT(brute_opt(&t), 4);
+    CHECK_INT(c5t_brute_opt(&t), 4);
     CHECK_INT(optimum(&t), 4);
     CHECK_INT(c5_sched_sum_maxgen(&t), 4);
     CHECK_INT(c5_sched_lower_bound(&t), 5); /* the paper's bound exceeds the optimum */
@@ -279,7 +208,7 @@ TEST(tree_sched_completion_claim_is_false)
     int p2[6], c2[6];
     c5_dep_tree rest = {peel_copy(&t, 1, p2, c2), p2, c2};
     CHECK_INT(rest.n, 5);
-    CHECK_INT(brute_opt(&rest), 4); /* 1 + 4 > 4: no optimal schedule starts with this peel */
+    CHECK_INT(c5t_brute_opt(&rest), 4); /* 1 + 4 > 4: no optimal schedule starts with this peel */
 
     c5_schedule s;
     CHECK_INT(run_rule(&t, C5_SPLIT_MOST_LEAVES, &s), 0);
@@ -301,9 +230,9 @@ TEST(tree_sched_full_cell_peel_is_optimal)
     uint64_t rng = 0xF011;
     int par[16], cel[16], p2[16], c2[16], checked = 0, false_claims = 0;
     for (int trial = 0; trial < 400; trial++) {
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 9), 2 + (int)(c5_splitmix64(&rng) % 3), 6, par, cel);
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 9), 2 + (int)(c5_splitmix64(&rng) % 3), 6, par, cel);
         c5_dep_tree t = {n, par, cel};
-        int opt = brute_opt(&t), kids[16] = {0};
+        int opt = c5t_brute_opt(&t), kids[16] = {0};
         for (int i = 0; i < n; i++)
             if (par[i] >= 0)
                 kids[par[i]]++;
@@ -316,9 +245,9 @@ TEST(tree_sched_full_cell_peel_is_optimal)
                 }
             c5_dep_tree rest = {peel_copy(&t, c, p2, c2), p2, c2};
             if (nodes > 0 && nodes == leaves) {
-                CHECK_MSG(1 + brute_opt(&rest) == opt, "trial %d: full cell %d peel not optimal", trial, c);
+                CHECK_MSG(1 + c5t_brute_opt(&rest) == opt, "trial %d: full cell %d peel not optimal", trial, c);
                 checked++;
-            } else if (leaves > 0 && ready_at_start(&t, c) && 1 + brute_opt(&rest) > opt) {
+            } else if (leaves > 0 && ready_at_start(&t, c) && 1 + c5t_brute_opt(&rest) > opt) {
                 false_claims++; /* a ready, not full, cell whose peel costs a load */
             }
         }
@@ -335,9 +264,9 @@ TEST(tree_sched_optimum_matches_brute_force)
     int par[16], cel[16];
     c5_err err;
     for (int trial = 0; trial < 300; trial++) {
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 9), 2 + (int)(c5_splitmix64(&rng) % 3), 8, par, cel);
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 9), 2 + (int)(c5_splitmix64(&rng) % 3), 8, par, cel);
         c5_dep_tree t = {n, par, cel};
-        int bf = brute_opt(&t);
+        int bf = c5t_brute_opt(&t);
         for (int plain = 0; plain < 2; plain++) {
             int len = -1, *s = NULL;
             CHECK_INT((plain ? c5_sched_optimum_plain : c5_sched_optimum)(&t, 1000000, 64, &len, &s, &err), 1);
@@ -361,7 +290,7 @@ TEST(tree_sched_optimum_beats_rollout)
     CHECK_INT(run_rule(&t, C5_SPLIT_ROLLOUT, &s), 0);
     CHECK_INT(s.len, 6);
     c5_schedule_free(&s);
-    CHECK_INT(brute_opt(&t), 5);
+    CHECK_INT(c5t_brute_opt(&t), 5);
     int len = -1, *sched = NULL;
     CHECK_INT(c5_sched_optimum(&t, 100000, 64, &len, &sched, &err), 1);
     CHECK_INT(len, 5);
@@ -379,7 +308,7 @@ TEST(tree_sched_optimum_updates_g)
     c5_dep_tree t = {10, par, cel};
     c5_err err;
     CHECK_INT(c5_tree_check(&t, &err), 0);
-    CHECK_INT(brute_opt(&t), 6);
+    CHECK_INT(c5t_brute_opt(&t), 6);
     int len = -1;
     CHECK_INT(c5_sched_optimum_plain(&t, 100000, 64, &len, NULL, &err), 1);
     CHECK_INT(len, 6);
@@ -394,7 +323,7 @@ TEST(tree_sched_rules_and_bounds_random)
     long lb_over = 0, better2 = 0;
     c5_err err;
     for (int trial = 0; trial < 3000; trial++) {
-        int n = random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 20), 2 + (int)(c5_splitmix64(&rng) % 4),
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 20), 2 + (int)(c5_splitmix64(&rng) % 4),
                             1 + (int)(c5_splitmix64(&rng) % 10), par, cel);
         c5_dep_tree t = {n, par, cel};
         CHECK_INT(c5_tree_check(&t, &err), 0);
@@ -440,7 +369,7 @@ TEST(tree_sched_optimum_budget)
 {
     uint64_t rng = 0xB0D6;
     static int par[200], cel[200];
-    int n = random_tree(&rng, 150, 8, 8, par, cel);
+    int n = c5t_random_tree(&rng, 150, 8, 8, par, cel);
     c5_dep_tree t = {n, par, cel};
     c5_err err;
     int len = -1, *s = (int *)&len;
@@ -464,7 +393,7 @@ TEST(tree_sched_big_tree)
 {
     uint64_t rng = 0xB16;
     static int par[8191], cel[8191], gen[8191];
-    int n = random_tree(&rng, 8191, 64, 8, par, cel);
+    int n = c5t_random_tree(&rng, 8191, 64, 8, par, cel);
     c5_dep_tree t = {n, par, cel};
     CHECK(n > 8000);
     int sum = c5_sched_sum_maxgen(&t);
