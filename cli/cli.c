@@ -230,3 +230,22 @@ int c5_cli_help(int argc, char **argv, const char *usage)
         }
     return 0;
 }
+
+int c5_cli_scene_arg(const char *cmd, const char *arg, const char **scene_arg, int *have_scene, c5_err *err)
+{
+    if (arg[0] == '-')
+        return c5_fail(err, "unknown option '%s' (see 'cube5 %s --help')", arg, cmd);
+    if (*have_scene)
+        return c5_fail(err, "unexpected argument '%s': one scene at a time", arg);
+    *scene_arg = arg;
+    *have_scene = 1;
+    return 0;
+}
+
+int c5_cli_add_volume(const char *v, const char **volumes, int *n, c5_err *err)
+{
+    if (*n == C5_MAX_VOLUMES)
+        return c5_fail(err, "--volume: at most %d", C5_MAX_VOLUMES);
+    volumes[(*n)++] = v;
+    return 0;
+}

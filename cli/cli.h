@@ -37,6 +37,12 @@ int c5_cli_load_scene(const char *arg, c5_scene *s, char *label, size_t label_le
 /* "--volume [I=]FILE": replaces the source of volume I (default 0) with the file. */
 int c5_cli_replace_volume(c5_scene *s, const char *arg, c5_err *err);
 
+/* An argument that is none of the command's options: the scene, once; else an error that
+ * names the option or the extra argument (and `cube5 CMD --help`). */
+int c5_cli_scene_arg(const char *cmd, const char *arg, const char **scene_arg, int *have_scene, c5_err *err);
+/* Collects "--volume [I=]FILE" (at most C5_MAX_VOLUMES) for c5_cli_replace_volume. */
+int c5_cli_add_volume(const char *v, const char **volumes, int *n, c5_err *err);
+
 /* Refuses, before any work, an output path with an extension other than .png/.exr or one
  * that names an input (the scene file, a volume file). */
 int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err);

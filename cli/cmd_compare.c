@@ -72,19 +72,13 @@ static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
             else if (!strcmp(o, "--diff"))
                 a->diff = v;
             else if (!strcmp(o, "--volume")) {
-                if (a->n_volumes == C5_MAX_VOLUMES)
-                    return c5_fail(err, "--volume: at most %d", C5_MAX_VOLUMES);
-                a->volumes[a->n_volumes++] = v;
+                if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
+                    return -1;
             }
         } else if (!strcmp(o, "--json")) {
             a->json = 1;
-        } else if (o[0] == '-') {
-            return c5_fail(err, "unknown option '%s' (see 'cube5 compare --help')", o);
-        } else if (have_scene) {
-            return c5_fail(err, "unexpected argument '%s': one scene at a time", o);
-        } else {
-            a->scene_arg = o;
-            have_scene = 1;
+        } else if (c5_cli_scene_arg("compare", o, &a->scene_arg, &have_scene, err) != 0) {
+            return -1;
         }
     }
     return 0;

@@ -84,21 +84,15 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                 else
                     return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead or rollout)", v);
             } else if (!strcmp(o, "--volume")) {
-                if (a->n_volumes == C5_MAX_VOLUMES)
-                    return c5_fail(err, "--volume: at most %d", C5_MAX_VOLUMES);
-                a->volumes[a->n_volumes++] = v;
+                if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
+                    return -1;
             }
         } else if (!strcmp(o, "--json")) {
             a->json = 1;
         } else if (!strcmp(o, "--still")) {
             a->still = 1;
-        } else if (o[0] == '-') {
-            return c5_fail(err, "unknown option '%s' (see 'cube5 schedule --help')", o);
-        } else if (have_scene) {
-            return c5_fail(err, "unexpected argument '%s': one scene at a time", o);
-        } else {
-            a->scene_arg = o;
-            have_scene = 1;
+        } else if (c5_cli_scene_arg("schedule", o, &a->scene_arg, &have_scene, err) != 0) {
+            return -1;
         }
     }
     return 0;
