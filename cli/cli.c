@@ -249,3 +249,18 @@ int c5_cli_add_volume(const char *v, const char **volumes, int *n, c5_err *err)
     volumes[(*n)++] = v;
     return 0;
 }
+
+int c5_cli_scene_setup(const char *arg, const char *const *volumes, int n_volumes, int w, int h, c5_scene *s,
+                       char *label, size_t label_len, c5_err *err)
+{
+    if (c5_cli_load_scene(arg, s, label, label_len, err) != 0)
+        return -1;
+    for (int i = 0; i < n_volumes; i++)
+        if (c5_cli_replace_volume(s, volumes[i], err) != 0)
+            return -1;
+    if (w) {
+        s->render.width = w;
+        s->render.height = h;
+    }
+    return 0;
+}

@@ -36,6 +36,10 @@ const char *c5_cli_queue_key_name(c5_queue_key key);
 int c5_cli_load_scene(const char *arg, c5_scene *s, char *label, size_t label_len, c5_err *err);
 /* "--volume [I=]FILE": replaces the source of volume I (default 0) with the file. */
 int c5_cli_replace_volume(c5_scene *s, const char *arg, c5_err *err);
+/* The scene a command works on: loaded, its volumes replaced, its image size w x h (0: the
+ * scene's). */
+int c5_cli_scene_setup(const char *arg, const char *const *volumes, int n_volumes, int w, int h, c5_scene *s,
+                       char *label, size_t label_len, c5_err *err);
 
 /* An argument that is none of the command's options: the scene, once; else an error that
  * names the option or the extra argument (and `cube5 CMD --help`). */

@@ -213,15 +213,9 @@ int c5_cmd_compare(int argc, char **argv)
     compare_result r;
     memset(&r, 0, sizeof r);
     int rc = C5_EXIT_INPUT;
-    if (parse_args(argc, argv, &a, &err) != 0 || c5_cli_load_scene(a.scene_arg, &s, label, sizeof label, &err) != 0)
+    if (parse_args(argc, argv, &a, &err) != 0 ||
+        c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
         goto fail;
-    for (int i = 0; i < a.n_volumes; i++)
-        if (c5_cli_replace_volume(&s, a.volumes[i], &err) != 0)
-            goto fail;
-    if (a.w) {
-        s.render.width = a.w;
-        s.render.height = a.h;
-    }
     int frames = c5_scene_frames(&s);
     if (a.frame >= frames) {
         c5_fail(&err, "--frame: the scene has %d frame(s) (0..%d), no frame %ld", frames, frames - 1, a.frame);

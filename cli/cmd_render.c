@@ -259,15 +259,9 @@ int c5_cmd_render(int argc, char **argv)
     char label[1100];
     c5_supervol sv = {0};
     int rc = C5_EXIT_INPUT;
-    if (parse_args(argc, argv, &a, &err) != 0 || c5_cli_load_scene(a.scene_arg, &s, label, sizeof label, &err) != 0)
+    if (parse_args(argc, argv, &a, &err) != 0 ||
+        c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
         goto fail;
-    for (int i = 0; i < a.n_volumes; i++)
-        if (c5_cli_replace_volume(&s, a.volumes[i], &err) != 0)
-            goto fail;
-    if (a.w) {
-        s.render.width = a.w;
-        s.render.height = a.h;
-    }
     if (a.frames) {
         s.path.frames = (int)a.frames;
         if (s.path.n_keys == 0 && a.frames > 1) {
