@@ -39,6 +39,7 @@
  * (proof at first_ready in tree_sched.c; it holds for any set of sequences). The recursion
  * memoizes every downset it meets (exact values), up to a budget of stored downsets; a
  * projection over budget falls back to its sum of maxGen, which is always valid. */
+#include "bitset_index.h"
 #include "tree_sched.h"
 
 #include <stdlib.h>
@@ -57,24 +58,13 @@ struct c5_group {
     uint64_t *keys, *khash;
     int *val;
     long nmemo, cap, budget;
-    int *table;
-    size_t tmask;
+    c5_bsidx idx;
     /* scratch */
     int *livekids;    /* [nt] */
     uint64_t *stack;  /* [(nt + 2) * k * words]: the children of each recursion level */
     uint64_t *probe;  /* [words] */
 };
 
-static uint64_t hash_words(const uint64_t *b, int words)
-{
-    uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (int k = 0; k < words; k++) {
-        h ^= b[k];
-        h *= 0xBF58476D1CE4E5B9ull;
-        h ^= h >> 31;
-    }
-    return h;
-}
 
 void c5_group_free(c5_group *g)
 {
@@ -86,39 +76,17 @@ void c5_group_free(c5_group *g)
     free(g->keys);
     free(g->khash);
     free(g->val);
-    free(g->table);
+    c5_bsidx_free(&g->idx);
     free(g->livekids);
     free(g->stack);
     free(g->probe);
     free(g);
 }
 
-static int memo_grow_table(c5_group *g)
-{
-    size_t size = g->table ? 2 * (g->tmask + 1) : 256;
-    int *t = malloc(size * sizeof *t);
-    if (!t)
-        return -1;
-    memset(t, 0xff, size * sizeof *t);
-    for (long s = 0; s < g->nmemo; s++) {
-        size_t k = g->khash[s] & (size - 1);
-        while (t[k] >= 0)
-            k = (k + 1) & (size - 1);
-        t[k] = (int)s;
-    }
-    free(g->table);
-    g->table = t;
-    g->tmask = size - 1;
-    return 0;
-}
 
 static size_t memo_slot(const c5_group *g, const uint64_t *b, uint64_t h)
 {
-    size_t k = h & g->tmask;
-    for (int s; (s = g->table[k]) >= 0; k = (k + 1) & g->tmask)
-        if (g->khash[s] == h && memcmp(g->keys + (size_t)s * g->words, b, (size_t)g->words * 8) == 0)
-            return k;
-    return k;
+    return c5_bsidx_find(&g->idx, g->keys, g->khash, g->words, b, h);
 }
 
 /* 0 stored, -1 out of memory. Never refused: opt_rec checks the budget before it recurses,
@@ -149,8 +117,8 @@ static int memo_put(c5_group *g, const uint64_t *b, uint64_t h, int v)
     memcpy(g->keys + (size_t)s * g->words, b, (size_t)g->words * 8);
     g->khash[s] = h;
     g->val[s] = v;
-    g->table[slot] = (int)s;
-    if ((size_t)g->nmemo * 2 > g->tmask + 1 && memo_grow_table(g) != 0)
+    g->idx.table[slot] = (int)s;
+    if (c5_bsidx_after_store(&g->idx, g->khash, g->nmemo) != 0)
         return -1;
     return 0;
 }
@@ -214,7 +182,7 @@ c5_group *c5_group_new(const c5_dep_tree *t, uint64_t cells, long budget, int *m
     g->words = g->nt > 0 ? (g->nt + 63) / 64 : 1;
     g->livekids = malloc(cap * sizeof *g->livekids);
     g->probe = malloc((size_t)g->words * sizeof *g->probe);
-    if (!g->livekids || !g->probe || memo_grow_table(g) != 0)
+    if (!g->livekids || !g->probe || c5_bsidx_grow(&g->idx, g->khash, 0, 256) != 0)
         goto fail;
     return g;
 fail:
@@ -262,8 +230,8 @@ static int opt_rec(c5_group *g, const uint64_t *d, int level)
         empty = d[w] == 0;
     if (empty)
         return 0;
-    uint64_t h = hash_words(d, words);
-    int s = g->table[memo_slot(g, d, h)];
+    uint64_t h = c5_bits_hash(d, words);
+    int s = g->idx.table[memo_slot(g, d, h)];
     if (s >= 0)
         return g->val[s];
     if (g->nmemo >= g->budget)

@@ -33,6 +33,7 @@
  *
  * The open list prefers smaller f, then larger g (deeper states finish tight instances
  * fast), then the newest entry; every key is an integer, so the search is deterministic. */
+#include "bitset_index.h"
 #include "tree_sched.h"
 
 #include <stdlib.h>
@@ -180,8 +181,7 @@ typedef struct {
     uint8_t *action; /* the cell peeled to get here from back */
     uint64_t *hash;
     long nstates, cap, max_states;
-    int *table; /* open addressing, -1 = empty; size is a power of two */
-    size_t tmask;
+    c5_bsidx idx; /* finds a state's bits again */
     open_entry *heap;
     size_t nheap, heapcap;
     unsigned seq;
@@ -193,16 +193,6 @@ typedef struct {
     int root_h, lower; /* h at the root; on giving up, the least f still open */
 } astar;
 
-static uint64_t hash_bits(const uint64_t *b, int words)
-{
-    uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (int k = 0; k < words; k++) {
-        h ^= b[k];
-        h *= 0xBF58476D1CE4E5B9ull;
-        h ^= h >> 31;
-    }
-    return h;
-}
 
 static int heap_before(const open_entry *a, const open_entry *b)
 {
@@ -255,31 +245,13 @@ static open_entry heap_pop(astar *a)
 
 static int table_grow(astar *a)
 {
-    size_t size = a->table ? 2 * (a->tmask + 1) : 4096;
-    int *t = malloc(size * sizeof *t);
-    if (!t)
-        return -1;
-    memset(t, 0xff, size * sizeof *t);
-    for (long s = 0; s < a->nstates; s++) {
-        size_t k = a->hash[s] & (size - 1);
-        while (t[k] >= 0)
-            k = (k + 1) & (size - 1);
-        t[k] = (int)s;
-    }
-    free(a->table);
-    a->table = t;
-    a->tmask = size - 1;
-    return 0;
+    return c5_bsidx_grow(&a->idx, a->hash, a->nstates, 4096);
 }
 
 /* Slot of the state with these bits, or of the empty slot where it would go. */
 static size_t table_find(const astar *a, const uint64_t *b, uint64_t h)
 {
-    size_t k = h & a->tmask;
-    for (int s; (s = a->table[k]) >= 0; k = (k + 1) & a->tmask)
-        if (a->hash[s] == h && memcmp(a->bits + (size_t)s * a->words, b, (size_t)a->words * 8) == 0)
-            return k;
-    return k;
+    return c5_bsidx_find(&a->idx, a->bits, a->hash, a->words, b, h);
 }
 
 /* Appends a state; 1 = stored, 0 = over budget, -1 = out of memory. */
@@ -316,8 +288,8 @@ static int arena_add(astar *a, const uint64_t *b, uint64_t h, int g, int back, i
     a->back[s] = back;
     a->action[s] = (uint8_t)action;
     a->hash[s] = h;
-    a->table[slot] = (int)s;
-    if ((size_t)a->nstates * 2 > a->tmask + 1 && table_grow(a) != 0)
+    a->idx.table[slot] = (int)s;
+    if (c5_bsidx_after_store(&a->idx, a->hash, a->nstates) != 0)
         return -1;
     return 1;
 }
@@ -446,7 +418,7 @@ static void astar_free(astar *a)
     free(a->back);
     free(a->action);
     free(a->hash);
-    free(a->table);
+    c5_bsidx_free(&a->idx);
     free(a->heap);
     free(a->cur);
     free(a->next);
@@ -462,7 +434,7 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
     memset(a->cur, 0, (size_t)a->words * 8);
     for (int i = 0; i < a->n; i++)
         a->cur[i >> 6] |= 1ull << (i & 63);
-    uint64_t h0 = hash_bits(a->cur, a->words);
+    uint64_t h0 = c5_bits_hash(a->cur, a->words);
     int rc = arena_add(a, a->cur, h0, 0, -1, 0, table_find(a, a->cur, h0));
     if (rc <= 0)
         return rc;
@@ -527,9 +499,9 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
             int g = e.g + 1, f = g + hs;
             if (f >= ub)
                 continue; /* cannot beat the heuristic schedule: never stored */
-            uint64_t h = hash_bits(a->next, a->words);
+            uint64_t h = c5_bits_hash(a->next, a->words);
             size_t slot = table_find(a, a->next, h);
-            int st = a->table[slot];
+            int st = a->idx.table[slot];
             if (st < 0) {
                 rc = arena_add(a, a->next, h, g, e.state, c, slot);
                 if (rc == 0) {
@@ -614,7 +586,7 @@ static int beam(astar *a, int width, int *len_out, int **sched_out)
     memset(a->cur, 0, (size_t)a->words * 8);
     for (int i = 0; i < a->n; i++)
         a->cur[i >> 6] |= 1ull << (i & 63);
-    uint64_t h0 = hash_bits(a->cur, a->words);
+    uint64_t h0 = c5_bits_hash(a->cur, a->words);
     if ((rc = arena_add(a, a->cur, h0, 0, -1, 0, table_find(a, a->cur, h0))) <= 0)
         goto out;
     level[0] = 0;
@@ -671,8 +643,8 @@ static int beam(astar *a, int width, int *len_out, int **sched_out)
                 const int *lv = a->leaves + s.lstart[c];
                 for (int k = 0; k < s.nleaf[c]; k++)
                     nb[lv[k] >> 6] &= ~(1ull << (lv[k] & 63));
-                uint64_t hh = hash_bits(nb, a->words);
-                if (a->table[table_find(a, nb, hh)] >= 0)
+                uint64_t hh = c5_bits_hash(nb, a->words);
+                if (a->idx.table[table_find(a, nb, hh)] >= 0)
                     continue; /* met on an earlier level */
                 int hs = successor_h(a, &s, c);
                 if (a->hp) {
@@ -693,7 +665,7 @@ static int beam(astar *a, int width, int *len_out, int **sched_out)
         for (size_t k = 0; k < nc && nlevel < width; k++) {
             const uint64_t *nb = cbits + cand[k].off * a->words;
             size_t slot = table_find(a, nb, cand[k].hash);
-            if (a->table[slot] >= 0)
+            if (a->idx.table[slot] >= 0)
                 continue; /* the same state twice on this level */
             if ((rc = arena_add(a, nb, cand[k].hash, depth + 1, cand[k].back, cand[k].action, slot)) <= 0)
                 goto out;
