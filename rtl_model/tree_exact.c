@@ -304,6 +304,17 @@ typedef struct {
     int sum, live;
 } summary;
 
+/* A cell whose live nodes are all leaves, or -1. Some optimal schedule peels it first
+ * (proof at first_ready in tree_sched.c; tested against brute force), so the searches
+ * expand only that one. */
+static int full_leaf_cell(const summary *s)
+{
+    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+        if (s->nlive[c] > 0 && s->nleaf[c] == s->nlive[c])
+            return c;
+    return -1;
+}
+
 static void summarize(astar *a, const uint64_t *b, summary *s)
 {
     memset(s, 0, sizeof *s);
@@ -474,13 +485,7 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
             }
             return 1;
         }
-        /* A cell whose live nodes are all leaves is peeled first by some optimal schedule
-         * (proof at first_ready in tree_sched.c; tested against brute force): expand only
-         * that one. */
-        int only = -1;
-        for (int c = 0; c < C5_SCHED_MAX_CELLS && only < 0; c++)
-            if (s.nlive[c] > 0 && s.nleaf[c] == s.nlive[c])
-                only = c;
+        int only = full_leaf_cell(&s);
         for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
             if (s.nleaf[c] == 0 || (only >= 0 && c != only))
                 continue;
@@ -618,10 +623,7 @@ static int beam(astar *a, int width, int *len_out, int **sched_out)
                 rc = 1;
                 goto out;
             }
-            int only = -1;
-            for (int c = 0; c < C5_SCHED_MAX_CELLS && only < 0; c++)
-                if (s.nlive[c] > 0 && s.nleaf[c] == s.nlive[c])
-                    only = c;
+            int only = full_leaf_cell(&s);
             for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
                 if (s.nleaf[c] == 0 || (only >= 0 && c != only))
                     continue;
