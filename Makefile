@@ -57,7 +57,7 @@ $(BUILD)/gen/builtin_scenes.o: $(BUILD)/gen/builtin_scenes.c | $(LAYOUTS_H)
 $(LAYOUTS_H): spec/layouts.toml scripts/gen-layouts.py | $(DEPS_OK)
 	$(GEN_LAYOUTS) --c-header $@
 
-# VHDL constants for the FPGA (fpga/, later); generated only, not analysed yet.
+# VHDL package for fpga/: field positions, records, pack/unpack (tests/fpga_test.sh analyses it).
 $(LAYOUTS_VHD): spec/layouts.toml scripts/gen-layouts.py | $(DEPS_OK)
 	$(GEN_LAYOUTS) --vhdl $@
 
