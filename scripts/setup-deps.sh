@@ -7,7 +7,12 @@ pkgs=(build-essential g++ pkg-config zlib1g-dev
       python3               # test and bench scripts read JSON with it
       libjansson-dev        # scene files (JSON)
       libteem-dev           # NRRD volumes (Teem's nrrd)
-      libopenimageio-dev)   # PNG / EXR output (OpenImageIO)
+      libopenimageio-dev    # PNG / EXR output (OpenImageIO)
+      ghdl ghdl-mcode       # VHDL-2008 simulation and --synth of fpga/ (mcode: the backend
+                            # that runs in place, no compiler needed; tests/fpga_test.sh)
+      yosys                 # synthesis for iCE40 (make fpga-report)
+      nextpnr-ice40         # place and route, Fmax (make fpga-report)
+      fpga-icestorm)        # iCE40 tools (icepack, icetime) beside nextpnr (make fpga-report)
 [ $# -eq 0 ] || pkgs=("$@")
 missing=()
 for p in "${pkgs[@]}"; do

@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# The VHDL in fpga/ against the golden vectors: analyses the generated layouts package,
+# fpga/rtl and fpga/tb with GHDL (VHDL-2008), then runs tb_ray_packet_codec on every
+# vectors/golden/packet.*.hex and tb_ray_queue on every vectors/golden/ray_queue.*.hex,
+# and checks that the testbenches can fail (one flipped bit in a copy of a file must give
+# FAIL naming the line and the column). Usage: fpga_test.sh [BUILD] (default build/; needs
+# BUILD/gen/c5_layouts_pkg.vhd, which `make test` builds). C5_VECTORS=DIR reads another
+# vector directory. GHDL missing is a failure, not a skip: scripts/setup-deps.sh installs it.
+set -u
+cd "$(dirname "$0")/.."
+build=${1:-build}
+vectors=${C5_VECTORS:-vectors/golden}
+abs() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
+work=$(abs "$build/ghdl")
+pkg="$build/gen/c5_layouts_pkg.vhd"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0 failed=0
+
+ok() { echo "ok   $1"; passed=$((passed + 1)); }
+bad() { echo "FAIL $1"; shift; printf '    %s\n' "$@"; failed=$((failed + 1)); }
+summary() { echo "SUMMARY passed=$passed failed=$failed"; [ "$failed" -eq 0 ]; exit; }
+
+# Source files in dependency order: packages first, each entity before its users.
+RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
+     fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd)
+TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd)
+
+if ! command -v ghdl >/dev/null 2>&1; then
+    bad ghdl_present "ghdl not found: run scripts/setup-deps.sh (installs ghdl)"
+    summary
+fi
+if [ ! -f "$pkg" ]; then
+    bad layouts_package "$pkg missing: run make (make test builds it)"
+    summary
+fi
+
+# ---- analyse and elaborate --------------------------------------------------------------
+
+rm -rf "$work"
+mkdir -p "$work"
+if ghdl -a --std=08 --workdir="$work" "$pkg" "${RTL[@]}" "${TB[@]}" 2>"$tmp/err"; then
+    ok analyse
+else
+    bad analyse "$(head -n 10 "$tmp/err")"
+    summary
+fi
+# Run from the work directory: the mcode backend elaborates in memory, the LLVM and GCC
+# backends write the executable to the current directory, and -r finds it there.
+for tb in tb_ray_packet_codec tb_ray_queue; do
+    if (cd "$work" && ghdl -e --std=08 "$tb") 2>"$tmp/err"; then
+        ok "elaborate_$tb"
+    else
+        bad "elaborate_$tb" "$(head -n 10 "$tmp/err")"
+    fi
+done
+
+# run TB FILE: the testbench's output in $tmp/out, its exit status returned.
+run() {
+    (cd "$work" && ghdl -r --std=08 "$1" "-gVECTORS=$2") >"$tmp/out" 2>&1
+}
+
+# ---- every golden vector file -----------------------------------------------------------
+
+# golden TB BLOCK: the testbench on every BLOCK.*.hex; no such file is a failure.
+golden() {
+    local tb=$1 block=$2 f name found=0
+    for f in "$vectors/$block".*.hex; do
+        [ -e "$f" ] || continue
+        found=1
+        name="${tb}_$(basename "$f" .hex)"
+        if run "$tb" "$(abs "$f")" && grep -q "^PASS $tb: " "$tmp/out"; then
+            ok "$name"
+        else
+            bad "$name" "$(grep -E '^(PASS|FAIL)|error' "$tmp/out" | head -n 12)"
+        fi
+    done
+    [ "$found" -eq 1 ] || bad "${tb}_vectors" "no $vectors/$block.*.hex"
+}
+golden tb_ray_packet_codec packet
+golden tb_ray_queue ray_queue
+
+# ---- the testbenches can fail -----------------------------------------------------------
+
+# flip SRC LINE COLUMN OUT: OUT is SRC with the lowest bit of column COLUMN (1-based) of
+# line LINE inverted (the last hex digit mapped through 0<->1, 2<->3, ...).
+flip() {
+    awk -v L="$2" -v C="$3" 'NR == L {
+        d = index("0123456789abcdef", substr($C, length($C), 1))
+        $C = substr($C, 1, length($C) - 1) substr("1032547698badcfe", d, 1)
+    } { print }' "$1" >"$4"
+}
+
+# negative NAME TB FILE PATTERN...: TB on FILE must exit non-zero, print its FAIL line and
+# every PATTERN (fixed strings) in its output.
+negative() {
+    local name=$1 tb=$2 file=$3 p
+    shift 3
+    if run "$tb" "$file"; then
+        bad "$name" "the testbench passed a corrupted file"
+        return
+    fi
+    if ! grep -q "^FAIL $tb: " "$tmp/out"; then
+        bad "$name" "no FAIL line" "$(tail -n 5 "$tmp/out")"
+        return
+    fi
+    for p in "$@"; do
+        if ! grep -qF -- "$p" "$tmp/out"; then
+            bad "$name" "output lacks: $p" "$(grep error "$tmp/out" | head -n 5)"
+            return
+        fi
+    done
+    ok "$name"
+}
+
+first() { for f in "$@"; do [ -e "$f" ] && { echo "$f"; return; }; done; }
+pf=$(first "$vectors"/packet.*.hex)
+qf=$(first "$vectors"/ray_queue.*.hex)
+if [ -n "$pf" ] && [ "$(wc -l <"$pf")" -ge 3 ]; then
+    # column 9 is lifetime: pack(fields) no longer gives the packet, unpack(packet) no
+    # longer gives that field
+    flip "$pf" 3 9 "$tmp/packet.flipped.hex"
+    negative fails_on_flipped_field tb_ray_packet_codec "$tmp/packet.flipped.hex" \
+        "line 3: lifetime: expected" "line 3: packet (pack of the fields)" "2 errors in"
+    # a column one digit short
+    awk 'NR == 2 { $5 = substr($5, 2) } { print }' "$pf" >"$tmp/packet.short.hex"
+    negative fails_on_malformed_line tb_ray_packet_codec "$tmp/packet.short.hex" \
+        "line 2: dir_y: expected 4 lowercase hex digits"
+fi
+if [ -n "$qf" ]; then
+    # the first popping cycle's pop_key (column 6) off by one bit
+    line=$(awk '$5 == "1" { print NR; exit }' "$qf")
+    if [ -n "$line" ]; then
+        flip "$qf" "$line" 6 "$tmp/ray_queue.flipped.hex"
+        negative fails_on_flipped_output tb_ray_queue "$tmp/ray_queue.flipped.hex" \
+            "line $line: pop_key: expected" "1 error in"
+    else
+        bad fails_on_flipped_output "$qf has no cycle with pop_valid = 1"
+    fi
+fi
+negative fails_on_missing_file tb_ray_queue "$tmp/no-such.hex" "cannot open"
+
+summary
