@@ -6,13 +6,13 @@ CC       ?= gcc
 CXX      ?= g++
 OPT      ?= -O2
 SAN      ?=
-CPPFLAGS += -D_DEFAULT_SOURCE -Icommon -Icref -Irtl_model -I$(BUILD)/gen
+CPPFLAGS += -D_DEFAULT_SOURCE -Icommon -Icref -Irtl_model -Ivectors/gen -I$(BUILD)/gen
 CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror -pthread $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror $(SAN)
 LDFLAGS  += -pthread $(SAN)
 LDLIBS   += $(shell pkg-config --libs OpenImageIO jansson 2>/dev/null) -lteem -lz -lm
 
-LIB_SRC  := $(wildcard common/*.c cref/*.c rtl_model/*.c)
+LIB_SRC  := $(wildcard common/*.c cref/*.c rtl_model/*.c vectors/gen/*.c)
 LIB_CXX  := $(wildcard common/*.cpp)
 CLI_SRC  := $(wildcard cli/*.c)
 TEST_SRC := $(wildcard tests/*.c)

@@ -465,6 +465,12 @@ def c_layout(lay):
         p = f"C5_{up}_{f['name'].upper()}"
         out.append(f"    X({f['name']}, {p}_LSB, {p}_WIDTH, {1 if f['fmt'].signed else 0}) \\")
     out[-1] = out[-1][:-2]
+    out.append("/* The same with the field's declared format as text (\"UQ9.15\", \"uint\"). */")
+    out.append(f"#define C5_{up}_FIELDS_FORMAT(X) \\")
+    for f in data:
+        p = f"C5_{up}_{f['name'].upper()}"
+        out.append(f"    X({f['name']}, {p}_LSB, {p}_WIDTH, {1 if f['fmt'].signed else 0}, \"{f['fmt'].text}\") \\")
+    out[-1] = out[-1][:-2]
     out.append("/* X(lsb, width) for every reserved field. */")
     if resv:
         out.append(f"#define C5_{up}_RESERVED(X) \\")
