@@ -34,6 +34,18 @@ else
         "$(head -n 30 "$tmp/check.log")"
 fi
 
+# caught NAME DIR PATTERN WHAT: vectors_check of DIR against the fresh set must fail, with
+# PATTERN in its report.
+caught() {
+    if $check "$tmp/fresh" "$2" >"$tmp/$1.log" 2>&1; then
+        bad "$1" "vectors_check passed $4"
+    elif grep -q -- "$3" "$tmp/$1.log"; then
+        ok "$1"
+    else
+        bad "$1" "the report does not name $4" "$(cat "$tmp/$1.log")"
+    fi
+}
+
 # The check names the block, the vector index and the field of a flipped bit.
 if [ -d "$tmp/fresh" ]; then
     cp -r "$tmp/fresh" "$tmp/flip"
@@ -47,13 +59,8 @@ cols[3] = cols[3][:-1] + "%x" % (int(cols[3][-1], 16) ^ 1)
 lines[3] = " ".join(cols)
 open(p, "w").write("\n".join(lines))
 PY
-    if $check "$tmp/fresh" "$tmp/flip" >"$tmp/flip.log" 2>&1; then
-        bad check_catches_bit_flip "vectors_check passed a flipped bit"
-    elif grep -q "packet.directed.hex (block packet, directed): vector 3: dir_x expected" "$tmp/flip.log"; then
-        ok check_catches_bit_flip
-    else
-        bad check_catches_bit_flip "the report does not name block, vector 3 and dir_x" "$(cat "$tmp/flip.log")"
-    fi
+    caught check_catches_bit_flip "$tmp/flip" "packet.directed.hex (block packet, directed): vector 3: dir_x expected" \
+        "a flipped bit (block, vector 3, dir_x)"
     cp -r "$tmp/fresh" "$tmp/crc"
     python3 - "$tmp/crc/manifest.json" <<'PY'
 import json, sys
@@ -62,13 +69,7 @@ m["scenes"][0]["dsp_ram"] = "crc32:00000000"
 json.dump(m, open(p, "w"), indent=2)
 PY
     scene0=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["scenes"][0]["scene"])' "$tmp/crc/manifest.json")
-    if $check "$tmp/fresh" "$tmp/crc" >"$tmp/crc.log" 2>&1; then
-        bad check_catches_scene_crc "vectors_check passed a changed DSP RAM CRC"
-    elif grep -q "scene $scene0: dsp_ram golden" "$tmp/crc.log"; then
-        ok check_catches_scene_crc
-    else
-        bad check_catches_scene_crc "the report does not name the scene and dsp_ram" "$(cat "$tmp/crc.log")"
-    fi
+    caught check_catches_scene_crc "$tmp/crc" "scene $scene0: dsp_ram golden" "a changed DSP RAM CRC (scene, dsp_ram)"
 fi
 
 # A second run into the same directory replaces the set and gives the same bits; a
