@@ -86,7 +86,7 @@ json_t *c5_vec_scene(c5_vset *s, const char *name, const c5_scene *sc, const c5_
         begun++;
     }
     if (rc == 0) {
-        c5_taps top = {r, top_packet, top_queue, top_tree_tag, top_frame};
+        c5_taps top = {.ctx = r, .packet = top_packet, .queue = top_queue, .tree_tag = top_tree_tag, .frame = top_frame};
         c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .tree = tree, .taps = &top};
         c5_image img = {0};
         c5_board_stats st;
