@@ -200,7 +200,7 @@ static int directed(c5_vset *s)
         }
         int in_grid = 1;
         for (int a = 0; a < 3; a++) { /* in the cell or up to 2 voxels around it, a tenth anywhere near the grid */
-            int64_t lo = ((int64_t)b.lo[a] - 2) << 15, hi = ((int64_t)b.hi[a] + 2) << 15;
+            int64_t lo = ((int64_t)b.lo[a] - 2) * 32768, hi = ((int64_t)b.hi[a] + 2) * 32768;
             if (i % 10 == 9) {
                 lo = -((int64_t)8 << 15);
                 hi = ((int64_t)b.dims[a] + 8) << 15;
