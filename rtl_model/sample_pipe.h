@@ -2,7 +2,9 @@
  * formats of docs/bit-layouts.md: interpolation (sample_value UQ8.8), gradient (SQ8.8),
  * classification (tf_rgba UQ1.15), shading (normal SQ1.14, light_term and shaded_rgb
  * UQ4.12), compositing (sample_rgb UQ2.12, opacity UQ1.15). Inline: it is the model's inner
- * loop. Every step is exact integer arithmetic and one half-to-even rounding. */
+ * loop. Every step is exact integer arithmetic and one half-to-even rounding. The RDRAM
+ * read (c5_gather: indices, clamping) is apart from the blends, which are pure functions of
+ * the gathered corners: the hardware blocks of the golden vectors (vectors/gen/vec_*.c). */
 #ifndef C5_SAMPLE_PIPE_H
 #define C5_SAMPLE_PIPE_H
 
