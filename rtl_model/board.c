@@ -324,6 +324,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     for (uint32_t i = 0; i < (uint32_t)o.queue_capacity; i++)
         b.free_slots[b.n_free++] = (uint32_t)o.queue_capacity - 1 - i;
     c5_proc_init(&b.proc, &b.r, &b.cells, &b.mem, (c5_proc_io){&b, on_enqueue, on_deliver});
+    b.proc.taps = o.taps;
     stats->stages = b.r.st;
     stats->cells = b.cells.count;
 

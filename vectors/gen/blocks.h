@@ -5,6 +5,7 @@
 #define C5_VEC_BLOCKS_H
 
 #include "board.h"
+#include "regs.h"
 #include "taps.h"
 #include "vecset.h"
 
@@ -14,6 +15,12 @@ enum {
     C5_VB_QUEUE,
     C5_VB_TREE,
     C5_VB_SCHED,
+    C5_VB_INTERP,
+    C5_VB_GRADIENT,
+    C5_VB_CLASSIFY,
+    C5_VB_SHADE,
+    C5_VB_COMPOSITE,
+    C5_VB_TRAVERSE,
     C5_VB_MAX = 16,
 };
 
@@ -23,6 +30,7 @@ typedef struct {
     const char *scene;      /* the scene's name: the files' source */
     uint64_t seed;          /* this scene's stream (set seed mixed with the scene name) */
     c5_ctree *tree;         /* the DSP's Cell Tree of the frame (blocks may read it) */
+    const c5_frame_regs *regs; /* the frame registers the board loads (a block's configuration) */
     void *st[C5_VB_MAX];    /* each block's tap state */
 } c5_vscene;
 

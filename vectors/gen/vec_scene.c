@@ -49,6 +49,48 @@ static void top_frame(void *ctx, const uint64_t *fb, int w, int h)
         r->blk.frame(&r->v, fb, w, h);
 }
 
+static void top_interp(void *ctx, const c5_corners *k, int64_t value)
+{
+    scene_run *r = ctx;
+    if (r->blk.interp)
+        r->blk.interp(&r->v, k, value);
+}
+
+static void top_gradient(void *ctx, const c5_corners *k, const int64_t gs[3], const int64_t grad[3])
+{
+    scene_run *r = ctx;
+    if (r->blk.gradient)
+        r->blk.gradient(&r->v, k, gs, grad);
+}
+
+static void top_classify(void *ctx, int64_t value, const int64_t rgba[4])
+{
+    scene_run *r = ctx;
+    if (r->blk.classify)
+        r->blk.classify(&r->v, value, rgba);
+}
+
+static void top_shade(void *ctx, const c5_shade_io *io)
+{
+    scene_run *r = ctx;
+    if (r->blk.shade)
+        r->blk.shade(&r->v, io);
+}
+
+static void top_composite(void *ctx, const c5_composite_io *io)
+{
+    scene_run *r = ctx;
+    if (r->blk.composite)
+        r->blk.composite(&r->v, io);
+}
+
+static void top_traverse(void *ctx, const c5_trav_in *in, const c5_trav_out *out)
+{
+    scene_run *r = ctx;
+    if (r->blk.traverse)
+        r->blk.traverse(&r->v, in, out);
+}
+
 static char *crc_text(uLong crc, char *buf)
 {
     sprintf(buf, "crc32:%08lx", (unsigned long)crc);
@@ -59,12 +101,26 @@ json_t *c5_vec_scene(c5_vset *s, const char *name, const c5_scene *sc, const c5_
 {
     scene_run *r = calloc(1, sizeof *r);
     c5_ctree *tree = malloc(sizeof *tree);
-    if (!r || !tree) {
+    c5_frame_regs *regs = malloc(sizeof *regs);
+    if (!r || !tree || !regs) {
         free(r);
         free(tree);
+        free(regs);
         c5_fail(s->err, "out of memory");
         return NULL;
     }
+    /* The registers the board will load for the frame (the same function on the same
+     * scene and split), for the blocks' configuration files. */
+    c5_board_opts ro = {.cells = {cells[0] > 1 ? cells[0] : 1, cells[1] > 1 ? cells[1] : 1, cells[2] > 1 ? cells[2] : 1}};
+    if (c5_supervol_empty(sv))
+        ro.cells[0] = ro.cells[1] = ro.cells[2] = 1;
+    if (c5_regs_build(sc, sv, &ro, regs, s->err) != 0) {
+        free(r);
+        free(tree);
+        free(regs);
+        return NULL;
+    }
+    r->v.regs = regs;
     c5_ctree_init(tree, 0);
     r->v.set = s;
     r->v.scene = name;
@@ -86,7 +142,17 @@ json_t *c5_vec_scene(c5_vset *s, const char *name, const c5_scene *sc, const c5_
         begun++;
     }
     if (rc == 0) {
-        c5_taps top = {r, top_packet, top_queue, top_tree_tag, top_frame};
+        c5_taps top = {.ctx = r,
+                       .packet = top_packet,
+                       .queue = top_queue,
+                       .tree_tag = top_tree_tag,
+                       .frame = top_frame,
+                       .interp = top_interp,
+                       .gradient = top_gradient,
+                       .classify = top_classify,
+                       .shade = top_shade,
+                       .composite = top_composite,
+                       .traverse = top_traverse};
         c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .tree = tree, .taps = &top};
         c5_image img = {0};
         c5_board_stats st;
@@ -109,6 +175,7 @@ json_t *c5_vec_scene(c5_vset *s, const char *name, const c5_scene *sc, const c5_
                         (int)tree->used);
     }
     free(tree);
+    free(regs);
     free(r);
     return rec;
 }
