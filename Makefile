@@ -6,13 +6,13 @@ CC       ?= gcc
 CXX      ?= g++
 OPT      ?= -O2
 SAN      ?=
-CPPFLAGS += -D_DEFAULT_SOURCE -Icommon -Icref -Irtl_model -I$(BUILD)/gen
+CPPFLAGS += -D_DEFAULT_SOURCE -Icommon -Icref -Irtl_model -Ivectors/gen -I$(BUILD)/gen
 CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror -pthread $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror $(SAN)
 LDFLAGS  += -pthread $(SAN)
 LDLIBS   += $(shell pkg-config --libs OpenImageIO jansson 2>/dev/null) -lteem -lz -lm
 
-LIB_SRC  := $(wildcard common/*.c cref/*.c rtl_model/*.c)
+LIB_SRC  := $(wildcard common/*.c cref/*.c rtl_model/*.c vectors/gen/*.c)
 LIB_CXX  := $(wildcard common/*.cpp)
 CLI_SRC  := $(wildcard cli/*.c)
 TEST_SRC := $(wildcard tests/*.c)
@@ -27,7 +27,7 @@ LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
 LAYOUTS_VHD := $(BUILD)/gen/c5_layouts_pkg.vhd
 GEN_LAYOUTS := python3 scripts/gen-layouts.py spec/layouts.toml
 
-.PHONY: all demo test asan bench tb results deps docs clean
+.PHONY: all demo test asan bench tb results deps docs golden clean
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
 
 deps: $(DEPS_OK)
@@ -98,6 +98,12 @@ tb: $(BUILD)/cube5
 # The paper's Section 4 (Figures 6, 7, 10 and an animation) into docs/results/ (docs/cell-tree.md).
 results: $(BUILD)/cube5
 	bash scripts/results.sh $(BUILD)
+
+# The committed golden vectors (docs/vectors.md). Regenerating them is a deliberate act:
+# tests/vectors_test.sh fails until they match the model again; say why in the commit.
+GOLDEN_ARGS := --seed 1 --count 128 --size 64x64 --cells 2
+golden: $(BUILD)/cube5
+	$(BUILD)/cube5 vectors --out vectors/golden $(GOLDEN_ARGS)
 
 clean:
 	rm -rf build out

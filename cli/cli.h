@@ -61,5 +61,6 @@ int c5_cmd_compare(int argc, char **argv);
 int c5_cmd_render(int argc, char **argv);
 int c5_cmd_schedule(int argc, char **argv);
 int c5_cmd_scenes(int argc, char **argv);
+int c5_cmd_vectors(int argc, char **argv);
 
 #endif

@@ -13,6 +13,7 @@ static const struct {
     {"render", c5_cmd_render, "render a scene with cref or the board model (--model rtl)"},
     {"schedule", c5_cmd_schedule, "the Cell Tree scheduler against Max Work over a scene's frames"},
     {"scenes", c5_cmd_scenes, "list the built-in scenes"},
+    {"vectors", c5_cmd_vectors, "golden vectors of every block for the VHDL testbenches"},
 };
 
 static void usage(FILE *f)

@@ -13,6 +13,7 @@
 #include "processor.h"
 #include "ray_queue.h"
 #include "regs.h"
+#include "taps.h"
 
 #define CLOCK_HZ 100e6
 #define RDRAM_BW 800e6
@@ -73,6 +74,24 @@ static uint32_t queue_key(board *b, const c5_bray *r)
                   (uint32_t)((r->pos[2] >> C5_POS_F) - b->mem.lo[2]));
 }
 
+/* One clock cycle of the active cell's sorter, seen by the queue tap. */
+static void edram_step(board *b, const c5_rq_in *in, c5_rq_out *out)
+{
+    c5_rq_step(&b->edram, in, out);
+    const c5_taps *t = b->o->taps;
+    if (t && t->queue)
+        t->queue(t->ctx, in, out);
+}
+
+/* A packet as it is written into a queue (eDRAM or SDRAM), seen by the packet tap. */
+static void pack(board *b, const c5_bray *r, uint8_t pk[C5_PACKET_BYTES])
+{
+    c5_bray_pack(r, pk);
+    const c5_taps *t = b->o->taps;
+    if (t && t->packet)
+        t->packet(t->ctx, pk);
+}
+
 /* One cycle of the sorter with an insert: 1 if accepted. */
 static int edram_insert(board *b, const c5_bray *r)
 {
@@ -81,11 +100,11 @@ static int edram_insert(board *b, const c5_bray *r)
     uint32_t slot = b->free_slots[b->n_free - 1];
     c5_rq_in in = {.insert_valid = 1, .insert_key = queue_key(b, r), .insert_payload = slot};
     c5_rq_out out;
-    c5_rq_step(&b->edram, &in, &out);
+    edram_step(b, &in, &out);
     if (!out.insert_accepted)
         return 0;
     b->n_free--;
-    c5_bray_pack(r, b->slot[slot]);
+    pack(b, r, b->slot[slot]);
     return 1;
 }
 
@@ -111,8 +130,11 @@ static void on_enqueue(void *ctx, const c5_bray *r)
     double t0 = now_s();
     q.node = c5_ctree_tag(b->tree, r->node, (int)r->cell);
     b->st->tree_wall_s += now_s() - t0;
+    const c5_taps *t = b->o->taps;
+    if (t && t->tree_tag)
+        t->tree_tag(t->ctx, r->node, (int)r->cell, q.node);
     uint8_t pk[C5_PACKET_BYTES];
-    c5_bray_pack(&q, pk);
+    pack(b, &q, pk);
     if (push_sdram(b, (int)r->cell, pk) != 0)
         b->oom = 1;
     b->st->bus_packets++;
@@ -182,7 +204,7 @@ static void process_cell(board *b, int cell)
             break;
         c5_rq_in in = {.pop_ready = 1};
         c5_rq_out out;
-        c5_rq_step(&b->edram, &in, &out);
+        edram_step(b, &in, &out);
         c5_bray r;
         c5_bray_unpack(b->slot[out.pop_payload], &r);
         b->free_slots[b->n_free++] = out.pop_payload;
@@ -302,6 +324,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     for (uint32_t i = 0; i < (uint32_t)o.queue_capacity; i++)
         b.free_slots[b.n_free++] = (uint32_t)o.queue_capacity - 1 - i;
     c5_proc_init(&b.proc, &b.r, &b.cells, &b.mem, (c5_proc_io){&b, on_enqueue, on_deliver});
+    b.proc.taps = o.taps;
     stats->stages = b.r.st;
     stats->cells = b.cells.count;
 
@@ -345,6 +368,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         }
         out->rgb[i] = (float)ldexp((double)b.fb[i], -C5_RGB_F);
     }
+    if (o.taps && o.taps->frame)
+        o.taps->frame(o.taps->ctx, b.fb, s->render.width, s->render.height);
 
     const c5_proc_stats *ps = &b.proc.st;
     memcpy(stats->rays, ps->rays, sizeof stats->rays);

@@ -16,6 +16,7 @@
 #include "image.h"
 #include "scene.h"
 #include "supervol.h"
+#include "taps.h"
 
 /* Sort key of the active cell's ray queue (docs/board-model.md, "queue key"). */
 typedef enum {
@@ -42,6 +43,7 @@ typedef struct {
     int all_stages;          /* 1: keep every stage on even when the scene does not need it */
     double host_bw;          /* bytes/s from host memory/disk to RDRAM, 0: 132e6 (PCI 33 MHz x 32 bit) */
     double host_latency_s;   /* per fetch, 0: 1e-3 (a disk seek); < 0: none */
+    const c5_taps *taps;     /* observers of the blocks for golden vectors, or NULL */
 } c5_board_opts;
 
 /* The stages the scene needs (docs/board-model.md, "what runs"). */

@@ -50,16 +50,23 @@ static int64_t steps_to_exit(const int64_t pos[3], const int64_t S[3], const int
     return n < 1 ? 1 : n;
 }
 
-/* Advances the ray n samples without sampling (every one of them has alpha 0). */
+/* Advances pos by n steps without sampling (every one of them has alpha 0), n cut by the
+ * lifetime; returns the steps taken. */
+static int64_t advance(int64_t pos[3], uint32_t *lifetime, const int64_t S[3], int64_t n)
+{
+    if (*lifetime != C5_LIFE_NONE && n > (int64_t)*lifetime)
+        n = *lifetime;
+    for (int a = 0; a < 3; a++)
+        pos[a] += n * S[a];
+    if (*lifetime != C5_LIFE_NONE)
+        *lifetime -= (uint32_t)n;
+    return n;
+}
+
+/* A leap of n samples, counted. */
 static void leap(c5_proc *p, c5_bray *ray, const int64_t S[3], int64_t n)
 {
-    if (ray->lifetime != C5_LIFE_NONE && n > (int64_t)ray->lifetime)
-        n = ray->lifetime;
-    for (int a = 0; a < 3; a++)
-        ray->pos[a] += n * S[a];
-    if (ray->lifetime != C5_LIFE_NONE)
-        ray->lifetime -= (uint32_t)n;
-    p->st.leaped += (uint64_t)n;
+    p->st.leaped += (uint64_t)advance(ray->pos, &ray->lifetime, S, n);
     p->st.leaps++;
     p->st.cycles += C5_CYC_LEAP;
 }
@@ -209,58 +216,178 @@ static void cache_access(c5_proc *p, const int64_t pos[3])
     }
 }
 
+void c5_trav_step(const c5_trav_in *in, c5_trav_out *o)
+{
+    for (int a = 0; a < 3; a++)
+        o->pos[a] = in->pos[a];
+    o->lifetime = in->lifetime;
+    o->leaped = 0;
+    o->action = C5_TRAV_LEAVE;
+    if (in->lifetime == 0)
+        return;
+    int v[3];
+    for (int a = 0; a < 3; a++) {
+        if (in->pos[a] < 0 || in->pos[a] >= ((int64_t)in->dims[a] << C5_POS_F))
+            return; /* outside the grid */
+        v[a] = (int)(in->pos[a] >> C5_POS_F);
+        if (v[a] < in->lo[a] || v[a] >= in->hi[a])
+            return; /* outside the cell */
+    }
+    if (in->block_empty) {
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; a++) {
+            int b = v[a] / C5_BLOCK;
+            lo[a] = b * C5_BLOCK > in->lo[a] ? b * C5_BLOCK : in->lo[a];
+            hi[a] = (b + 1) * C5_BLOCK < in->hi[a] ? (b + 1) * C5_BLOCK : in->hi[a];
+        }
+        o->action = C5_TRAV_LEAP;
+        o->leaped = advance(o->pos, &o->lifetime, in->S, steps_to_exit(in->pos, in->S, lo, hi));
+        return;
+    }
+    o->action = C5_TRAV_SAMPLE;
+    advance(o->pos, &o->lifetime, in->S, 1);
+}
+
+/* The empty flag of the 8^3 block holding pos, 0 outside the grid. */
+static int block_empty_at(const c5_cells *cl, const int dims[3], const int64_t pos[3])
+{
+    for (int a = 0; a < 3; a++)
+        if (pos[a] < 0 || pos[a] >= ((int64_t)dims[a] << C5_POS_F))
+            return 0;
+    int b[3] = {(int)(pos[0] >> C5_POS_F) / C5_BLOCK, (int)(pos[1] >> C5_POS_F) / C5_BLOCK,
+                (int)(pos[2] >> C5_POS_F) / C5_BLOCK};
+    return cl->block_empty[((size_t)b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]];
+}
+
+/* The taps of one sample (only called with taps): the gather and blends, the table. */
+static void tap_sample(const c5_taps *t, const c5_corners *k, const c5_sample *smp, int grad, const int64_t gs[3],
+                       const int64_t rgba[4])
+{
+    if (t->interp)
+        t->interp(t->ctx, k, smp->value);
+    if (grad && t->gradient)
+        t->gradient(t->ctx, k, gs, smp->grad);
+    if (t->classify)
+        t->classify(t->ctx, smp->value, rgba);
+}
+
+static void shade_tapped(const c5_taps *t, const c5_frame_regs *r, const c5_sample *smp, const int64_t rgba[4],
+                         const int64_t gpos[3], const int64_t d[3], int64_t c[3], uint64_t *sat)
+{
+    uint64_t sat0 = *sat;
+    c5_shade(r, smp, rgba, gpos, d, c, sat);
+    if (!t->shade)
+        return;
+    c5_shade_io io;
+    for (int a = 0; a < 3; a++) {
+        io.grad[a] = smp->grad[a];
+        io.gpos[a] = gpos[a];
+        io.dir[a] = d[a];
+        io.rgb[a] = c[a];
+    }
+    for (int ch = 0; ch < 4; ch++)
+        io.rgba[ch] = rgba[ch];
+    io.sat = (int)(*sat - sat0);
+    t->shade(t->ctx, &io);
+}
+
+static int composite_tapped(const c5_taps *t, const c5_frame_regs *r, c5_bray *ray, int64_t alpha,
+                            const int64_t c[3], int shadow, uint64_t *sat)
+{
+    c5_composite_io io = {.w = ray->w, .opa = ray->opa, .alpha = alpha, .a_max = r->a_max, .shadow = shadow};
+    for (int ch = 0; ch < 3; ch++) {
+        io.rgb[ch] = ray->rgb[ch];
+        io.c[ch] = c[ch];
+    }
+    uint64_t sat0 = *sat;
+    int done = c5_composite(r, ray, alpha, shadow ? NULL : c, sat);
+    if (t->composite) {
+        for (int ch = 0; ch < 3; ch++)
+            io.rgb_out[ch] = ray->rgb[ch];
+        io.opa_out = ray->opa;
+        io.done = done;
+        io.sat = (int)(*sat - sat0);
+        t->composite(t->ctx, &io);
+    }
+    return done;
+}
+
 void c5_proc_run(c5_proc *p, c5_bray *ray)
 {
     const c5_frame_regs *r = p->r;
     const c5_rdram *m = p->mem;
     const c5_cells *cl = p->cells;
+    const c5_taps *tp = p->taps;
     int shadow = ray->type == C5_RAY_SHADOW;
     int grad = !shadow && r->st.gradients;
     int shade = grad && r->n_lights > 0;
     int64_t S[3];
     step_vec(r, ray->dir, S);
     p->st.cycles += C5_CYC_ISSUE;
+    c5_trav_in ti;
+    for (int a = 0; a < 3; a++) {
+        ti.S[a] = S[a];
+        ti.lo[a] = m->lo[a];
+        ti.hi[a] = m->hi[a];
+        ti.dims[a] = r->dims[a];
+    }
     for (;;) {
-        if (ray->lifetime == 0 || outside_grid(r, ray->pos))
+        c5_trav_out to;
+        for (int a = 0; a < 3; a++)
+            ti.pos[a] = ray->pos[a];
+        ti.lifetime = ray->lifetime;
+        ti.block_empty = block_empty_at(cl, r->dims, ray->pos);
+        c5_trav_step(&ti, &to);
+        if (tp && tp->traverse)
+            tp->traverse(tp->ctx, &ti, &to);
+        if (to.action == C5_TRAV_LEAVE)
             break;
-        int v[3] = {(int)(ray->pos[0] >> C5_POS_F), (int)(ray->pos[1] >> C5_POS_F), (int)(ray->pos[2] >> C5_POS_F)};
-        if (v[0] < m->lo[0] || v[0] >= m->hi[0] || v[1] < m->lo[1] || v[1] >= m->hi[1] || v[2] < m->lo[2] ||
-            v[2] >= m->hi[2])
-            break;
-        int b[3] = {v[0] / C5_BLOCK, v[1] / C5_BLOCK, v[2] / C5_BLOCK};
-        if (cl->block_empty[((size_t)b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]]) {
-            int lo[3], hi[3];
-            for (int a = 0; a < 3; a++) {
-                lo[a] = b[a] * C5_BLOCK > m->lo[a] ? b[a] * C5_BLOCK : m->lo[a];
-                hi[a] = (b[a] + 1) * C5_BLOCK < m->hi[a] ? (b[a] + 1) * C5_BLOCK : m->hi[a];
-            }
-            leap(p, ray, S, steps_to_exit(ray->pos, S, lo, hi));
+        if (to.action == C5_TRAV_LEAP) {
+            for (int a = 0; a < 3; a++)
+                ray->pos[a] = to.pos[a];
+            ray->lifetime = to.lifetime;
+            p->st.leaped += (uint64_t)to.leaped;
+            p->st.leaps++;
+            p->st.cycles += C5_CYC_LEAP;
             continue;
         }
+        c5_corners k;
         c5_sample smp;
-        c5_interp(r, m, ray->pos, grad, &smp);
+        int64_t wt[8];
+        c5_gather(r, m, ray->pos, grad, &k);
+        c5_tri_weights(k.frac, wt);
+        smp.value = c5_interp_blend_w(wt, k.v);
+        if (grad)
+            c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
         cache_access(p, ray->pos);
         p->st.samples++;
         p->st.cycles += grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
         int64_t rgba[4];
         c5_classify(r, smp.value, rgba);
+        if (tp)
+            tap_sample(tp, &k, &smp, grad, r->gs, rgba);
         int done = 0;
         if (rgba[3] > 0) {
             int64_t c[3];
             if (shade) {
                 int64_t gpos[3];
                 c5_geom_from_voxel(r, ray->pos, gpos);
-                c5_shade(r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations);
+                if (tp)
+                    shade_tapped(tp, r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations);
+                else
+                    c5_shade(r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations);
             } else {
                 for (int ch = 0; ch < 3; ch++)
                     c[ch] = c5_rshift_he(rgba[ch], 15 - C5_RGB_F); /* UQ1.15 -> shaded_rgb UQ4.12 */
             }
-            done = c5_composite(r, ray, rgba[3], shadow ? NULL : c, &p->st.saturations);
+            if (tp)
+                done = composite_tapped(tp, r, ray, rgba[3], c, shadow, &p->st.saturations);
+            else
+                done = c5_composite(r, ray, rgba[3], shadow ? NULL : c, &p->st.saturations);
         }
         for (int a = 0; a < 3; a++)
-            ray->pos[a] += S[a];
-        if (ray->lifetime != C5_LIFE_NONE)
-            ray->lifetime--;
+            ray->pos[a] = to.pos[a];
+        ray->lifetime = to.lifetime;
         if (done) {
             if (shadow) {
                 p->st.ends[C5_END_BLOCKED]++;

@@ -13,6 +13,7 @@
 #include "cref.h"
 #include "ray.h"
 #include "regs.h"
+#include "taps.h"
 
 /* Cycle model (docs/board-model.md). */
 #define C5_CYC_ISSUE 1         /* a ray enters the pipeline */
@@ -44,6 +45,7 @@ typedef struct {
     const c5_rdram *mem;  /* the cell in RDRAM */
     int active;           /* its id, -1 before the first fetch */
     c5_proc_io io;
+    const c5_taps *taps;  /* observers of the datapath (golden vectors), or NULL: set after init */
     c5_proc_stats st;
     int32_t cache_tag[C5_CACHE_LINES];
 } c5_proc;
@@ -61,6 +63,11 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d[3], int64_t
 /* Processes a ray taken from the active cell's queue until it leaves the cell, ends, or is
  * handed on. */
 void c5_proc_run(c5_proc *p, c5_bray *ray);
+
+/* Block "traverse": one step of c5_proc_run's loop over the active cell, a pure function
+ * of the ray's position, step vector and lifetime, the cell's box, the grid and the
+ * empty flag of pos's 8^3 block (taps.h, C5_TRAV_*). */
+void c5_trav_step(const c5_trav_in *in, c5_trav_out *out);
 
 /* The hit unit (hit_unit.c): the ray's volume part is over at position pos (voxel
  * coordinates, may lie outside the grid); shade its end and spawn what it spawns. */

@@ -2,7 +2,9 @@
  * formats of docs/bit-layouts.md: interpolation (sample_value UQ8.8), gradient (SQ8.8),
  * classification (tf_rgba UQ1.15), shading (normal SQ1.14, light_term and shaded_rgb
  * UQ4.12), compositing (sample_rgb UQ2.12, opacity UQ1.15). Inline: it is the model's inner
- * loop. Every step is exact integer arithmetic and one half-to-even rounding. */
+ * loop. Every step is exact integer arithmetic and one half-to-even rounding. The RDRAM
+ * read (c5_gather: indices, clamping) is apart from the blends, which are pure functions of
+ * the gathered corners: the hardware blocks of the golden vectors (vectors/gen/vec_*.c). */
 #ifndef C5_SAMPLE_PIPE_H
 #define C5_SAMPLE_PIPE_H
 
@@ -11,6 +13,7 @@
 #include "geom.h"
 #include "ray.h"
 #include "regs.h"
+#include "taps.h"
 
 typedef struct {
     int64_t value;   /* UQ8.8 */
@@ -19,48 +22,103 @@ typedef struct {
 
 static inline int clampi(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
 
-/* Trilinear value and (if want_grad) gradient at pos (UQ9.15 voxel coordinates), read from
- * the RDRAM cell. Corner indices are clamped to the grid first, then their central-
- * difference neighbours, exactly as cref's clamp-to-edge (the ghost layers hold them). */
-static inline void c5_interp(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
-                             c5_sample *out)
+/* The gather: for the sample at pos (UQ9.15 voxel coordinates) in the RDRAM cell, the
+ * trilinear fractions and the 8 corner voxels, and (if want_grad) each corner's central
+ * differences. Corner indices are clamped to the grid first, then their central-difference
+ * neighbours, exactly as cref's clamp-to-edge (the ghost layers hold them). */
+static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
+                             c5_corners *k)
 {
     int c[3][2], lo[3][2], hi[3][2];
-    int64_t w[3][2];
     for (int a = 0; a < 3; a++) {
         int64_t x = pos[a] - (1 << (C5_POS_F - 1)); /* voxel centres at integers */
         int i = (int)(x >> C5_POS_F);
-        int64_t f = x & ((1 << C5_POS_F) - 1);      /* voxel_frac UQ0.15 */
-        w[a][0] = (1 << C5_POS_F) - f;
-        w[a][1] = f;
-        for (int k = 0; k < 2; k++) {
-            int g = clampi(i + k, 0, r->dims[a] - 1);
-            c[a][k] = g - m->org[a];
-            lo[a][k] = clampi(g - 1, 0, r->dims[a] - 1) - m->org[a];
-            hi[a][k] = clampi(g + 1, 0, r->dims[a] - 1) - m->org[a];
+        k->frac[a] = x & ((1 << C5_POS_F) - 1);     /* voxel_frac UQ0.15 */
+        for (int kk = 0; kk < 2; kk++) {
+            int g = clampi(i + kk, 0, r->dims[a] - 1);
+            c[a][kk] = g - m->org[a];
+            lo[a][kk] = clampi(g - 1, 0, r->dims[a] - 1) - m->org[a];
+            hi[a][kk] = clampi(g + 1, 0, r->dims[a] - 1) - m->org[a];
         }
     }
     const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
-    int64_t v = 0, g[3] = {0, 0, 0};
     for (int kz = 0; kz < 2; kz++)
         for (int ky = 0; ky < 2; ky++)
             for (int kx = 0; kx < 2; kx++) {
-                int64_t wt = w[0][kx] * w[1][ky] * w[2][kz]; /* 45 fraction bits */
-                int base = c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz;
-                v += wt * m->v[base];
+                int j = kx + 2 * ky + 4 * kz;
+                k->v[j] = m->v[c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
                 if (want_grad) {
-                    g[0] += wt * (m->v[hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
-                                  m->v[lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz]);
-                    g[1] += wt * (m->v[c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
-                                  m->v[c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz]);
-                    g[2] += wt * (m->v[c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
-                                  m->v[c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz]);
+                    k->d[0][j] = m->v[hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
+                                 m->v[lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
+                    k->d[1][j] = m->v[c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
+                                 m->v[c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz];
+                    k->d[2][j] = m->v[c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
+                                 m->v[c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
                 }
             }
-    out->value = c5_rshift_he(v, 45 - 8);
+}
+
+/* The 8 trilinear weights (45 fraction bits) of the fractions, corner k = kx + 2 ky + 4 kz. */
+static inline void c5_tri_weights(const int64_t frac[3], int64_t wt[8])
+{
+    int64_t w[3][2];
+    for (int a = 0; a < 3; a++) {
+        w[a][0] = (1 << C5_POS_F) - frac[a];
+        w[a][1] = frac[a];
+    }
+    for (int j = 0; j < 8; j++)
+        wt[j] = w[0][j & 1] * w[1][(j >> 1) & 1] * w[2][j >> 2];
+}
+
+/* The blends on precomputed weights (the model computes them once for both). */
+static inline int64_t c5_interp_blend_w(const int64_t wt[8], const int32_t v[8])
+{
+    int64_t s = 0;
+    for (int j = 0; j < 8; j++)
+        s += wt[j] * v[j];
+    return c5_rshift_he(s, 45 - 8);
+}
+
+static inline void c5_grad_blend_w(const int64_t wt[8], const int32_t d[3][8], const int64_t gs[3], int64_t grad[3])
+{
+    for (int a = 0; a < 3; a++) {
+        int64_t s = 0;
+        for (int j = 0; j < 8; j++)
+            s += wt[j] * d[a][j];
+        grad[a] = c5_rshift_he(c5_rshift_he(s, 45 - 8) * gs[a], 15);
+    }
+}
+
+/* Block "interp": the trilinear blend of the corners (voxels 0..255) with the fractions
+ * (UQ0.15), rounded once to sample_value UQ8.8. */
+static inline int64_t c5_interp_blend(const int64_t frac[3], const int32_t v[8])
+{
+    int64_t wt[8];
+    c5_tri_weights(frac, wt);
+    return c5_interp_blend_w(wt, v);
+}
+
+/* Block "gradient": per axis the trilinear blend of the corners' central differences
+ * (SQ8.0), rounded to SQ8.8, then scaled by gs (UQ1.15) and rounded again to SQ8.8. */
+static inline void c5_grad_blend(const int64_t frac[3], const int32_t d[3][8], const int64_t gs[3], int64_t grad[3])
+{
+    int64_t wt[8];
+    c5_tri_weights(frac, wt);
+    c5_grad_blend_w(wt, d, gs, grad);
+}
+
+/* Trilinear value and (if want_grad) gradient at pos (UQ9.15 voxel coordinates), read from
+ * the RDRAM cell: the gather, then the blends. */
+static inline void c5_interp(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
+                             c5_sample *out)
+{
+    c5_corners k;
+    int64_t wt[8];
+    c5_gather(r, m, pos, want_grad, &k);
+    c5_tri_weights(k.frac, wt);
+    out->value = c5_interp_blend_w(wt, k.v);
     if (want_grad)
-        for (int a = 0; a < 3; a++)
-            out->grad[a] = c5_rshift_he(c5_rshift_he(g[a], 45 - 8) * r->gs[a], 15);
+        c5_grad_blend_w(wt, k.d, r->gs, out->grad);
 }
 
 /* Table lookup, linear between entries floor(s) and floor(s) + 1 (254/255 at s = 255). */

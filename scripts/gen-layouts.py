@@ -488,12 +488,17 @@ def c_layout(lay):
         if f["rounding"] in C_RND:
             out.append(f"#define {p}_RND {C_RND[f['rounding']]}")
     out.append("")
-    out.append("/* X(member, lsb, width, is_signed) for every field but the reserved ones, MSB first. */")
-    out.append(f"#define C5_{up}_FIELDS(X) \\")
-    for f in data:
-        p = f"C5_{up}_{f['name'].upper()}"
-        out.append(f"    X({f['name']}, {p}_LSB, {p}_WIDTH, {1 if f['fmt'].signed else 0}) \\")
-    out[-1] = out[-1][:-2]
+    def x_list(macro, comment, with_format):
+        out.append(comment)
+        out.append(f"#define C5_{up}_{macro}(X) \\")
+        for f in data:
+            p = f"C5_{up}_{f['name'].upper()}"
+            extra = f", \"{f['fmt'].text}\"" if with_format else ""
+            out.append(f"    X({f['name']}, {p}_LSB, {p}_WIDTH, {1 if f['fmt'].signed else 0}{extra}) \\")
+        out[-1] = out[-1][:-2]
+
+    x_list("FIELDS", "/* X(member, lsb, width, is_signed) for every field but the reserved ones, MSB first. */", False)
+    x_list("FIELDS_FORMAT", "/* The same with the field's declared format as text (\"UQ9.15\", \"uint\"). */", True)
     out.append("/* X(lsb, width) for every reserved field. */")
     if resv:
         out.append(f"#define C5_{up}_RESERVED(X) \\")

@@ -1,0 +1,153 @@
+/* cube5 vectors: golden vectors of every block for the VHDL (docs/vectors.md). */
+#include <jansson.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "blocks.h"
+#include "builtin_scenes.h"
+#include "cli.h"
+
+static const char usage_text[] =
+    "usage: cube5 vectors [--out DIR] [--scene S ...] [--count N] [--seed N] [--size WxH] [--cells N|NxMxK]\n\n"
+    "Writes input and expected-output vectors for every block of the board model into DIR\n"
+    "(default out/vectors): BLOCK.SOURCE.hex files (hex text, one vector per line, fixed\n"
+    "columns) and manifest.json (each file's block, fields, widths, count, seed, scene and\n"
+    "CRC-32; per scene the CRC-32s of its frame buffer, packet trace and DSP RAM). SOURCE is\n"
+    "'directed' (corner cases) or a scene's name (taps on the model while it renders).\n"
+    "The same options give the same bits on every run and machine. docs/vectors.md.\n\n"
+    "  --out DIR       output directory: created, or an earlier vector set replaced (its\n"
+    "                  files only); a non-empty directory that holds no vector set is refused\n"
+    "  --scene S       a built-in scene or scene file to tap, repeatable (default: every\n"
+    "                  built-in scene); 'none': directed vectors only\n"
+    "  --count N       vectors per block and source (random directed cases, scene samples,\n"
+    "                  first cycles of a trace); default 256\n"
+    "  --seed N        seed of the random cases and samples (default 1)\n"
+    "  --size WxH      image size of the scenes (default 64x64)\n"
+    "  --cells N|NxMxK cell split of the scenes (default 2: 8 cells)\n";
+
+#define MAX_SCENES 32
+
+typedef struct {
+    const char *out;
+    const char *scenes[MAX_SCENES];
+    int n_scenes, no_scenes, w, h, cells[3];
+    long count, seed;
+} vec_args;
+
+static int parse_args(int argc, char **argv, vec_args *a, c5_err *err)
+{
+    memset(a, 0, sizeof *a);
+    a->out = "out/vectors";
+    a->count = 256;
+    a->seed = 1;
+    a->w = a->h = 64;
+    a->cells[0] = a->cells[1] = a->cells[2] = 2;
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        if (strcmp(o, "--out") && strcmp(o, "--scene") && strcmp(o, "--count") && strcmp(o, "--seed") &&
+            strcmp(o, "--size") && strcmp(o, "--cells"))
+            return c5_fail(err, "vectors: unknown option or argument '%s' (see 'cube5 vectors --help')", o);
+        if (i + 1 >= argc)
+            return c5_fail(err, "%s: missing value", o);
+        const char *v = argv[++i];
+        if (!strcmp(o, "--out")) {
+            a->out = v;
+        } else if (!strcmp(o, "--scene")) {
+            if (!strcmp(v, "none"))
+                a->no_scenes = 1;
+            else if (a->n_scenes == MAX_SCENES)
+                return c5_fail(err, "--scene: at most %d scenes", MAX_SCENES);
+            else
+                a->scenes[a->n_scenes++] = v;
+        } else if (!strcmp(o, "--count") && c5_cli_int(o, v, 1, 1000000, &a->count, err)) {
+            return -1;
+        } else if (!strcmp(o, "--seed") && c5_cli_int(o, v, 0, 0x7fffffffL, &a->seed, err)) {
+            return -1;
+        } else if (!strcmp(o, "--size") && c5_cli_size(o, v, &a->w, &a->h, err)) {
+            return -1;
+        } else if (!strcmp(o, "--cells") && c5_cli_cells(o, v, a->cells, err)) {
+            return -1;
+        }
+    }
+    if (a->no_scenes && a->n_scenes)
+        return c5_fail(err, "--scene none cannot be combined with scenes");
+    if (!a->no_scenes && !a->n_scenes)
+        for (const c5_builtin_scene *b = c5_builtin_scenes; b->name && a->n_scenes < MAX_SCENES; b++)
+            a->scenes[a->n_scenes++] = b->name;
+    return 0;
+}
+
+/* The scene's name as a file name part: its built-in name, or the file's base name
+ * without .json, with anything but [A-Za-z0-9_-] replaced by '_'. */
+static void source_name(const char *arg, char *buf, size_t len)
+{
+    const char *base = strrchr(arg, '/');
+    base = base ? base + 1 : arg;
+    size_t n = 0;
+    for (; base[n] && n + 1 < len; n++) {
+        char c = base[n];
+        buf[n] = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_'
+                     ? c
+                     : '_';
+    }
+    buf[n] = 0;
+    if (n > 5 && !strcmp(buf + n - 5, "_json"))
+        buf[n - 5] = 0;
+}
+
+static json_t *run_scene(c5_vset *set, const vec_args *a, const char *arg, c5_err *err)
+{
+    static c5_scene s;
+    c5_supervol sv = {0};
+    char label[512], name[128];
+    if (c5_cli_scene_setup(arg, NULL, 0, a->w, a->h, &s, label, sizeof label, err) != 0 ||
+        c5_supervol_build(&s, &sv, err) != 0 || c5_cli_check_cells(a->cells, &sv, err) != 0) {
+        c5_supervol_free(&sv);
+        return NULL;
+    }
+    source_name(arg, name, sizeof name);
+    json_t *rec = c5_vec_scene(set, name, &s, &sv, a->cells);
+    c5_supervol_free(&sv);
+    return rec;
+}
+
+int c5_cmd_vectors(int argc, char **argv)
+{
+    if (c5_cli_help(argc, argv, usage_text))
+        return 0;
+    c5_err err;
+    vec_args a;
+    c5_vset set;
+    if (parse_args(argc, argv, &a, &err) != 0 || c5_vset_init(&set, a.out, (uint64_t)a.seed, a.count, &err) != 0) {
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
+        return C5_EXIT_INPUT;
+    }
+    int rc = 0;
+    for (int i = 0; i < c5_n_vblock_gens && rc == 0; i++)
+        rc = c5_vblock_gens[i]->directed(&set);
+    json_t *scenes = json_array();
+    for (int i = 0; i < a.n_scenes && rc == 0; i++) {
+        json_t *rec = run_scene(&set, &a, a.scenes[i], &err);
+        if (!rec)
+            rc = -1;
+        else
+            json_array_append_new(scenes, rec);
+    }
+    if (rc != 0 || set.failed) {
+        json_decref(scenes);
+        c5_vset_abort(&set);
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
+        return set.failed ? C5_EXIT_RUNTIME : C5_EXIT_INPUT;
+    }
+    json_t *params = json_pack("{s:[i,i], s:[i,i,i], s:o}", "size", a.w, a.h, "cells", a.cells[0], a.cells[1],
+                               a.cells[2], "scenes", scenes);
+    int n_files = (int)json_array_size(set.files);
+    if (c5_vset_finish(&set, params) != 0) {
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
+        return C5_EXIT_RUNTIME;
+    }
+    printf("cube5 vectors: %d files and manifest.json in %s (%d scene(s), seed %ld, count %ld)\n", n_files, a.out,
+           a.n_scenes, a.seed, a.count);
+    return 0;
+}
