@@ -52,17 +52,16 @@ architecture rtl of ray_queue is
   type key_arr is array (natural range <>) of key_t;
   type addr_arr is array (natural range <>) of addr_t;
 
-  -- carry(i) enters stage i: carry(0) is the insert port, carry(i + 1) stage i's register;
-  -- lo(i) is stage i's level-1 result, lo(CAPACITY) the empty end of the line.
+  -- carry(i) enters stage i: carry(0) is the insert port, carry(i + 1) stage i's register.
+  -- h(i) is stage i's held register, cf(i) its level-1 result (carry(i) goes before h(i));
+  -- h(CAPACITY) and cf(CAPACITY) are the empty end of the line.
   signal c_v, c_f : std_logic_vector(0 to CAPACITY);
   signal c_k      : key_arr(0 to CAPACITY);
   signal c_a      : addr_arr(0 to CAPACITY);
-  signal lo_v     : std_logic_vector(0 to CAPACITY);
-  signal lo_k     : key_arr(0 to CAPACITY);
-  signal lo_a     : addr_arr(0 to CAPACITY);
-  signal h_v      : std_logic_vector(0 to CAPACITY - 1);
-  signal h_k      : key_arr(0 to CAPACITY - 1);
-  signal h_a      : addr_arr(0 to CAPACITY - 1);
+  signal h_v      : std_logic_vector(0 to CAPACITY);
+  signal h_k      : key_arr(0 to CAPACITY);
+  signal h_a      : addr_arr(0 to CAPACITY);
+  signal cf       : std_logic_vector(0 to CAPACITY);
   signal next_a   : addr_arr(0 to CAPACITY - 1);
   signal next_c   : std_logic_vector(0 to CAPACITY - 1);
 
@@ -107,9 +106,10 @@ begin
   c_f(0) <= '1';         -- an inserted element is fresh until it settles
   c_k(0) <= insert_key;
   c_a(0) <= ins_addr;
-  lo_v(CAPACITY) <= '0';  -- past the last stage: nothing
-  lo_k(CAPACITY) <= (others => '0');
-  lo_a(CAPACITY) <= (others => '0');
+  h_v(CAPACITY) <= '0';   -- past the last stage: nothing
+  h_k(CAPACITY) <= (others => '0');
+  h_a(CAPACITY) <= (others => '0');
+  cf(CAPACITY)  <= '0';
 
   stages : for i in 0 to CAPACITY - 1 generate
     stage : entity work.rq_stage
@@ -117,8 +117,8 @@ begin
       port map (
         clk => clk, rst => rst, pop => pop,
         c_valid => c_v(i), c_fresh => c_f(i), c_key => c_k(i), c_addr => c_a(i),
-        nlo_valid => lo_v(i + 1), nlo_key => lo_k(i + 1), nlo_addr => lo_a(i + 1),
-        lo_valid => lo_v(i), lo_key => lo_k(i), lo_addr => lo_a(i),
+        nh_valid => h_v(i + 1), nh_key => h_k(i + 1), nh_addr => h_a(i + 1),
+        n_c_first => cf(i + 1), c_first_out => cf(i),
         held_valid => h_v(i), held_key => h_k(i), held_addr => h_a(i),
         carry_valid => c_v(i + 1), carry_fresh => c_f(i + 1),
         carry_key => c_k(i + 1), carry_addr => c_a(i + 1),

@@ -47,16 +47,17 @@ begin
                 std_logic_vector(fresh(ADDR_BITS - 1 downto 0));
 
   push <= free and not alloc;
-  take <= alloc and not free and (depth ?/= 0);
+  take <= '1' when alloc = '1' and free = '0' and depth /= 0 else '0';
   -- After a take the new top is entry depth - 2 (entries 0 .. depth - 1 are in the RAM).
-  read_below <= take and (depth ?>= 2);
+  -- (Integer compare: 2 need not fit COUNT_BITS when CAPACITY = 1.)
+  read_below <= '1' when take = '1' and to_integer(depth) >= 2 else '0';
 
   stack : entity work.rq_ram
     generic map (DEPTH => CAPACITY, ADDR_BITS => ADDR_BITS, DATA_BITS => ADDR_BITS)
     port map (
       clk => clk,
       we => push, waddr => std_logic_vector(depth(ADDR_BITS - 1 downto 0)), wdata => free_addr,
-      re => read_below, raddr => std_logic_vector(resize(depth - 2, ADDR_BITS)),
+      re => read_below, raddr => std_logic_vector(resize(depth - 1, ADDR_BITS) - 1),
       rdata => below);
 
   regs : process (clk)

@@ -1,6 +1,6 @@
 -- One stage of the ray queue's pipelined insertion sorter (docs/ray-queue.md): stage i
 -- owns two registers, held[i] (the settled element) and carry[i+1] (the element that
--- enters stage i+1 at the next edge), and makes at most two compare-exchanges per cycle.
+-- enters stage i+1 at the next edge), and decides both from at most two compare-exchanges.
 --
 --   level 1, every cycle: the carry entering this stage (c = carry[i]; for stage 0 the
 --     insert port) meets held[i]: lo = the one that goes first, hi = the other.
@@ -11,9 +11,20 @@
 --
 -- This is rtl_model/ray_queue.c written per stage, every stage every cycle; the C model
 -- skips stages where nothing moves, which changes no register (an empty carry meeting
--- held[i] gives held'[i] = held[i] and an empty carry'[i+1]). Only carries hold `fresh`:
--- a held element is never fresh, so held[i] has no fresh bit. The element is its key and
--- its eDRAM address; the payload stays in the RAM (ray_queue.vhd).
+-- held[i] gives held'[i] = held[i] and an empty carry'[i+1]).
+--
+-- Timing: level 2 would compare the results of two level-1 compare-exchanges, two 33-bit
+-- carry chains in series (about 41 MHz on an iCE40 HX at capacity 16). Instead every
+-- candidate pair is compared at once, straight from the registers, and level 1's results
+-- only select: x is held[i] or c, y is carry[i+1] or held[i+1], so level 2 is one of
+--   held[i] vs carry[i+1], c vs carry[i+1], c vs held[i+1], and held[i] vs held[i+1],
+-- the last of which needs no comparator: the held line is sorted and gap-free, so
+-- held[i] goes before held[i+1] exactly when held[i] is valid. Three comparators and one
+-- known answer instead of two chained comparators: one carry chain deep.
+--
+-- Only carries hold `fresh`: a held element is never fresh, so held[i] has no fresh bit.
+-- The element is its key and its eDRAM address; the payload stays in the RAM
+-- (ray_queue.vhd).
 library ieee;
 use ieee.std_logic_1164.all;
 
@@ -32,14 +43,14 @@ entity rq_stage is
     c_valid, c_fresh : in std_logic;
     c_key            : in std_logic_vector(KEY_BITS - 1 downto 0);
     c_addr           : in std_logic_vector(ADDR_BITS - 1 downto 0);
-    -- lo[i+1] from the next stage's level 1 (tie it empty at the last stage)
-    nlo_valid        : in std_logic;
-    nlo_key          : in std_logic_vector(KEY_BITS - 1 downto 0);
-    nlo_addr         : in std_logic_vector(ADDR_BITS - 1 downto 0);
-    -- lo[i], this stage's level-1 result, for the previous stage's level 2
-    lo_valid         : out std_logic;
-    lo_key           : out std_logic_vector(KEY_BITS - 1 downto 0);
-    lo_addr          : out std_logic_vector(ADDR_BITS - 1 downto 0);
+    -- stage i+1: its held register and its level-1 result (whether our carry register
+    -- goes before its held element); tie both empty / '0' at the last stage
+    nh_valid         : in std_logic;
+    nh_key           : in std_logic_vector(KEY_BITS - 1 downto 0);
+    nh_addr          : in std_logic_vector(ADDR_BITS - 1 downto 0);
+    n_c_first        : in std_logic;
+    -- this stage's level-1 result, for stage i-1
+    c_first_out      : out std_logic;
     -- held[i]: the register
     held_valid       : out std_logic;
     held_key         : out std_logic_vector(KEY_BITS - 1 downto 0);
@@ -64,66 +75,83 @@ architecture rtl of rq_stage is
   signal r_f  : std_logic := '0';
   signal r_k  : std_logic_vector(KEY_BITS - 1 downto 0) := (others => '0');
   signal r_a  : std_logic_vector(ADDR_BITS - 1 downto 0) := (others => '0');
-  -- level 1
-  signal c_first : boolean;
+  -- every comparison of the cycle, in parallel (a held element is never fresh)
+  signal c_first : boolean;  -- level 1: c before held[i]
+  signal h_r     : boolean;  -- held[i] before carry[i+1]
+  signal c_r     : boolean;  -- c before carry[i+1]
+  signal c_n     : boolean;  -- c before held[i+1]
   -- what the edge loads
   signal d_h_v, d_r_v, d_r_f, d_is_c : std_logic;
   signal d_h_k, d_r_k : std_logic_vector(KEY_BITS - 1 downto 0);
   signal d_h_a, d_r_a : std_logic_vector(ADDR_BITS - 1 downto 0);
 begin
-  -- Level 1: the held element is never fresh, so only c's tag matters.
-  c_first  <= goes_first(c_valid, c_fresh, c_key, h_v, h_k);
-  lo_valid <= c_valid when c_first else h_v;
-  lo_key   <= c_key   when c_first else h_k;
-  lo_addr  <= c_addr  when c_first else h_a;
+  c_first <= goes_first(c_valid, c_fresh, c_key, h_v, h_k);
+  h_r     <= goes_first(h_v, '0', h_k, r_v, r_k);
+  c_r     <= goes_first(c_valid, c_fresh, c_key, r_v, r_k);
+  c_n     <= goes_first(c_valid, c_fresh, c_key, nh_valid, nh_key);
+  c_first_out <= '1' when c_first else '0';
 
   next_state : process (all)
-    -- hi of level 1 (its fresh tag: c's when c lost, 0 for a displaced held element)
-    variable hi_v, hi_f : std_logic;
-    variable hi_k : std_logic_vector(KEY_BITS - 1 downto 0);
-    variable hi_a : std_logic_vector(ADDR_BITS - 1 downto 0);
-    -- level 2: x meets y = lo[i+1]
-    variable x_v, x_f : std_logic;
-    variable x_k : std_logic_vector(KEY_BITS - 1 downto 0);
-    variable x_a : std_logic_vector(ADDR_BITS - 1 downto 0);
+    variable x_is_c  : boolean;  -- x is c (else held[i])
+    variable y_is_r  : boolean;  -- y = lo[i+1] is carry[i+1] (else held[i+1])
+    variable x_first : boolean;  -- level 2: x before y
   begin
-    if c_first then
-      hi_v := h_v; hi_f := '0'; hi_k := h_k; hi_a := h_a;
-    else
-      hi_v := c_valid; hi_f := c_fresh and c_valid; hi_k := c_key; hi_a := c_addr;
-    end if;
-
     if pop = '1' then
-      if FIRST then
-        x_v := c_valid; x_f := c_fresh and c_valid; x_k := c_key; x_a := c_addr;
+      x_is_c := FIRST or not c_first;
+      y_is_r := n_c_first = '1';
+      -- (if/else rather than conditional variable assignments, which GHDL 2.0 cannot
+      -- elaborate inside process (all))
+      if x_is_c and y_is_r then
+        x_first := c_r;
+      elsif x_is_c then
+        x_first := c_n;
+      elsif y_is_r then
+        x_first := h_r;
       else
-        x_v := hi_v; x_f := hi_f; x_k := hi_k; x_a := hi_a;
+        x_first := h_v = '1';  -- held[i] vs held[i+1]: the line is sorted
       end if;
-      if goes_first(x_v, x_f, x_k, nlo_valid, nlo_key) then
-        -- x settles here (no longer fresh); lo[i+1] moves on, never fresh
-        d_h_v <= x_v; d_h_k <= x_k; d_h_a <= x_a;
-        d_r_v <= nlo_valid; d_r_f <= '0'; d_r_k <= nlo_key; d_r_a <= nlo_addr;
-        if FIRST then
-          d_is_c <= '1';               -- x is the insert
-        elsif c_first then
-          d_is_c <= '0';               -- x is the displaced held[i]
+      if x_first then
+        -- x settles here (no longer fresh); y = lo[i+1] moves on (never fresh)
+        if x_is_c then
+          d_h_v <= c_valid; d_h_k <= c_key; d_h_a <= c_addr;
         else
-          d_is_c <= c_valid;           -- x is c, which lost level 1
+          d_h_v <= h_v; d_h_k <= h_k; d_h_a <= h_a;
+        end if;
+        if y_is_r then
+          d_r_v <= r_v; d_r_k <= r_k; d_r_a <= r_a;
+        else
+          d_r_v <= nh_valid; d_r_k <= nh_key; d_r_a <= nh_addr;
+        end if;
+        d_r_f <= '0';
+        if x_is_c then
+          d_is_c <= '1';
+        else
+          d_is_c <= '0';
         end if;
       else
-        d_h_v <= nlo_valid; d_h_k <= nlo_key; d_h_a <= nlo_addr;
-        d_r_v <= x_v; d_r_f <= x_f; d_r_k <= x_k; d_r_a <= x_a;
+        -- y settles here; x moves on with its tag (c's own, 0 for a displaced held[i])
+        if y_is_r then
+          d_h_v <= r_v; d_h_k <= r_k; d_h_a <= r_a;
+        else
+          d_h_v <= nh_valid; d_h_k <= nh_key; d_h_a <= nh_addr;
+        end if;
+        if x_is_c then
+          d_r_v <= c_valid; d_r_f <= c_fresh and c_valid; d_r_k <= c_key; d_r_a <= c_addr;
+        else
+          d_r_v <= h_v; d_r_f <= '0'; d_r_k <= h_k; d_r_a <= h_a;
+        end if;
         d_is_c <= '0';
       end if;
+    elsif c_first then
+      -- no pop, c goes before held[i]: c settles, held[i] is displaced into the carry line
+      d_h_v <= c_valid; d_h_k <= c_key; d_h_a <= c_addr;
+      d_r_v <= h_v; d_r_f <= '0'; d_r_k <= h_k; d_r_a <= h_a;
+      d_is_c <= '1';
     else
-      if c_first then
-        d_h_v <= c_valid; d_h_k <= c_key; d_h_a <= c_addr;
-        d_is_c <= '1';
-      else
-        d_h_v <= h_v; d_h_k <= h_k; d_h_a <= h_a;
-        d_is_c <= '0';
-      end if;
-      d_r_v <= hi_v; d_r_f <= hi_f; d_r_k <= hi_k; d_r_a <= hi_a;
+      -- no pop, held[i] stays; c (valid or not) travels on with its tag
+      d_h_v <= h_v; d_h_k <= h_k; d_h_a <= h_a;
+      d_r_v <= c_valid; d_r_f <= c_fresh and c_valid; d_r_k <= c_key; d_r_a <= c_addr;
+      d_is_c <= '0';
     end if;
   end process next_state;
 
