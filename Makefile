@@ -27,7 +27,7 @@ LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
 LAYOUTS_VHD := $(BUILD)/gen/c5_layouts_pkg.vhd
 GEN_LAYOUTS := python3 scripts/gen-layouts.py spec/layouts.toml
 
-.PHONY: all demo test asan bench tb results deps docs golden clean
+.PHONY: all demo test asan bench tb results deps docs golden fpga-report clean
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
 
 deps: $(DEPS_OK)
@@ -104,6 +104,11 @@ results: $(BUILD)/cube5
 GOLDEN_ARGS := --seed 1 --count 128 --size 64x64 --cells 2
 golden: $(BUILD)/cube5
 	$(BUILD)/cube5 vectors --out vectors/golden $(GOLDEN_ARGS)
+
+# Synthesis estimate of fpga/rtl for an iCE40 (yosys, nextpnr) into docs/fpga-report.md,
+# a few minutes; work files in $(BUILD)/fpga. (`make test` simulates fpga/ in $(BUILD)/ghdl.)
+fpga-report: $(LAYOUTS_VHD)
+	bash scripts/fpga-report.sh $(BUILD)
 
 clean:
 	rm -rf build out
