@@ -132,8 +132,8 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
         echo "- \`ray_queue\` at CAPACITY=$placed, the largest of the capacities tried ($(IFS=,; echo "${PNR_CAPACITIES[*]}" | sed 's/,/, /g'))"
         echo "  that fits: placed and routed, for the Fmax of the stage logic. Every stage is the same"
         echo "  logic at any capacity, but at $BOARD_CAPACITY the \`pop\` broadcast reaches"
-        echo "  $((BOARD_CAPACITY / placed)) times as many stages over a larger die, so this Fmax bounds"
-        echo "  the 256-entry queue from above; it does not predict it."
+        echo "  $((BOARD_CAPACITY / placed)) times as many stages: this is the Fmax of the stage logic, not a"
+        echo "  prediction for the $BOARD_CAPACITY-entry queue."
     else
         echo "- No capacity of ${PNR_CAPACITIES[*]} could be placed: no Fmax was measured."
     fi
