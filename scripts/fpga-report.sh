@@ -44,7 +44,11 @@ synth() {
     local name=$1 top=$2
     shift 2
     say "synthesising $name"
-    ghdl --synth --std=08 --workdir="$work" "$@" --out=verilog "$top" >"$out/$name.v" 2>"$out/$name.ghdl.log"
+    if ! ghdl --synth --std=08 --workdir="$work" "$@" --out=verilog "$top" >"$out/$name.v" \
+        2>"$out/$name.ghdl.log"; then
+        cat "$out/$name.ghdl.log" >&2
+        exit 1
+    fi
     yosys -q -l "$out/$name.yosys.log" \
         -p "read_verilog $out/$name.v; synth_ice40 -top $top -json $out/$name.json; tee -q -o $out/$name.stat stat" \
         >/dev/null

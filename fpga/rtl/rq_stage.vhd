@@ -19,8 +19,8 @@
 -- only select: x is held[i] or c, y is carry[i+1] or held[i+1], so level 2 is one of
 --   held[i] vs carry[i+1], c vs carry[i+1], c vs held[i+1], and held[i] vs held[i+1],
 -- the last of which needs no comparator: the held line is sorted and gap-free, so
--- held[i] goes before held[i+1] exactly when held[i] is valid. Three comparators and one
--- known answer instead of two chained comparators: one carry chain deep.
+-- held[i] goes before held[i+1] exactly when held[i] is valid. Four comparators in
+-- parallel (level 1 and three for level 2) instead of two in series: one carry chain deep.
 --
 -- Only carries hold `fresh`: a held element is never fresh, so held[i] has no fresh bit.
 -- The element is its key and its eDRAM address; the payload stays in the RAM
