@@ -42,6 +42,15 @@ typedef struct {
 } c5_vblock_gen;
 
 extern const c5_vblock_gen *const c5_vblock_gens[];
+
+/* Taps that keep a uniform sample (reservoir.h) of `count` of a frame's transactions of
+ * `rec_size` bytes in v->st[slot]: begin (0, or -1 when out of memory); offer one record
+ * (copied when chosen); end writes BLOCK.SCENE.hex, the records in stream order through
+ * write(), with config (stolen, may be NULL) and "offered", and frees the sample. */
+int c5_vsample_begin(c5_vscene *v, int slot, size_t rec_size, uint64_t salt);
+void c5_vsample_offer(c5_vscene *v, int slot, const void *rec);
+void c5_vsample_end(c5_vscene *v, int slot, const c5_vblock *b, void (*write)(c5_vfile *f, const void *rec),
+                    json_t *config);
 extern const int c5_n_vblock_gens;
 
 /* Renders scene `name` (loaded, at its final size) on the board model split into cells[3],

@@ -10,7 +10,6 @@
 #include <string.h>
 
 #include "blocks.h"
-#include "reservoir.h"
 #include "rng.h"
 #include "sample_pipe.h"
 
@@ -37,8 +36,9 @@ typedef struct {
     int64_t value, rgba[4];
 } rec;
 
-static void write_rec(c5_vfile *f, const rec *r)
+static void write_rec(c5_vfile *f, const void *p)
 {
+    const rec *r = p;
     c5_vfile_u(f, (uint64_t)r->value);
     for (int c = 0; c < 4; c++)
         c5_vfile_u(f, (uint64_t)r->rgba[c]);
@@ -132,39 +132,17 @@ static void tap_classify(void *ctx, int64_t value, const int64_t rgba[4])
     c5_vscene *v = ctx;
     rec r = {.value = value};
     memcpy(r.rgba, rgba, sizeof r.rgba);
-    c5_res_offer(v->st[C5_VB_CLASSIFY], &r);
+    c5_vsample_offer(v, C5_VB_CLASSIFY, &r);
 }
 
 static int tap_begin(c5_vscene *v, c5_taps *t)
 {
-    c5_reservoir *r = malloc(sizeof *r);
-    if (!r || c5_res_init(r, sizeof(rec), (size_t)v->set->count, v->seed ^ 0x103) != 0) {
-        free(r);
+    if (c5_vsample_begin(v, C5_VB_CLASSIFY, sizeof(rec), 0x103) != 0)
         return -1;
-    }
-    v->st[C5_VB_CLASSIFY] = r;
     t->classify = tap_classify;
     return 0;
 }
 
-static void tap_end(c5_vscene *v)
-{
-    c5_reservoir *r = v->st[C5_VB_CLASSIFY];
-    json_t *cfg = write_table(v->set, v->scene, v->scene, v->regs->tf);
-    c5_vfile *f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
-    if (f) {
-        c5_res_sort(r);
-        for (size_t i = 0; i < r->n; i++)
-            write_rec(f, c5_res_at(r, i));
-        c5_vfile_set(f, "config", cfg);
-        c5_vfile_set(f, "offered", json_integer((json_int_t)r->seen));
-        c5_vfile_close(f);
-    } else {
-        json_decref(cfg);
-    }
-    c5_res_free(r);
-    free(r);
-    v->st[C5_VB_CLASSIFY] = NULL;
-}
+static void tap_end(c5_vscene *v) { c5_vsample_end(v, C5_VB_CLASSIFY, &block, write_rec, write_table(v->set, v->scene, v->scene, v->regs->tf)); }
 
 const c5_vblock_gen c5_vgen_classify = {"classify", directed, tap_begin, tap_end};

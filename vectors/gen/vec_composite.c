@@ -9,7 +9,6 @@
 #include <string.h>
 
 #include "blocks.h"
-#include "reservoir.h"
 #include "rng.h"
 #include "sample_pipe.h"
 
@@ -29,8 +28,9 @@ static const c5_vblock block = {
     "termination and the number of clamped channels out (rtl_model/sample_pipe.h c5_composite)",
     fields, (int)(sizeof fields / sizeof fields[0])};
 
-static void write_io(c5_vfile *f, const c5_composite_io *io)
+static void write_io(c5_vfile *f, const void *p)
 {
+    const c5_composite_io *io = p;
     c5_vfile_u(f, (uint64_t)io->w);
     c5_vfile_u(f, (uint64_t)io->opa);
     for (int c = 0; c < 3; c++)
@@ -146,36 +146,17 @@ static int directed(c5_vset *s)
 static void tap_composite(void *ctx, const c5_composite_io *io)
 {
     c5_vscene *v = ctx;
-    c5_res_offer(v->st[C5_VB_COMPOSITE], io);
+    c5_vsample_offer(v, C5_VB_COMPOSITE, io);
 }
 
 static int tap_begin(c5_vscene *v, c5_taps *t)
 {
-    c5_reservoir *r = malloc(sizeof *r);
-    if (!r || c5_res_init(r, sizeof(c5_composite_io), (size_t)v->set->count, v->seed ^ 0x105) != 0) {
-        free(r);
+    if (c5_vsample_begin(v, C5_VB_COMPOSITE, sizeof(c5_composite_io), 0x105) != 0)
         return -1;
-    }
-    v->st[C5_VB_COMPOSITE] = r;
     t->composite = tap_composite;
     return 0;
 }
 
-static void tap_end(c5_vscene *v)
-{
-    c5_reservoir *r = v->st[C5_VB_COMPOSITE];
-    c5_vfile *f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
-    if (f) {
-        c5_res_sort(r);
-        for (size_t i = 0; i < r->n; i++)
-            write_io(f, c5_res_at(r, i));
-        c5_vfile_set(f, "config", json_pack("{s:i}", "a_max", (int)v->regs->a_max));
-        c5_vfile_set(f, "offered", json_integer((json_int_t)r->seen));
-        c5_vfile_close(f);
-    }
-    c5_res_free(r);
-    free(r);
-    v->st[C5_VB_COMPOSITE] = NULL;
-}
+static void tap_end(c5_vscene *v) { c5_vsample_end(v, C5_VB_COMPOSITE, &block, write_io, json_pack("{s:i}", "a_max", (int)v->regs->a_max)); }
 
 const c5_vblock_gen c5_vgen_composite = {"composite", directed, tap_begin, tap_end};

@@ -8,7 +8,6 @@
 #include <string.h>
 
 #include "blocks.h"
-#include "reservoir.h"
 #include "rng.h"
 #include "sample_pipe.h"
 
@@ -36,8 +35,9 @@ typedef struct {
     int64_t gs[3], grad[3];
 } rec;
 
-static void write_rec(c5_vfile *f, const rec *r)
+static void write_rec(c5_vfile *f, const void *p)
 {
+    const rec *r = p;
     for (int a = 0; a < 3; a++)
         c5_vfile_u(f, (uint64_t)r->frac[a]);
     for (int a = 0; a < 3; a++)
@@ -128,35 +128,17 @@ static void tap_gradient(void *ctx, const c5_corners *k, const int64_t gs[3], co
     memcpy(r.d, k->d, sizeof r.d);
     memcpy(r.gs, gs, sizeof r.gs);
     memcpy(r.grad, grad, sizeof r.grad);
-    c5_res_offer(v->st[C5_VB_GRADIENT], &r);
+    c5_vsample_offer(v, C5_VB_GRADIENT, &r);
 }
 
 static int tap_begin(c5_vscene *v, c5_taps *t)
 {
-    c5_reservoir *r = malloc(sizeof *r);
-    if (!r || c5_res_init(r, sizeof(rec), (size_t)v->set->count, v->seed ^ 0x102) != 0) {
-        free(r);
+    if (c5_vsample_begin(v, C5_VB_GRADIENT, sizeof(rec), 0x102) != 0)
         return -1;
-    }
-    v->st[C5_VB_GRADIENT] = r;
     t->gradient = tap_gradient;
     return 0;
 }
 
-static void tap_end(c5_vscene *v)
-{
-    c5_reservoir *r = v->st[C5_VB_GRADIENT];
-    c5_vfile *f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
-    if (f) {
-        c5_res_sort(r);
-        for (size_t i = 0; i < r->n; i++)
-            write_rec(f, c5_res_at(r, i));
-        c5_vfile_set(f, "offered", json_integer((json_int_t)r->seen));
-        c5_vfile_close(f);
-    }
-    c5_res_free(r);
-    free(r);
-    v->st[C5_VB_GRADIENT] = NULL;
-}
+static void tap_end(c5_vscene *v) { c5_vsample_end(v, C5_VB_GRADIENT, &block, write_rec, NULL); }
 
 const c5_vblock_gen c5_vgen_gradient = {"gradient", directed, tap_begin, tap_end};

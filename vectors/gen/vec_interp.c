@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "blocks.h"
-#include "reservoir.h"
 #include "rng.h"
 #include "sample_pipe.h"
 
@@ -30,8 +29,9 @@ typedef struct {
     int64_t value;
 } rec;
 
-static void write_rec(c5_vfile *f, const rec *r)
+static void write_rec(c5_vfile *f, const void *p)
 {
+    const rec *r = p;
     for (int a = 0; a < 3; a++)
         c5_vfile_u(f, (uint64_t)r->frac[a]);
     for (int j = 0; j < 8; j++)
@@ -113,35 +113,17 @@ static void tap_interp(void *ctx, const c5_corners *k, int64_t value)
     memcpy(r.frac, k->frac, sizeof r.frac);
     memcpy(r.v, k->v, sizeof r.v);
     r.value = value;
-    c5_res_offer(v->st[C5_VB_INTERP], &r);
+    c5_vsample_offer(v, C5_VB_INTERP, &r);
 }
 
 static int tap_begin(c5_vscene *v, c5_taps *t)
 {
-    c5_reservoir *r = malloc(sizeof *r);
-    if (!r || c5_res_init(r, sizeof(rec), (size_t)v->set->count, v->seed ^ 0x101) != 0) {
-        free(r);
+    if (c5_vsample_begin(v, C5_VB_INTERP, sizeof(rec), 0x101) != 0)
         return -1;
-    }
-    v->st[C5_VB_INTERP] = r;
     t->interp = tap_interp;
     return 0;
 }
 
-static void tap_end(c5_vscene *v)
-{
-    c5_reservoir *r = v->st[C5_VB_INTERP];
-    c5_vfile *f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
-    if (f) {
-        c5_res_sort(r);
-        for (size_t i = 0; i < r->n; i++)
-            write_rec(f, c5_res_at(r, i));
-        c5_vfile_set(f, "offered", json_integer((json_int_t)r->seen));
-        c5_vfile_close(f);
-    }
-    c5_res_free(r);
-    free(r);
-    v->st[C5_VB_INTERP] = NULL;
-}
+static void tap_end(c5_vscene *v) { c5_vsample_end(v, C5_VB_INTERP, &block, write_rec, NULL); }
 
 const c5_vblock_gen c5_vgen_interp = {"interp", directed, tap_begin, tap_end};

@@ -6,7 +6,6 @@
 
 #include "blocks.h"
 #include "c5_layouts.h"
-#include "reservoir.h"
 #include "rng.h"
 
 static const c5_vfield fields[] = {
@@ -34,7 +33,7 @@ static void set_field(c5_ray_packet_t *p, int k, uint64_t raw)
 #undef X
 }
 
-static void write_packet(c5_vfile *f, const uint8_t pk[C5_RAY_PACKET_BYTES])
+static void write_packet(c5_vfile *f, const void *pk)
 {
     c5_ray_packet_t p;
     c5_ray_packet_unpack(pk, &p);
@@ -94,35 +93,17 @@ static int directed(c5_vset *s)
 static void tap_packet(void *ctx, const uint8_t *pk)
 {
     c5_vscene *v = ctx;
-    c5_res_offer(v->st[C5_VB_PACKET], pk);
+    c5_vsample_offer(v, C5_VB_PACKET, pk);
 }
 
 static int tap_begin(c5_vscene *v, c5_taps *t)
 {
-    c5_reservoir *r = malloc(sizeof *r);
-    if (!r || c5_res_init(r, C5_RAY_PACKET_BYTES, (size_t)v->set->count, v->seed ^ 1) != 0) {
-        free(r);
+    if (c5_vsample_begin(v, C5_VB_PACKET, C5_RAY_PACKET_BYTES, 1) != 0)
         return -1;
-    }
-    v->st[C5_VB_PACKET] = r;
     t->packet = tap_packet;
     return 0;
 }
 
-static void tap_end(c5_vscene *v)
-{
-    c5_reservoir *r = v->st[C5_VB_PACKET];
-    c5_vfile *f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
-    if (f) {
-        c5_res_sort(r);
-        for (size_t i = 0; i < r->n; i++)
-            write_packet(f, c5_res_at(r, i));
-        c5_vfile_set(f, "offered", json_integer((json_int_t)r->seen));
-        c5_vfile_close(f);
-    }
-    c5_res_free(r);
-    free(r);
-    v->st[C5_VB_PACKET] = NULL;
-}
+static void tap_end(c5_vscene *v) { c5_vsample_end(v, C5_VB_PACKET, &block, write_packet, NULL); }
 
 const c5_vblock_gen c5_vgen_packet = {"packet", directed, tap_begin, tap_end};

@@ -11,7 +11,6 @@
 
 #include "blocks.h"
 #include "geom.h"
-#include "reservoir.h"
 #include "rng.h"
 #include "sample_pipe.h"
 
@@ -42,8 +41,9 @@ static const c5_vblock pow_block = {"shade",
                                     "between entries at N.H (SQ1.14) >> 4, entry 1024 for N.H >= 1",
                                     pow_field, 1};
 
-static void write_io(c5_vfile *f, const c5_shade_io *io)
+static void write_io(c5_vfile *f, const void *p)
 {
+    const c5_shade_io *io = p;
     for (int a = 0; a < 3; a++)
         c5_vfile_s(f, io->grad[a]);
     for (int c = 0; c < 3; c++)
@@ -201,39 +201,17 @@ static int directed(c5_vset *s)
 static void tap_shade(void *ctx, const c5_shade_io *io)
 {
     c5_vscene *v = ctx;
-    c5_res_offer(v->st[C5_VB_SHADE], io);
+    c5_vsample_offer(v, C5_VB_SHADE, io);
 }
 
 static int tap_begin(c5_vscene *v, c5_taps *t)
 {
-    c5_reservoir *r = malloc(sizeof *r);
-    if (!r || c5_res_init(r, sizeof(c5_shade_io), (size_t)v->set->count, v->seed ^ 0x104) != 0) {
-        free(r);
+    if (c5_vsample_begin(v, C5_VB_SHADE, sizeof(c5_shade_io), 0x104) != 0)
         return -1;
-    }
-    v->st[C5_VB_SHADE] = r;
     t->shade = tap_shade;
     return 0;
 }
 
-static void tap_end(c5_vscene *v)
-{
-    c5_reservoir *r = v->st[C5_VB_SHADE];
-    json_t *cfg = write_config(v->set, v->scene, v->scene, v->regs);
-    c5_vfile *f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
-    if (f) {
-        c5_res_sort(r);
-        for (size_t i = 0; i < r->n; i++)
-            write_io(f, c5_res_at(r, i));
-        c5_vfile_set(f, "config", cfg);
-        c5_vfile_set(f, "offered", json_integer((json_int_t)r->seen));
-        c5_vfile_close(f);
-    } else {
-        json_decref(cfg);
-    }
-    c5_res_free(r);
-    free(r);
-    v->st[C5_VB_SHADE] = NULL;
-}
+static void tap_end(c5_vscene *v) { c5_vsample_end(v, C5_VB_SHADE, &block, write_io, write_config(v->set, v->scene, v->scene, v->regs)); }
 
 const c5_vblock_gen c5_vgen_shade = {"shade", directed, tap_begin, tap_end};

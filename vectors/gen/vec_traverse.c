@@ -15,7 +15,6 @@
 #include "fxops.h"
 #include "geom.h"
 #include "processor.h"
-#include "reservoir.h"
 #include "rng.h"
 
 #define POS_BITS 26    /* SQ10.15 */
@@ -44,8 +43,9 @@ typedef struct {
     c5_trav_out out;
 } rec;
 
-static void write_rec(c5_vfile *f, const rec *r)
+static void write_rec(c5_vfile *f, const void *p)
 {
+    const rec *r = p;
     for (int a = 0; a < 3; a++)
         c5_vfile_s(f, r->in.pos[a]);
     for (int a = 0; a < 3; a++)
@@ -242,36 +242,17 @@ static void tap_traverse(void *ctx, const c5_trav_in *in, const c5_trav_out *out
     memset(&r, 0, sizeof r); /* padding too: the reservoir copies whole records */
     r.in = *in;
     r.out = *out;
-    c5_res_offer(v->st[C5_VB_TRAVERSE], &r);
+    c5_vsample_offer(v, C5_VB_TRAVERSE, &r);
 }
 
 static int tap_begin(c5_vscene *v, c5_taps *t)
 {
-    c5_reservoir *r = malloc(sizeof *r);
-    if (!r || c5_res_init(r, sizeof(rec), (size_t)v->set->count, v->seed ^ 0x106) != 0) {
-        free(r);
+    if (c5_vsample_begin(v, C5_VB_TRAVERSE, sizeof(rec), 0x106) != 0)
         return -1;
-    }
-    v->st[C5_VB_TRAVERSE] = r;
     t->traverse = tap_traverse;
     return 0;
 }
 
-static void tap_end(c5_vscene *v)
-{
-    c5_reservoir *r = v->st[C5_VB_TRAVERSE];
-    c5_vfile *f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
-    if (f) {
-        c5_res_sort(r);
-        for (size_t i = 0; i < r->n; i++)
-            write_rec(f, c5_res_at(r, i));
-        c5_vfile_set(f, "config", config());
-        c5_vfile_set(f, "offered", json_integer((json_int_t)r->seen));
-        c5_vfile_close(f);
-    }
-    c5_res_free(r);
-    free(r);
-    v->st[C5_VB_TRAVERSE] = NULL;
-}
+static void tap_end(c5_vscene *v) { c5_vsample_end(v, C5_VB_TRAVERSE, &block, write_rec, config()); }
 
 const c5_vblock_gen c5_vgen_traverse = {"traverse", directed, tap_begin, tap_end};
