@@ -26,9 +26,13 @@ DEPS_OK  := build/.deps-ok
 LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
 LAYOUTS_VHD := $(BUILD)/gen/c5_layouts_pkg.vhd
 GEN_LAYOUTS := python3 scripts/gen-layouts.py spec/layouts.toml
+# The register map (BAR0): spec/registers.toml, through the same generator.
+REGS_H      := $(BUILD)/gen/c5_regs_map.h
+REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
+GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
 .PHONY: all demo test asan bench tb results deps docs golden fpga-report clean
-all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
+all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD) $(REGS_VHD)
 
 deps: $(DEPS_OK)
 $(DEPS_OK): scripts/setup-deps.sh
@@ -36,13 +40,13 @@ $(DEPS_OK): scripts/setup-deps.sh
 	bash scripts/setup-deps.sh
 	@touch $@
 
-# Order-only on the layouts header: it exists before any source can include it; the .d
+# Order-only on the generated headers (layouts, register map): it exists before any source can include it; the .d
 # files then rebuild exactly the objects that include it when it changes.
-$(BUILD)/%.o: %.c | $(DEPS_OK) $(LAYOUTS_H)
+$(BUILD)/%.o: %.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
 
-$(BUILD)/%.o: %.cpp | $(DEPS_OK) $(LAYOUTS_H)
+$(BUILD)/%.o: %.cpp | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -MMD -MP -c $< -o $@
 
@@ -61,9 +65,18 @@ $(LAYOUTS_H): spec/layouts.toml scripts/gen-layouts.py | $(DEPS_OK)
 $(LAYOUTS_VHD): spec/layouts.toml scripts/gen-layouts.py | $(DEPS_OK)
 	$(GEN_LAYOUTS) --vhdl $@
 
-# docs/bit-layouts.md is checked in; tests/layouts_test.sh fails while it is stale.
+$(REGS_H): spec/registers.toml scripts/gen-layouts.py | $(DEPS_OK)
+	$(GEN_REGS) --c-header $@
+
+# VHDL package c5_regs_pkg: offsets, field ranges, reset values (tests/regmap_test.sh analyses it).
+$(REGS_VHD): spec/registers.toml scripts/gen-layouts.py | $(DEPS_OK)
+	$(GEN_REGS) --vhdl $@
+
+# docs/bit-layouts.md and docs/register-map.md are checked in; tests/layouts_test.sh and
+# tests/regmap_test.sh fail while they are stale.
 docs: | $(DEPS_OK)
 	$(GEN_LAYOUTS) --markdown docs/bit-layouts.md
+	$(GEN_REGS) --markdown docs/register-map.md
 
 $(BUILD)/libcube5.a: $(LIB_OBJ)
 	@rm -f $@
@@ -80,7 +93,7 @@ demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD)
+test: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD) $(REGS_VHD)
 	bash tests/run.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.

@@ -4,6 +4,10 @@ header (static inline pack/unpack), a VHDL package (field positions, one record 
 pack/unpack functions per layout) and the Markdown reference docs/bit-layouts.md.
 
 Usage: gen-layouts.py SPEC.toml [--c-header OUT.h] [--markdown OUT.md] [--vhdl OUT.vhd]
+       gen-layouts.py --regs REGS.toml [--c-header OUT.h] [--markdown OUT.md] [--vhdl OUT.vhd]
+
+With --regs it reads spec/registers.toml, the board's register map (BAR0), instead, and
+writes its C header, VHDL package and docs/register-map.md, checked as strictly.
 
 With no output it only checks the spec. Every problem found is printed, one line each,
 naming the layout and field, and the exit status is 1: a layout with overlapping fields,
@@ -728,13 +732,339 @@ def markdown(spec, decisions, layouts, signals):
     return "\n".join(out) + "\n"
 
 
+
+# ---- the register map (--regs) ------------------------------------------------------------
+# spec/registers.toml: BAR0's 32-bit registers and their fields. Checked as strictly as the
+# layouts, written as a second C header, a second VHDL package and docs/register-map.md.
+
+ACCESSES = ("ro", "rw", "w1c", "wo")
+REG_BITS = 32
+REG_KEYS = ("name", "offset", "doc", "field")
+REG_FIELD_KEYS = ("name", "lsb", "width", "access", "reset", "doc", "format")
+REG_FIELD_REQUIRED = ("name", "lsb", "width", "access", "reset", "doc")
+REG_RESERVED_KEYS = ("name", "lsb", "width", "doc")
+
+
+def check_reg_field(ck, rname, index, raw):
+    where = f"register '{rname}' field #{index + 1}"
+    if not isinstance(raw, dict):
+        ck.err(where, "must be a table ([[register.field]])")
+        return None
+    name = ck.name(where, raw)
+    if name is not None:
+        where = f"register '{rname}' field '{name}'"
+    reserved = name is not None and RESERVED_RE.match(name) is not None
+    if reserved:
+        ck.keys(where, raw, REG_RESERVED_KEYS, REG_RESERVED_KEYS)
+    else:
+        ck.keys(where, raw, REG_FIELD_KEYS, REG_FIELD_REQUIRED)
+    lsb = ck.integer(where, raw, "lsb", 0)
+    width = ck.integer(where, raw, "width", 1)
+    doc = ck.string(where, raw, "doc")
+    if lsb is not None and width is not None and lsb + width > REG_BITS:
+        ck.err(where, f"bits {lsb + width - 1}:{lsb} reach beyond the register's {REG_BITS} bits")
+    access, reset, fmt = "ro", 0, None
+    if not reserved:
+        access = ck.string(where, raw, "access")
+        if access is not None and access not in ACCESSES:
+            ck.err(where, f"access '{access}' is not one of {', '.join(ACCESSES)}")
+            access = None
+        reset = ck.integer(where, raw, "reset", 0)
+        if reset is not None and width is not None and reset >= 1 << width:
+            ck.err(where, f"reset value {reset:#x} does not fit the field's {width} bits")
+            reset = None
+        if reset and access == "wo":
+            ck.err(where, f"reset value {reset:#x} of a write-only field (which reads 0) must be 0")
+        if "format" in raw:
+            fmt = ck.fmt(where, raw)
+        else:
+            fmt = Fmt("uint", "uint")
+        if fmt is not None and width is not None and fmt.fixed and fmt.width() != width:
+            ck.err(where, f"format {fmt.text} is {fmt.width()} bits but the field's width is {width}")
+    return dict(name=name, lsb=lsb, width=width, access=access, reset=reset, fmt=fmt, doc=doc,
+                reserved=reserved)
+
+
+def check_register(ck, bar, index, raw):
+    where = f"register #{index + 1}"
+    if not isinstance(raw, dict):
+        ck.err(where, "must be a table ([[register]])")
+        return None
+    name = ck.name(where, raw)
+    if name is not None:
+        where = f"register '{name}'"
+    label = name if name is not None else f"#{index + 1}"
+    ck.keys(where, raw, REG_KEYS, REG_KEYS)
+    offset = ck.integer(where, raw, "offset", 0)
+    if offset is not None and offset % 4:
+        ck.err(where, f"offset {offset:#05x} is not 4-byte aligned")
+        offset = None
+    if offset is not None and bar is not None and offset + 4 > bar:
+        ck.err(where, f"offset {offset:#05x} lies beyond BAR0's {bar} bytes")
+        offset = None
+    doc = ck.string(where, raw, "doc")
+    raws = raw.get("field", [])
+    if not isinstance(raws, list) or not raws:
+        ck.err(where, "needs at least one [[register.field]]")
+        raws = []
+    fields = [check_reg_field(ck, label, i, f) for i, f in enumerate(raws)]
+    if raws and all(f and f["reserved"] for f in fields):
+        ck.err(where, "has only reserved fields")
+    seen = set()
+    for f in fields:
+        if f and f["name"]:
+            if f["name"] in seen:
+                ck.err(f"register '{label}' field '{f['name']}'", "duplicate field name")
+            seen.add(f["name"])
+    # Overlaps and gaps (check_coverage speaks of layouts; its checks are the same).
+    placed = [f for f in fields if f and f["name"] and f["lsb"] is not None and f["width"] is not None
+              and f["lsb"] + f["width"] <= REG_BITS]
+    if len(placed) == len(fields):
+        for i, a in enumerate(placed):
+            for b in placed[i + 1:]:
+                common = set(range(a["lsb"], a["lsb"] + a["width"])) & set(range(b["lsb"], b["lsb"] + b["width"]))
+                for m, l in bit_ranges(common):
+                    ck.err(f"register '{label}' field '{b['name']}'", f"bits {m}:{l} overlap field '{a['name']}'")
+        covered = set()
+        for f in placed:
+            covered.update(range(f["lsb"], f["lsb"] + f["width"]))
+        for m, l in bit_ranges(set(range(REG_BITS)) - covered):
+            ck.err(f"register '{label}'", f"bits {m}:{l} belong to no field: declare them as a reserved field")
+    fields = [f for f in fields if f]
+    fields.sort(key=lambda f: -(f["lsb"] or 0))
+    return dict(name=name, offset=offset, doc=doc, fields=fields)
+
+
+def reg_reset(reg):
+    return sum(f["reset"] << f["lsb"] for f in reg["fields"] if not f["reserved"])
+
+
+def reg_mask(f):
+    return ((1 << f["width"]) - 1) << f["lsb"]
+
+
+def check_reg_names(ck, regs):
+    """Generated names (C5_REG_..., VHDL REG_...) must be unique across the map."""
+    owner = {}
+
+    def claim(ident, who):
+        if ident in owner and owner[ident] != who:
+            ck.err(who, f"generated name {ident} collides with {owner[ident]}")
+        owner.setdefault(ident, who)
+
+    for r in regs:
+        up = r["name"].upper()
+        for suffix in ("OFFSET", "RESET", "FIELDS", "RESERVED_BITS", "T"):
+            claim(f"{up}_{suffix}", f"register '{r['name']}'")
+        for f in r["fields"]:
+            for suffix in ("LSB", "WIDTH", "MASK", "RESET", "RANGE", "GET", "SET"):
+                claim(f"{up}_{f['name'].upper()}_{suffix}", f"register '{r['name']}' field '{f['name']}'")
+
+
+def load_regs(path):
+    ck = Checker(path)
+    try:
+        with open(path, "rb") as fh:
+            doc = tomllib.load(fh)
+    except OSError as e:
+        sys.exit(f"{PROG}: {path}: cannot read: {e.strerror}")
+    except tomllib.TOMLDecodeError as e:
+        sys.exit(f"{PROG}: {path}: not valid TOML: {e}")
+    for k in doc:
+        if k not in ("bar0_bytes", "decisions", "register"):
+            ck.err("top level", f"unknown key '{k}' (allowed: bar0_bytes, decisions, register)")
+    bar = ck.integer("top level", doc, "bar0_bytes", 16)
+    if bar is not None and bar & (bar - 1):
+        ck.err("top level", f"bar0_bytes {bar} is not a power of two (PCI BAR sizes are)")
+        bar = None
+    decisions = doc.get("decisions", [])
+    if not isinstance(decisions, list) or not all(isinstance(d, str) and d.strip() for d in decisions):
+        ck.err("top level", "'decisions' must be an array of non-empty strings")
+        decisions = []
+    raws = doc.get("register", [])
+    if not isinstance(raws, list) or not raws:
+        ck.err("top level", "needs at least one [[register]]")
+        raws = []
+    regs = [check_register(ck, bar, i, r) for i, r in enumerate(raws)]
+    seen, at = set(), {}
+    for r in regs:
+        if r and r["name"]:
+            if r["name"] in seen:
+                ck.err(f"register '{r['name']}'", "duplicate register name")
+            seen.add(r["name"])
+            if r["offset"] is not None:
+                if r["offset"] in at:
+                    ck.err(f"register '{r['name']}'",
+                           f"offset {r['offset']:#05x} overlaps register '{at[r['offset']]}'")
+                at.setdefault(r["offset"], r["name"])
+    regs = [r for r in regs if r]
+    if not ck.errors:
+        check_reg_names(ck, regs)
+    if ck.errors:
+        print("\n".join(ck.errors), file=sys.stderr)
+        sys.exit(1)
+    regs.sort(key=lambda r: r["offset"])
+    return bar, decisions, regs
+
+
+def hex32(v):
+    return f"0x{v:08X}"
+
+
+def c_regs_header(spec, bar, regs):
+    out = [f"""\
+/* Generated by scripts/gen-layouts.py --regs from {spec}. Do not edit: change the spec;
+ * the build regenerates this file. docs/register-map.md explains every register.
+ *
+ * BAR0 holds 32-bit registers. Per register R: C5_REG_R_OFFSET (bytes into BAR0),
+ * C5_REG_R_RESET (the word after reset), C5_REG_R_RESERVED_BITS (bits that read 0) and
+ * C5_REG_R_FIELDS(X), X(r, field, lsb, width, reset) for every non-reserved field. Per field F:
+ * C5_REG_R_F_LSB / _WIDTH / _MASK (in place) / _RESET (the field's raw reset value), and
+ * c5_reg_R_get_F(word) / c5_reg_R_set_F(word, value), which work on raw bits (a signed
+ * fixed-point field's two's complement in its width). */
+#ifndef C5_REGS_MAP_H
+#define C5_REGS_MAP_H
+
+#include <assert.h>
+#include <stdint.h>
+
+#define C5_REG_BAR0_BYTES {bar}
+#define C5_REG_COUNT {len(regs)}
+
+/* X(name, offset, reset word, reserved bits, fields X-macro) for every register, by offset. */
+#define C5_REGS(X) \\"""]
+    for r in regs:
+        up = f"C5_REG_{r['name'].upper()}"
+        out.append(f"    X({r['name']}, {up}_OFFSET, {up}_RESET, {up}_RESERVED_BITS, {up}_FIELDS) \\")
+    out[-1] = out[-1][:-2]
+    for r in regs:
+        n, up = r["name"], f"C5_REG_{r['name'].upper()}"
+        data = [f for f in r["fields"] if not f["reserved"]]
+        resv = sum(reg_mask(f) for f in r["fields"] if f["reserved"])
+        out += ["", c_banner(f"{n}: offset 0x{r['offset']:03X}"), "",
+                f"#define {up}_OFFSET 0x{r['offset']:03X}u",
+                f"#define {up}_RESET {hex32(reg_reset(r))}u",
+                f"#define {up}_RESERVED_BITS {hex32(resv)}u"]
+        for f in r["fields"]:
+            p = f"{up}_{f['name'].upper()}"
+            what = "reserved" if f["reserved"] else f"{f['access']}, {f['fmt'].text}"
+            out += [f"/* {f['name']}: {what} */",
+                    f"#define {p}_LSB {f['lsb']}",
+                    f"#define {p}_WIDTH {f['width']}",
+                    f"#define {p}_MASK {hex32(reg_mask(f))}u"]
+            if not f["reserved"]:
+                out.append(f"#define {p}_RESET {f['reset']:#x}u")
+        out.append(f"#define {up}_FIELDS(X) \\")
+        for f in data:
+            p = f"{up}_{f['name'].upper()}"
+            out.append(f"    X({n}, {f['name']}, {p}_LSB, {p}_WIDTH, {p}_RESET) \\")
+        out[-1] = out[-1][:-2]
+        for f in data:
+            p = f"{up}_{f['name'].upper()}"
+            fn = f"c5_reg_{n}_{{}}_{f['name']}"
+            out += ["",
+                    f"static inline uint32_t {fn.format('get')}(uint32_t word)",
+                    "{",
+                    f"    return (word & {p}_MASK) >> {p}_LSB;",
+                    "}",
+                    "",
+                    f"/* word with field {f['name']} replaced by value (which must fit {f['width']} bits). */",
+                    f"static inline uint32_t {fn.format('set')}(uint32_t word, uint32_t value)",
+                    "{",
+                    f"    assert((value & ~({p}_MASK >> {p}_LSB)) == 0 && \"{n}.{f['name']} out of range\");",
+                    f"    return (word & ~{p}_MASK) | ((value << {p}_LSB) & {p}_MASK);",
+                    "}"]
+    out += ["", "#endif", ""]
+    return "\n".join(out)
+
+
+def vhdl_regs(spec, bar, regs):
+    out = [f"""\
+-- Generated by scripts/gen-layouts.py --regs from {spec}. Do not edit: change the spec;
+-- the build regenerates this file. docs/register-map.md explains every register.
+--
+-- Per register R: REG_R_OFFSET (bytes into BAR0) and REG_R_RESET (the 32-bit word after
+-- reset). Per field F: REG_R_F_LSB / _WIDTH / _RANGE (a subtype usable as a slice:
+-- word(REG_R_F_RANGE)) and REG_R_F_RESET (the field's raw bits).
+library ieee;
+use ieee.std_logic_1164.all;
+
+package c5_regs_pkg is
+
+  constant REG_BAR0_BYTES : natural := {bar};
+  constant REG_WIDTH : natural := {REG_BITS};
+  subtype REG_T is std_logic_vector(REG_WIDTH - 1 downto 0);"""]
+    for r in regs:
+        up = f"REG_{r['name'].upper()}"
+        out += ["", f"  -- {r['name']}",
+                f"  constant {up}_OFFSET : natural := {r['offset']};",
+                f"  constant {up}_RESET : REG_T := x\"{reg_reset(r):08X}\";"]
+        for f in r["fields"]:
+            p = f"{up}_{f['name'].upper()}"
+            what = "reserved, reads 0" if f["reserved"] else f"{f['access']}, {f['fmt'].text}"
+            out += [f"  -- {f['name']}: {what}",
+                    f"  constant {p}_LSB : natural := {f['lsb']};",
+                    f"  constant {p}_WIDTH : natural := {f['width']};",
+                    f"  subtype {p}_RANGE is natural range {msb(f)} downto {f['lsb']};"]
+            if not f["reserved"]:
+                bits = format(f["reset"], f"0{f['width']}b")
+                out.append(f"  constant {p}_RESET : std_logic_vector({p}_WIDTH - 1 downto 0) := \"{bits}\";")
+    out += ["", "end package c5_regs_pkg;", ""]
+    return "\n".join(out)
+
+
+def markdown_regs(spec, bar, decisions, regs):
+    out = ["# Register map", "",
+           f"Generated from `{spec}` by `scripts/gen-layouts.py --regs`: do not edit. Change the spec "
+           "and run `make docs` (the test suite fails while this file is stale). The same spec gives "
+           "the C model `build/gen/c5_regs_map.h` (offsets, field masks and reset values, get/set "
+           "helpers) and the VHDL the package `c5_regs_pkg` (`build/gen/c5_regs_pkg.vhd`).", "",
+           f"BAR0 is {bar} bytes (0x{bar:03X}) of 32-bit registers at 4-byte aligned offsets. Access: "
+           "`ro` read-only; `rw` read/write; `w1c` reads the bit, writing 1 clears it, writing 0 "
+           "leaves it; `wo` write-only, reads 0. Reset values are raw bits (a signed fixed-point "
+           "field's two's complement in its width); formats are those of docs/bit-layouts.md. "
+           "Reserved bits read 0 and ignore writes; software writes them as 0.", "",
+           "## Decisions", ""]
+    out += [f"- {md_cell(d)}" for d in decisions]
+    out += ["", "## Summary", "", "| offset | register | reset | doc |", "|---|---|---|---|"]
+    for r in regs:
+        out.append(f"| 0x{r['offset']:03X} | [{r['name']}](#{r['name']}) | "
+                   f"{hex32(reg_reset(r))} | {md_cell(r['doc'])} |")
+    for r in regs:
+        out += ["", f"## {r['name']}", "",
+                f"Offset 0x{r['offset']:03X}, reset {hex32(reg_reset(r))}. {md_cell(r['doc'])}", "",
+                "| field | bits | access | format | reset | doc |", "|---|---|---|---|---|---|"]
+        for f in r["fields"]:
+            bits = f"{msb(f)}:{f['lsb']}" if f["width"] > 1 else f"{f['lsb']}"
+            if f["reserved"]:
+                out.append(f"| {f['name']} | {bits} | - | - | 0 | {md_cell(f['doc'])} |")
+            else:
+                out.append(f"| {f['name']} | {bits} | {f['access']} | {f['fmt'].text} | "
+                           f"{f['reset']:#x} | {md_cell(f['doc'])} |")
+    return "\n".join(out) + "\n"
+
+
 def main():
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0])
-    ap.add_argument("spec")
+    ap.add_argument("spec", nargs="?", help="the bit layouts (spec/layouts.toml)")
+    ap.add_argument("--regs", metavar="REGS.toml",
+                    help="read a register map (spec/registers.toml) instead of bit layouts")
     ap.add_argument("--c-header", metavar="OUT.h")
     ap.add_argument("--markdown", metavar="OUT.md")
     ap.add_argument("--vhdl", metavar="OUT.vhd")
     args = ap.parse_args()
+    if (args.spec is None) == (args.regs is None):
+        ap.error("give either SPEC.toml (bit layouts) or --regs REGS.toml (register map)")
+    if args.regs:
+        bar, decisions, regs = load_regs(args.regs)
+        spec = spec_label(args.regs)
+        if args.c_header:
+            write(args.c_header, c_regs_header(spec, bar, regs))
+        if args.markdown:
+            write(args.markdown, markdown_regs(spec, bar, decisions, regs))
+        if args.vhdl:
+            write(args.vhdl, vhdl_regs(spec, bar, regs))
+        return
     decisions, layouts, signals = load(args.spec)
     spec = spec_label(args.spec)
     if args.c_header:
