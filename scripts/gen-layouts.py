@@ -151,21 +151,29 @@ class Checker:
         return fmt
 
 
-def check_field(ck, lname, lwidth, index, raw):
-    where = f"layout '{lname}' field #{index + 1}"
+def field_head(ck, owner, table, index, raw, reserved_keys, keys, required):
+    """What a layout's and a register's fields share: a table with a name, reserved or not,
+    the allowed keys, lsb and width. None when raw is not a table."""
+    where = f"{owner} field #{index + 1}"
     if not isinstance(raw, dict):
-        ck.err(where, "must be a table ([[layout.field]])")
+        ck.err(where, f"must be a table ([[{table}]])")
         return None
     name = ck.name(where, raw)
     if name is not None:
-        where = f"layout '{lname}' field '{name}'"
+        where = f"{owner} field '{name}'"
     reserved = name is not None and RESERVED_RE.match(name) is not None
     if reserved:
-        ck.keys(where, raw, RESERVED_KEYS, RESERVED_KEYS)
+        ck.keys(where, raw, reserved_keys, reserved_keys)
     else:
-        ck.keys(where, raw, FIELD_KEYS, FIELD_KEYS)
-    lsb = ck.integer(where, raw, "lsb", 0)
-    width = ck.integer(where, raw, "width", 1)
+        ck.keys(where, raw, keys, required)
+    return where, name, reserved, ck.integer(where, raw, "lsb", 0), ck.integer(where, raw, "width", 1)
+
+
+def check_field(ck, lname, lwidth, index, raw):
+    head = field_head(ck, f"layout '{lname}'", "layout.field", index, raw, RESERVED_KEYS, FIELD_KEYS, FIELD_KEYS)
+    if head is None:
+        return None
+    where, name, reserved, lsb, width = head
     reason = ck.string(where, raw, "reason")
     fmt = rnd = sat = None
     if not reserved:
@@ -746,20 +754,11 @@ REG_RESERVED_KEYS = ("name", "lsb", "width", "doc")
 
 
 def check_reg_field(ck, rname, index, raw):
-    where = f"register '{rname}' field #{index + 1}"
-    if not isinstance(raw, dict):
-        ck.err(where, "must be a table ([[register.field]])")
+    head = field_head(ck, f"register '{rname}'", "register.field", index, raw, REG_RESERVED_KEYS, REG_FIELD_KEYS,
+                      REG_FIELD_REQUIRED)
+    if head is None:
         return None
-    name = ck.name(where, raw)
-    if name is not None:
-        where = f"register '{rname}' field '{name}'"
-    reserved = name is not None and RESERVED_RE.match(name) is not None
-    if reserved:
-        ck.keys(where, raw, REG_RESERVED_KEYS, REG_RESERVED_KEYS)
-    else:
-        ck.keys(where, raw, REG_FIELD_KEYS, REG_FIELD_REQUIRED)
-    lsb = ck.integer(where, raw, "lsb", 0)
-    width = ck.integer(where, raw, "width", 1)
+    where, name, reserved, lsb, width = head
     doc = ck.string(where, raw, "doc")
     if lsb is not None and width is not None and lsb + width > REG_BITS:
         ck.err(where, f"bits {lsb + width - 1}:{lsb} reach beyond the register's {REG_BITS} bits")
