@@ -6,10 +6,7 @@ build=${1:-build}
 cube5="$PWD/$build/cube5"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-passed=0 failed=0
-
-ok() { echo "ok   $1"; passed=$((passed + 1)); }
-bad() { echo "FAIL $1"; shift; printf '    %s\n' "$@"; failed=$((failed + 1)); }
+. "$(dirname "$0")/lib.sh"
 
 # expect NAME STATUS PATTERN -- CMD...: exit status, and PATTERN in stderr (one line).
 expect() {
@@ -235,5 +232,5 @@ expect schedule_bad_tree_nodes 2 "--tree-nodes: expected an integer" -- "$cube5"
 expect schedule_bad_cells 2 "--cells: expected N or NxMxK" -- "$cube5" schedule default --cells 0
 expect schedule_unknown_option 2 "unknown option '--model'" -- "$cube5" schedule default --model rtl
 
-echo "SUMMARY passed=$passed failed=$failed"
+summary
 [ "$failed" -eq 0 ]

@@ -6,10 +6,7 @@ set -u
 gen="$PWD/scripts/gen-layouts.py"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-passed=0 failed=0
-
-ok() { echo "ok   $1"; passed=$((passed + 1)); }
-bad() { echo "FAIL $1"; shift; printf '    %s\n' "$@"; failed=$((failed + 1)); }
+. "$(dirname "$0")/lib.sh"
 
 # ---- the real spec ----------------------------------------------------------------------
 
@@ -133,5 +130,5 @@ spec spec_not_whole_bytes 1 "layout 't': width 12 is not a whole number of bytes
     "$(layout t 12; field a 0 12)"
 spec spec_not_toml 1 "not valid TOML" '[[layout]] name = '
 
-echo "SUMMARY passed=$passed failed=$failed"
+summary
 [ "$failed" -eq 0 ]

@@ -7,10 +7,7 @@ set -u
 gen="$PWD/scripts/gen-layouts.py"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-passed=0 failed=0
-
-ok() { echo "ok   $1"; passed=$((passed + 1)); }
-bad() { echo "FAIL $1"; shift; printf '    %s\n' "$@"; failed=$((failed + 1)); }
+. "$(dirname "$0")/lib.sh"
 
 # ---- the real spec ----------------------------------------------------------------------
 
@@ -131,5 +128,5 @@ spec regs_only_reserved 1 "register 'a': has only reserved fields" \
     "$(top; reg a 0; resv reserved 0 32)"
 spec regs_not_toml 1 "not valid TOML" '[[register]] name = '
 
-echo "SUMMARY passed=$passed failed=$failed"
+summary
 [ "$failed" -eq 0 ]

@@ -11,10 +11,7 @@ golden=vectors/golden
 check="python3 scripts/vectors_check.py"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-passed=0 failed=0
-
-ok() { echo "ok   $1"; passed=$((passed + 1)); }
-bad() { echo "FAIL $1"; shift; printf '    %s\n' "$@"; failed=$((failed + 1)); }
+. "$(dirname "$0")/lib.sh"
 
 # The golden set's parameters, from its manifest: the regeneration must not guess them.
 args=$(python3 -c '
@@ -109,4 +106,4 @@ expect unknown_scene "nosuchscene" --scene nosuchscene
 expect none_and_scene "--scene none cannot be combined" --scene none --scene default
 expect cells_too_many "cells" --scene default --cells 65
 
-echo "SUMMARY passed=$passed failed=$failed"
+summary
