@@ -322,7 +322,8 @@ def check_names(ck, layouts, signals):
             claim(f"SIG_{s['name'].upper()}_{suffix}", f"signal '{s['name']}'")
 
 
-def load(path):
+def read_spec(path, allowed):
+    """The TOML document of a spec and its checker; unknown top-level keys are errors."""
     ck = Checker(path)
     try:
         with open(path, "rb") as fh:
@@ -332,8 +333,13 @@ def load(path):
     except tomllib.TOMLDecodeError as e:
         sys.exit(f"{PROG}: {path}: not valid TOML: {e}")
     for k in doc:
-        if k not in ("decisions", "layout", "signal"):
-            ck.err("top level", f"unknown key '{k}' (allowed: decisions, layout, signal)")
+        if k not in allowed:
+            ck.err("top level", f"unknown key '{k}' (allowed: {', '.join(allowed)})")
+    return ck, doc
+
+
+def load(path):
+    ck, doc = read_spec(path, ("decisions", "layout", "signal"))
     decisions = doc.get("decisions", [])
     if not isinstance(decisions, list) or not all(isinstance(d, str) and d.strip() for d in decisions):
         ck.err("top level", "'decisions' must be an array of non-empty strings")
@@ -861,17 +867,7 @@ def check_reg_names(ck, regs):
 
 
 def load_regs(path):
-    ck = Checker(path)
-    try:
-        with open(path, "rb") as fh:
-            doc = tomllib.load(fh)
-    except OSError as e:
-        sys.exit(f"{PROG}: {path}: cannot read: {e.strerror}")
-    except tomllib.TOMLDecodeError as e:
-        sys.exit(f"{PROG}: {path}: not valid TOML: {e}")
-    for k in doc:
-        if k not in ("bar0_bytes", "decisions", "register"):
-            ck.err("top level", f"unknown key '{k}' (allowed: bar0_bytes, decisions, register)")
+    ck, doc = read_spec(path, ("bar0_bytes", "decisions", "register"))
     bar = ck.integer("top level", doc, "bar0_bytes", 16)
     if bar is not None and bar & (bar - 1):
         ck.err("top level", f"bar0_bytes {bar} is not a power of two (PCI BAR sizes are)")
