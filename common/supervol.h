@@ -13,7 +13,7 @@
 typedef struct {
     size_t dims[3];
     c5_vec3 origin, spacing;
-    uint8_t *v;           /* dims[0]*dims[1]*dims[2], x fastest; NULL when the scene has no volume */
+    uint8_t *v;           /* dims[0]*dims[1]*dims[2], x fastest; NULL when the scene has no volume (dims 0) */
     /* what was placed, for summaries */
     int n_sources;
     char source_label[C5_MAX_VOLUMES][160];
@@ -25,7 +25,10 @@ typedef struct {
 int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err);
 void c5_supervol_free(c5_supervol *sv);
 
-static inline int c5_supervol_empty(const c5_supervol *sv) { return sv->v == NULL; }
+/* No volume: the scene is surfaces only. A grid with dims but v == NULL is a shell: its
+ * geometry without its voxels, as the emulated board knows it (the voxels stay in the host's
+ * memory and arrive cell by cell, c5_board_host). */
+static inline int c5_supervol_empty(const c5_supervol *sv) { return !sv->dims[0] || !sv->dims[1] || !sv->dims[2]; }
 static inline double c5_supervol_min_spacing(const c5_supervol *sv)
 {
     return fmin(sv->spacing.x, fmin(sv->spacing.y, sv->spacing.z));

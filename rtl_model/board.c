@@ -225,7 +225,7 @@ static uint64_t fetch_cycles(const c5_board_opts *o, size_t bytes)
 static int generate_eye_rays(board *b, const c5_supervol *sv, int frame, c5_err *err)
 {
     const c5_scene *s = b->s;
-    c5_camera cam = c5_scene_camera_at(s, frame);
+    c5_camera cam = b->o->camera ? *b->o->camera : c5_scene_camera_at(s, frame);
     c5_camera_basis basis;
     int64_t O[3];
     if (c5_camera_basis_make(&cam, s->render.width, s->render.height, frame, &basis, err) != 0 ||
@@ -307,7 +307,9 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         alpha_nz[i] = b.r.tf[i][3] > 0;
     c5_rq_cfg qcfg = {(uint32_t)o.queue_capacity, 32};
     size_t npx = (size_t)s->render.width * (size_t)s->render.height;
-    if (c5_cells_init(&b.cells, grid, o.cells, alpha_nz, err) != 0)
+    const c5_board_host *host = c5_supervol_empty(sv) ? NULL : o.host;
+    if ((host ? c5_cells_init_flags(&b.cells, grid->dims, o.cells, host->cell_empty, host->block_empty, err)
+              : c5_cells_init(&b.cells, grid, o.cells, alpha_nz, err)) != 0)
         return -1;
     b.q = calloc((size_t)b.cells.count, sizeof *b.q);
     b.slot = malloc((size_t)o.queue_capacity * C5_PACKET_BYTES);
@@ -337,7 +339,9 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->cycles_process += proc_cycles > bus ? proc_cycles : bus;
     int sched_pos = 0, cell;
     while (!b.oom && (cell = schedule(&b, &sched_pos)) >= 0) {
-        if (c5_rdram_load(&b.mem, &b.cells, grid, cell, err) != 0) {
+        if ((host ? c5_rdram_place(&b.mem, &b.cells, cell, err) != 0 ||
+                        host->fetch(host->ctx, cell, b.mem.v, c5_cell_bytes(&b.cells, cell), err) != 0
+                  : c5_rdram_load(&b.mem, &b.cells, grid, cell, err) != 0)) {
             board_free(&b);
             return -1;
         }

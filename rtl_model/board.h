@@ -31,6 +31,18 @@ typedef enum {
     C5_SCHED_EXTERNAL = 3,  /* follow opts.schedule (skipping cells without rays), then Max Work */
 } c5_sched_kind;
 
+/* The board with its volume in the host's memory (the emulated board, board_emu/): the grid
+ * handed to c5_board_render is a shell (dims, spacing, origin; v == NULL), the empty-cell
+ * and empty-block flags come precomputed, and every cell load asks the host for the bytes. */
+typedef struct {
+    void *ctx;
+    /* Fills dst with the cell and its ghost layers as c5_rdram holds them (x fastest,
+     * c5_cell_bytes bytes); 0, or -1 with a message (the frame stops with it). */
+    int (*fetch)(void *ctx, int cell, uint8_t *dst, size_t bytes, c5_err *err);
+    const uint8_t *cell_empty;  /* one byte per cell of the split, as c5_cells_init computes */
+    const uint8_t *block_empty; /* one byte per 8^3 block of the grid */
+} c5_board_host;
+
 typedef struct {
     int cells[3];            /* split of the grid into cells per axis; 0 or 1: one cell */
     c5_queue_key key;        /* 0: C5_KEY_MORTON */
@@ -44,6 +56,8 @@ typedef struct {
     double host_bw;          /* bytes/s from host memory/disk to RDRAM, 0: 132e6 (PCI 33 MHz x 32 bit) */
     double host_latency_s;   /* per fetch, 0: 1e-3 (a disk seek); < 0: none */
     const c5_taps *taps;     /* observers of the blocks for golden vectors, or NULL */
+    const c5_board_host *host; /* NULL: the model reads the super volume itself */
+    const c5_camera *camera; /* NULL: the scene's camera of the frame (the camera registers) */
 } c5_board_opts;
 
 /* The stages the scene needs (docs/board-model.md, "what runs"). */

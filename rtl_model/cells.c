@@ -38,15 +38,13 @@ size_t c5_cell_bytes(const c5_cells *c, int cell)
            (size_t)(hi[2] - lo[2] + 2 * C5_GHOST);
 }
 
-int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint8_t alpha_nz[256], c5_err *err)
+/* The split and the tables, flags left for the caller. */
+static int cells_alloc(c5_cells *c, const size_t dims[3], const int n[3], c5_err *err)
 {
     memset(c, 0, sizeof *c);
-    int nz_prefix[257] = {0};
-    for (int i = 0; i < 256; i++)
-        nz_prefix[i + 1] = nz_prefix[i] + (alpha_nz[i] != 0);
     c->count = 1;
     for (int a = 0; a < 3; a++) {
-        c->dims[a] = (int)sv->dims[a];
+        c->dims[a] = (int)dims[a];
         c->n[a] = n[a] > 1 ? n[a] : 1;
         c->count *= c->n[a];
         c->lo[a] = malloc(sizeof(int) * (size_t)(c->n[a] + 1));
@@ -61,9 +59,22 @@ int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint
                 c->of[a][x] = (uint8_t)i;
     }
     c->empty = calloc((size_t)c->count, 1);
-    c->block_empty = calloc((size_t)c->bdims[0] * c->bdims[1] * c->bdims[2], 1);
+    c->block_empty = calloc(c5_cells_blocks(c), 1);
     if (!c->empty || !c->block_empty)
         goto oom;
+    return 0;
+oom:
+    c5_cells_free(c);
+    return c5_fail(err, "out of memory for the cell tables");
+}
+
+int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint8_t alpha_nz[256], c5_err *err)
+{
+    if (cells_alloc(c, sv->dims, n, err) != 0)
+        return -1;
+    int nz_prefix[257] = {0};
+    for (int i = 0; i < 256; i++)
+        nz_prefix[i + 1] = nz_prefix[i] + (alpha_nz[i] != 0);
     for (int cell = 0; cell < c->count; cell++) {
         int lo[3], hi[3];
         c5_cell_box(c, cell, lo, hi);
@@ -83,9 +94,21 @@ int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint
                     (uint8_t)range_empty(sv, lo, hi, nz_prefix);
             }
     return 0;
-oom:
-    c5_cells_free(c);
-    return c5_fail(err, "out of memory for the cell tables");
+}
+
+int c5_cells_init_flags(c5_cells *c, const size_t dims[3], const int n[3], const uint8_t *cell_empty,
+                        const uint8_t *block_empty, c5_err *err)
+{
+    if (cells_alloc(c, dims, n, err) != 0)
+        return -1;
+    memcpy(c->empty, cell_empty, (size_t)c->count);
+    memcpy(c->block_empty, block_empty, c5_cells_blocks(c));
+    return 0;
+}
+
+size_t c5_cells_blocks(const c5_cells *c)
+{
+    return (size_t)c->bdims[0] * (size_t)c->bdims[1] * (size_t)c->bdims[2];
 }
 
 void c5_cells_free(c5_cells *c)
@@ -99,7 +122,7 @@ void c5_cells_free(c5_cells *c)
     memset(c, 0, sizeof *c);
 }
 
-int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err)
+int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err)
 {
     c5_cell_box(c, cell, m->lo, m->hi);
     size_t need = 1;
@@ -115,12 +138,19 @@ int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
         m->v = p;
         m->cap = need;
     }
+    m->cell = cell;
+    return 0;
+}
+
+int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err)
+{
+    if (c5_rdram_place(m, c, cell, err) != 0)
+        return -1;
     size_t o = 0;
     for (int z = 0; z < m->ext[2]; z++)
         for (int y = 0; y < m->ext[1]; y++)
             for (int x = 0; x < m->ext[0]; x++)
                 m->v[o++] = (uint8_t)c5_supervol_at(sv, m->org[0] + x, m->org[1] + y, m->org[2] + z);
-    m->cell = cell;
     return 0;
 }
 

@@ -38,7 +38,14 @@ typedef struct {
 
 /* alpha_nz: 1 for table entries with alpha > 0 (after the step correction). */
 int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint8_t alpha_nz[256], c5_err *err);
+/* The same split with the flags given (the emulated board: the host computed them with
+ * c5_cells_init from the volume the board never sees whole); cell_empty has count bytes,
+ * block_empty c5_cells_blocks. */
+int c5_cells_init_flags(c5_cells *c, const size_t dims[3], const int n[3], const uint8_t *cell_empty,
+                        const uint8_t *block_empty, c5_err *err);
 void c5_cells_free(c5_cells *c);
+/* 8^3 blocks of the grid: bdims[0] * bdims[1] * bdims[2]. */
+size_t c5_cells_blocks(const c5_cells *c);
 
 static inline int c5_cell_id(const c5_cells *c, int i, int j, int k) { return (k * c->n[1] + j) * c->n[0] + i; }
 /* Cell of the voxel (x, y, z), which must be inside the grid. */
@@ -50,7 +57,9 @@ void c5_cell_box(const c5_cells *c, int cell, int lo[3], int hi[3]);
 /* Bytes a fetch of the cell moves: the cell and its ghost layers, one byte a voxel. */
 size_t c5_cell_bytes(const c5_cells *c, int cell);
 
-/* Copies the cell with its ghost layers from the super volume. */
+/* Makes the RDRAM hold the cell's box (org, ext; c5_cell_bytes of room), contents undefined. */
+int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err);
+/* Places the cell and copies it with its ghost layers from the super volume. */
 int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err);
 void c5_rdram_free(c5_rdram *m);
 

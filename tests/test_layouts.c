@@ -28,15 +28,21 @@ static const fdesc RP_FIELDS[] = {C5_RAY_PACKET_FIELDS(DESC)};
 static const fdesc RP_RESERVED[] = {C5_RAY_PACKET_RESERVED(RDESC)};
 static const fdesc CT_FIELDS[] = {C5_CELL_TREE_NODE_FIELDS(DESC)};
 static const fdesc CT_RESERVED[] = {C5_CELL_TREE_NODE_RESERVED(RDESC)};
+static const fdesc TH_FIELDS[] = {C5_TLP_HEADER_FIELDS(DESC)};
+static const fdesc TH_RESERVED[] = {C5_TLP_HEADER_RESERVED(RDESC)};
+static const fdesc SD_FIELDS[] = {C5_SCENE_DESCRIPTOR_FIELDS(DESC)};
+static const fdesc SD_RESERVED[] = {C5_SCENE_DESCRIPTOR_RESERVED(RDESC)};
 #define COUNT(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
 /* Any layout's struct fits here; the wrappers below give every layout one interface. */
 typedef union {
     c5_ray_packet_t rp;
     c5_cell_tree_node_t ct;
+    c5_tlp_header_t th;
+    c5_scene_descriptor_t sd;
 } any_fields;
 
-#define MAX_BYTES 32
+#define MAX_BYTES 80
 
 typedef struct {
     const char *name;
@@ -72,6 +78,8 @@ typedef struct {
     static void L##_unpack_any(const uint8_t *in, any_fields *s) { c5_##L##_unpack(in, &s->member); }
 WRAPPERS(ray_packet, C5_RAY_PACKET, rp)
 WRAPPERS(cell_tree_node, C5_CELL_TREE_NODE, ct)
+WRAPPERS(tlp_header, C5_TLP_HEADER, th)
+WRAPPERS(scene_descriptor, C5_SCENE_DESCRIPTOR, sd)
 
 static const layout LAYOUTS[] = {
     {"ray_packet", C5_RAY_PACKET_WIDTH, C5_RAY_PACKET_BYTES, RP_FIELDS, COUNT(RP_FIELDS), RP_RESERVED,
@@ -80,6 +88,12 @@ static const layout LAYOUTS[] = {
     {"cell_tree_node", C5_CELL_TREE_NODE_WIDTH, C5_CELL_TREE_NODE_BYTES, CT_FIELDS, COUNT(CT_FIELDS),
      CT_RESERVED, COUNT(CT_RESERVED), cell_tree_node_set, cell_tree_node_get, cell_tree_node_pack_any,
      cell_tree_node_unpack_any, c5_cell_tree_node_reserved_zero},
+    {"tlp_header", C5_TLP_HEADER_WIDTH, C5_TLP_HEADER_BYTES, TH_FIELDS, COUNT(TH_FIELDS), TH_RESERVED,
+     COUNT(TH_RESERVED), tlp_header_set, tlp_header_get, tlp_header_pack_any, tlp_header_unpack_any,
+     c5_tlp_header_reserved_zero},
+    {"scene_descriptor", C5_SCENE_DESCRIPTOR_WIDTH, C5_SCENE_DESCRIPTOR_BYTES, SD_FIELDS, COUNT(SD_FIELDS),
+     SD_RESERVED, COUNT(SD_RESERVED), scene_descriptor_set, scene_descriptor_get, scene_descriptor_pack_any,
+     scene_descriptor_unpack_any, c5_scene_descriptor_reserved_zero},
 };
 #define N_LAYOUTS COUNT(LAYOUTS)
 

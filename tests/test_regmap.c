@@ -116,8 +116,12 @@ TEST(regmap_known_values)
     CHECK_INT(C5_REG_STATUS_ERROR_LSB, 4);
     CHECK_INT(C5_REG_STATUS_ERROR_MASK, 0xF0);
     CHECK_INT(c5_reg_status_set_error(0, 15), 0xF0);
-    /* a signed SQ13.15 field holds its two's complement in 29 bits */
-    uint32_t w = c5_reg_cam_eye_x_set_value(0, (uint32_t)(-(1 << 15)) & 0x1FFFFFFFu);
-    CHECK_INT(w, 0x1FFF8000u);
-    CHECK_INT(w & C5_REG_CAM_EYE_X_RESERVED_BITS, 0);
+    /* camera registers: binary64 halves; 30 degrees = 0x403E000000000000, up z 1.0 */
+    CHECK_INT(C5_REG_CAM_FOV_HI_RESET, 0x403E0000u);
+    CHECK_INT(C5_REG_CAM_FOV_LO_RESET, 0);
+    CHECK_INT(C5_REG_CAM_UP_Z_HI_RESET, 0x3FF00000u);
+    CHECK_INT(C5_REG_CAM_EYE_X_LO_OFFSET, 0x060);
+    CHECK_INT(C5_REG_DMA_DOORBELL_OFFSET, 0x0D0);
+    CHECK_INT(C5_REG_SCENE_ADDR_LO_OFFSET, 0x0E0);
+    CHECK_INT(C5_REG_FB_ADDR_HI_OFFSET, 0x0F0);
 }
