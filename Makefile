@@ -13,6 +13,15 @@ LDFLAGS  += -pthread $(SAN)
 LDLIBS   += $(shell pkg-config --libs OpenImageIO jansson 2>/dev/null) -lteem -lz -lm
 
 LIB_SRC  := $(wildcard common/*.c cref/*.c rtl_model/*.c vectors/gen/*.c)
+# The host link (docs/host-protocol.md): the driver library on libusb and the emulated board
+# on umockdev, each its own library so that a driver user never links umockdev.
+USB_PKGS := libusb-1.0 umockdev-1.0
+CPPFLAGS += -Ihost_driver -Iboard_emu $(shell pkg-config --cflags $(USB_PKGS) 2>/dev/null)
+USB_LIBS := $(shell pkg-config --libs libusb-1.0 2>/dev/null)
+EMU_LIBS := $(shell pkg-config --libs umockdev-1.0 libusb-1.0 2>/dev/null)
+DRV_SRC  := $(filter-out host_driver/cube5ctl.c,$(wildcard host_driver/*.c))
+EMU_SRC  := $(filter-out board_emu/cube5_board.c,$(wildcard board_emu/*.c))
+LINK_SRC := $(wildcard tests/link/*.c)
 LIB_CXX  := $(wildcard common/*.cpp)
 CLI_SRC  := $(wildcard cli/*.c)
 TEST_SRC := $(wildcard tests/*.c)
@@ -32,7 +41,8 @@ REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
 .PHONY: all demo test asan bench tb results deps docs golden fpga-report clean
-all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD) $(REGS_VHD)
+LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link
+all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
 
 deps: $(DEPS_OK)
 $(DEPS_OK): scripts/setup-deps.sh
@@ -85,6 +95,26 @@ $(BUILD)/libcube5.a: $(LIB_OBJ)
 $(BUILD)/cube5: $(CLI_OBJ) $(BUILD)/libcube5.a
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
+$(BUILD)/libc5drv.a: $(DRV_SRC:%.c=$(BUILD)/%.o)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/libc5emu.a: $(EMU_SRC:%.c=$(BUILD)/%.o)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/cube5ctl: $(BUILD)/host_driver/cube5ctl.o $(BUILD)/libc5drv.a $(BUILD)/libcube5.a
+	$(CXX) $(LDFLAGS) $^ $(USB_LIBS) $(LDLIBS) -o $@
+
+$(BUILD)/cube5-board: $(BUILD)/board_emu/cube5_board.o $(BUILD)/libc5emu.a $(BUILD)/libcube5.a
+	$(CXX) $(LDFLAGS) $^ $(EMU_LIBS) $(LDLIBS) -o $@
+
+# The integration tests over real libusb against the emulated board (tests/link_test.sh runs
+# it with umockdev's preload library).
+$(BUILD)/tests/link: $(LINK_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/harness.o $(BUILD)/libc5drv.a $(BUILD)/libc5emu.a $(BUILD)/libcube5.a
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(EMU_LIBS) $(LDLIBS) -o $@
+
 $(BUILD)/tests/unit: $(TEST_OBJ) $(BUILD)/libcube5.a
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
@@ -93,7 +123,7 @@ demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(LAYOUTS_VHD) $(REGS_VHD)
+test: $(BUILD)/cube5 $(BUILD)/tests/unit $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
 	bash tests/run.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.
@@ -101,7 +131,7 @@ asan:
 	$(MAKE) test BUILD=build/asan OPT=-O1 \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
 
-bench: $(BUILD)/cube5
+bench: $(BUILD)/cube5 $(LINK_BINS)
 	bash scripts/bench.sh $(BUILD)
 
 # The board model against cref on every built-in scene, 1, 8 and 27 cells (tb/README.md).

@@ -40,11 +40,12 @@ size_t c5_tlp_put(uint8_t *pkt, c5_tlp_type type, uint8_t tag, c5_tlp_status sta
 }
 
 #define WHY(...) (snprintf(why, cap, __VA_ARGS__), -1)
+#define WHY_SHORT(...) (snprintf(why, cap, __VA_ARGS__), C5_TLP_SHORT)
 
 int c5_tlp_check(const uint8_t *pkt, size_t len, c5_tlp_header_t *h, char *why, size_t cap)
 {
     if (len < C5_TLP_HEADER_BYTES)
-        return WHY("short packet: %zu bytes, a header alone is %d", len, C5_TLP_HEADER_BYTES);
+        return WHY_SHORT("short transfer: %zu bytes, a header alone is %d", len, C5_TLP_HEADER_BYTES);
     c5_tlp_header_unpack(pkt, h);
     if (h->sync != C5_TLP_SYNC)
         return WHY("bad sync byte 0x%02x (expected 0x%02x): not a cube5 packet", (unsigned)h->sync, C5_TLP_SYNC);
@@ -64,14 +65,19 @@ int c5_tlp_check(const uint8_t *pkt, size_t len, c5_tlp_header_t *h, char *why, 
         return WHY("%s: length %u or address 0x%llx not a multiple of 4", name, (unsigned)h->length,
                    (unsigned long long)addr);
     if (is_reg || h->type == C5_TLP_INTERRUPT) {
-        if (h->length != 4 && !(is_cpl && h->status != C5_TLP_SC && h->length == 0))
-            return WHY("%s: length %u, a register packet moves 4 bytes", name, (unsigned)h->length);
+        int ok = h->type == C5_TLP_REG_COMPLETION ? h->length == 0 || (h->length == 4 && h->status == C5_TLP_SC)
+                                                  : h->length == 4;
+        if (!ok)
+            return WHY("%s: length %u, a register packet moves 4 bytes (a write's or an error's completion 0)",
+                       name, (unsigned)h->length);
         if (h->addr_hi != 0 || (h->type == C5_TLP_INTERRUPT && h->addr_lo != 0))
             return WHY("%s: address 0x%llx out of range", name, (unsigned long long)addr);
     } else if (h->length == 0 ? !(is_cpl && h->status != C5_TLP_SC) : h->length > C5_TLP_MAX_PAYLOAD) {
         return WHY("%s: length %u outside 4..%u", name, (unsigned)h->length, C5_TLP_MAX_PAYLOAD);
     }
     size_t want = C5_TLP_HEADER_BYTES + c5_tlp_payload_bytes(h);
+    if (len < want)
+        return WHY_SHORT("short transfer: %s of %zu bytes, %zu received", name, want, len);
     if (len != want)
         return WHY("%s: %zu bytes received, header says %zu", name, len, want);
     return 0;

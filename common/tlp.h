@@ -43,9 +43,12 @@ typedef enum {
  * error completions). */
 size_t c5_tlp_payload_bytes(const c5_tlp_header_t *h);
 
+#define C5_TLP_SHORT (-2)
 /* Checks a received packet of `len` bytes: sync, reserved bits, a known type, status and
  * length allowed for the type, alignment, and that the transfer holds exactly the header and
- * its payload. 0, or -1 with a message of at most `cap` bytes in `why`. */
+ * its payload. 0; C5_TLP_SHORT when the transfer holds less than a header or less than its
+ * header announces (a short transfer); -1 for anything else (garbage). A message of at most
+ * `cap` bytes goes to `why`. */
 int c5_tlp_check(const uint8_t *pkt, size_t len, c5_tlp_header_t *h, char *why, size_t cap);
 
 /* Writes a header into pkt[0..15]; the caller copies the payload after it. Returns the

@@ -8,6 +8,8 @@ pkgs=(build-essential g++ pkg-config zlib1g-dev
       libjansson-dev        # scene files (JSON)
       libteem-dev           # NRRD volumes (Teem's nrrd)
       libopenimageio-dev    # PNG / EXR output (OpenImageIO)
+      libusb-1.0-0-dev      # the host driver's USB transport (host_driver/)
+      umockdev libumockdev-dev # the emulated board as a USB device (board_emu/, tests/link_test.sh)
       ghdl ghdl-mcode       # VHDL-2008 simulation and --synth of fpga/ (mcode: the backend
                             # that runs in place, no compiler needed; tests/fpga_test.sh)
       yosys                 # synthesis for iCE40 (make fpga-report)
