@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The host link over real libusb against the emulated board (docs/host-protocol.md,
-# board_emu/README.md): the in-process link tests ($build/tests/link, run with umockdev's
+# board_emu/README.md): the in-process link tests ($build/tests/link-tests, run with umockdev's
 # preload) and the runner cube5-board end to end with an unmodified libusb program (Python's
 # ctypes on libusb-1.0). Ends with one SUMMARY line that counts both the link binary's cases
 # and the checks made here.
@@ -8,7 +8,7 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 source tests/lib.sh
 build=${1:-build}
-link=$build/tests/link
+link=$build/tests/link-tests
 board=$build/cube5-board
 
 # A short TMPDIR: umockdev's socket path must stay under 108 characters.
@@ -80,7 +80,10 @@ done
 rc=$?
 [ "$rc" -eq 0 ] && ok "the child gets the preload and UMOCKDEV_DIR" || bad "the child's environment" "exit $rc"
 
-LD_PRELOAD=libc.so.6 "$board" run -- sh -c 'case "$LD_PRELOAD" in libc.so.6:*umockdev*) ;; *) exit 1;; esac'
+# (an ASan-built runner needs ASan's runtime first itself: then that is the existing entry)
+first=libc.so.6
+ldd "$board" 2>/dev/null | grep -q libasan && first=$(gcc -print-file-name=libasan.so)
+LD_PRELOAD=$first "$board" run -- sh -c 'case "$LD_PRELOAD" in "$0":*umockdev*) ;; *) exit 1;; esac' "$first"
 rc=$?
 [ "$rc" -eq 0 ] && ok "an existing LD_PRELOAD stays first" || bad "an existing LD_PRELOAD stays first" "exit $rc"
 
