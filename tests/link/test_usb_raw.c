@@ -8,7 +8,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
-#include "../harness.h"
+#include "harness.h"
 #include "tlp.h"
 #include "usb_fixture.h"
 
