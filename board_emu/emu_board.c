@@ -11,13 +11,6 @@
 
 /* ---- the IN queue ----------------------------------------------------------------------- */
 
-static void notify(c5_emu *e)
-{
-    void (*fn)(void *) = e->notify;
-    if (fn)
-        fn(e->notify_ctx);
-}
-
 int c5_emu_send_locked(c5_emu *e, c5_tlp_type type, uint8_t tag, c5_tlp_status status, uint32_t length,
                        uint64_t addr, const void *payload)
 {
@@ -44,14 +37,16 @@ int c5_emu_send_locked(c5_emu *e, c5_tlp_type type, uint8_t tag, c5_tlp_status s
     return 0;
 }
 
-/* Calls the transport's notify after the lock is released (it may take its own locks). */
+/* Calls the transport's notify after the lock is released (it may take its own locks);
+ * the callback is read while the lock is still held. */
 void c5_emu_unlock(c5_emu *e)
 {
-    int n = e->pending_notify;
+    void (*fn)(void *) = e->pending_notify ? e->notify : NULL;
+    void *ctx = e->notify_ctx;
     e->pending_notify = 0;
     pthread_mutex_unlock(&e->mu);
-    if (n)
-        notify(e);
+    if (fn)
+        fn(ctx);
 }
 
 static void drop_in_queue(c5_emu *e)

@@ -26,6 +26,7 @@ run_suite bash tests/layouts_test.sh
 run_suite bash tests/regmap_test.sh
 run_suite bash tests/vectors_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
+run_suite bash tests/link_test.sh "$build"
 rm -f "$log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
