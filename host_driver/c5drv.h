@@ -45,6 +45,9 @@ typedef struct {
     /* clears a halt of the IN (in = 1) or OUT endpoint */
     int (*clear_halt)(void *ctx, int in, char *msg, size_t cap);
     void (*close)(void *ctx);
+    /* Added: the board's serial number for c5drv_identify (USB: iSerialNumber), or NULL when
+     * the transport has none (this op may itself be NULL). */
+    const char *(*serial)(void *ctx);
 } c5drv_transport;
 
 typedef struct c5drv c5drv;
