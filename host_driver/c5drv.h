@@ -98,6 +98,7 @@ typedef struct {
     uint64_t fetches_served;  /* doorbells rung: cells handed to the board */
     uint64_t dma_reads;       /* dma_read requests served (descriptor and cells) */
     uint64_t bytes_served;    /* bytes sent in dma_completions */
+    uint64_t cell_bytes;      /* added: the part of bytes_served that was cell data (for MB/s) */
     uint64_t fb_bytes;        /* bytes of frame buffer received */
     uint64_t interrupts;      /* interrupt packets received */
     uint64_t stall_retries;   /* clear-halts that recovered a stalled endpoint */

@@ -104,6 +104,7 @@ static int serve_read(c5drv *d, const c5_tlp_header_t *h)
     d->cnt.dma_reads++;
     d->cnt.bytes_served += len;
     if (d->up_active && addr >= d->up_addr && addr + len <= d->up_end) {
+        d->cnt.cell_bytes += len;
         d->up_left = d->up_left > len ? d->up_left - len : 0;
         if (!d->up_left) {
             d->cnt.cell_upload_s += drv_now() - d->up_t0;
