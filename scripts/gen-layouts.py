@@ -913,7 +913,9 @@ def c_regs_header(spec, bar, regs):
  *
  * BAR0 holds 32-bit registers. Per register R: C5_REG_R_OFFSET (bytes into BAR0),
  * C5_REG_R_RESET (the word after reset), C5_REG_R_RESERVED_BITS (bits that read 0) and
- * C5_REG_R_FIELDS(X), X(r, field, lsb, width, reset) for every non-reserved field. Per field F:
+ * C5_REG_R_FIELDS(X), X(r, field, lsb, width, reset) for every non-reserved field, and
+ * C5_REG_R_RW_BITS / _W1C_BITS / _WO_BITS (the bits of each write access: a register file
+ * keeps rw bits, clears w1c bits written 1, and acts on wo bits without storing them). Per field F:
  * C5_REG_R_F_LSB / _WIDTH / _MASK (in place) / _RESET (the field's raw reset value), and
  * c5_reg_R_get_F(word) / c5_reg_R_set_F(word, value), which work on raw bits (a signed
  * fixed-point field's two's complement in its width). */
@@ -932,6 +934,12 @@ def c_regs_header(spec, bar, regs):
         up = f"C5_REG_{r['name'].upper()}"
         out.append(f"    X({r['name']}, {up}_OFFSET, {up}_RESET, {up}_RESERVED_BITS, {up}_FIELDS) \\")
     out[-1] = out[-1][:-2]
+    out += ["", "/* X(name, offset, reset word, rw bits, w1c bits, wo bits) for every register, by offset. */",
+            "#define C5_REGS_ACCESS(X) \\"]
+    for r in regs:
+        up = f"C5_REG_{r['name'].upper()}"
+        out.append(f"    X({r['name']}, {up}_OFFSET, {up}_RESET, {up}_RW_BITS, {up}_W1C_BITS, {up}_WO_BITS) \\")
+    out[-1] = out[-1][:-2]
     for r in regs:
         n, up = r["name"], f"C5_REG_{r['name'].upper()}"
         data = [f for f in r["fields"] if not f["reserved"]]
@@ -940,6 +948,9 @@ def c_regs_header(spec, bar, regs):
                 f"#define {up}_OFFSET 0x{r['offset']:03X}u",
                 f"#define {up}_RESET {hex32(reg_reset(r))}u",
                 f"#define {up}_RESERVED_BITS {hex32(resv)}u"]
+        for acc in ("rw", "w1c", "wo"):
+            bits = sum(reg_mask(f) for f in data if f["access"] == acc)
+            out.append(f"#define {up}_{acc.upper()}_BITS {hex32(bits)}u")
         for f in r["fields"]:
             p = f"{up}_{f['name'].upper()}"
             what = "reserved" if f["reserved"] else f"{f['access']}, {f['fmt'].text}"
