@@ -111,7 +111,13 @@ $(BUILD)/cube5-board: $(BUILD)/board_emu/cube5_board.o $(BUILD)/libc5emu.a $(BUI
 
 # The integration tests over real libusb against the emulated board (tests/link_test.sh runs
 # it with umockdev's preload library).
-$(BUILD)/tests/link: $(LINK_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/harness.o $(BUILD)/libc5drv.a $(BUILD)/libc5emu.a $(BUILD)/libcube5.a
+# Its objects live in tests/link-obj/, not tests/link/: that path is the binary itself.
+LINK_OBJ := $(LINK_SRC:tests/link/%.c=$(BUILD)/tests/link-obj/%.o)
+$(BUILD)/tests/link-obj/%.o: tests/link/%.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/tests/link: $(LINK_OBJ) $(BUILD)/tests/harness.o $(BUILD)/libc5drv.a $(BUILD)/libc5emu.a $(BUILD)/libcube5.a
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(EMU_LIBS) $(LDLIBS) -o $@
 
