@@ -6,7 +6,7 @@ CC       ?= gcc
 CXX      ?= g++
 OPT      ?= -O2
 SAN      ?=
-CPPFLAGS += -D_DEFAULT_SOURCE -Icommon -Icref -Irtl_model -Ivectors/gen -I$(BUILD)/gen
+CPPFLAGS += -D_DEFAULT_SOURCE -Itests -Icommon -Icref -Irtl_model -Ivectors/gen -I$(BUILD)/gen
 CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror -pthread $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror $(SAN)
 LDFLAGS  += -pthread $(SAN)
@@ -41,7 +41,7 @@ REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
 .PHONY: all demo test asan bench tb results deps docs golden fpga-report clean
-LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link
+LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
 
 deps: $(DEPS_OK)
@@ -110,14 +110,8 @@ $(BUILD)/cube5-board: $(BUILD)/board_emu/cube5_board.o $(BUILD)/libc5emu.a $(BUI
 	$(CXX) $(LDFLAGS) $^ $(EMU_LIBS) $(LDLIBS) -o $@
 
 # The integration tests over real libusb against the emulated board (tests/link_test.sh runs
-# it with umockdev's preload library).
-# Its objects live in tests/link-obj/, not tests/link/: that path is the binary itself.
-LINK_OBJ := $(LINK_SRC:tests/link/%.c=$(BUILD)/tests/link-obj/%.o)
-$(BUILD)/tests/link-obj/%.o: tests/link/%.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
-	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
-
-$(BUILD)/tests/link: $(LINK_OBJ) $(BUILD)/tests/harness.o $(BUILD)/libc5drv.a $(BUILD)/libc5emu.a $(BUILD)/libcube5.a
+# it with umockdev's preload library). Not build/tests/link: that folder holds its objects.
+$(BUILD)/tests/link-tests: $(LINK_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/harness.o $(BUILD)/libc5drv.a $(BUILD)/libc5emu.a $(BUILD)/libcube5.a
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(EMU_LIBS) $(LDLIBS) -o $@
 

@@ -203,7 +203,7 @@ int c5_emu_out(c5_emu *e, const uint8_t *buf, size_t len)
     if (rc != 0) {
         /* The tag of a register request that reached us whole can still be answered. */
         if (len >= C5_TLP_HEADER_BYTES && h.sync == C5_TLP_SYNC && (h.type == C5_TLP_REG_READ || h.type == C5_TLP_REG_WRITE))
-            c5_emu_send_locked(e, C5_TLP_REG_COMPLETION, h.tag, C5_TLP_CA, 0, off, NULL);
+            c5_emu_send_locked(e, C5_TLP_REG_COMPLETION, h.tag, C5_TLP_CA, 0, off & ~3u, NULL);
         e->refused++;
     } else if (h.type == C5_TLP_REG_READ || h.type == C5_TLP_REG_WRITE) {
         if (!(r = reg_at(off))) {
