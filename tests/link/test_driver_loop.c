@@ -11,7 +11,7 @@
 #include "c5_regs_map.h"
 #include "c5drv.h"
 #include "emu_board.h"
-#include "../harness.h"
+#include "harness.h"
 #include "supervol.h"
 #include "tlp.h"
 
