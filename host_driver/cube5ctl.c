@@ -273,8 +273,9 @@ static int check_output(const opts *o, const char *json, const char *dir)
 
 static int drv_err(c5drv *d, int rc)
 {
+    /* the error's class first (what a script matches), then what happened */
     const char *m = c5drv_message(d);
-    return fail("%s", m && m[0] ? m : c5drv_strerror(rc));
+    return m && m[0] ? fail("%s: %s", c5drv_strerror(rc), m) : fail("%s", c5drv_strerror(rc));
 }
 
 static void print_counters(const c5drv_counters *c, int json, int driver_side)

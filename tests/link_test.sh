@@ -160,4 +160,58 @@ for f in "stall:reg_completion:1 9" "disconnect:any 4" "timeout:reg_completion:1
     [ "$rc" -eq "$2" ] && ok "cube5-board --fault $1: libusb error -$2" || bad "cube5-board --fault $1" "exit $rc, $2 expected" "$out"
 done
 
+# ---- cube5ctl under the runner -------------------------------------------------------------
+# The product's own CLI, unmodified, against the emulated board: the frame equals the model's
+# own render bit for bit (EXR holds the float image exactly), the fetches it served equal the
+# model's, stats reads the same board afterwards, and each injected fault ends in its error.
+ctl=$build/cube5ctl
+cube5=$build/cube5
+args=(default --size 64x48 --cells 2)
+if "$board" run -- "$ctl" render "${args[@]}" -o "$tmp/via.exr" --json >"$tmp/via.json" 2>"$tmp/err" &&
+   "$cube5" render "${args[@]}" --model rtl -o "$tmp/direct.exr" --json >"$tmp/direct.json" 2>>"$tmp/err"; then
+    cmp -s "$tmp/via.exr" "$tmp/direct.exr" && ok "cube5ctl render through the runner = cube5 render --model rtl (EXR, bit for bit)" ||
+        bad "cube5ctl render vs the model" "the EXR files differ"
+    fetches=$(python3 -c 'import json,sys; v=json.load(open(sys.argv[1])); d=json.load(open(sys.argv[2]))
+print(v["driver"]["fetches_served"], v["board"]["fetches"], d["frames"][0]["board"]["fetches"])' "$tmp/via.json" "$tmp/direct.json")
+    read -r served reg model <<<"$fetches"
+    [ "$served" = "$model" ] && [ "$reg" = "$model" ] && [ "$model" -gt 1 ] &&
+        ok "cube5ctl served $served cell fetches, the board counted $reg, the model $model" ||
+        bad "cell fetch counts" "served $served, board register $reg, model $model"
+else
+    bad "cube5ctl render through the runner" "$(cat "$tmp/err")"
+fi
+
+if "$board" run -- sh -c "\"$ctl\" render default --size 32x32 -o \"$tmp/s.png\" >/dev/null && \"$ctl\" stats --json" \
+       >"$tmp/stats.json" 2>"$tmp/err" &&
+   python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["board"]; sys.exit(0 if b["fetches"] == 1 and b["rays"] > 0 else 1)' \
+       "$tmp/stats.json"; then
+    ok "cube5ctl stats reads the last frame's counters from the same board"
+else
+    bad "cube5ctl stats" "$(cat "$tmp/stats.json" "$tmp/err")"
+fi
+
+# KIND:TYPE:NTH[:REPEAT] -> the start of the message (c5drv_strerror of the documented error)
+while IFS='|' read -r fault want; do
+    "$board" run --fault "$fault" -- "$ctl" --timeout 1500 render default --cells 2 --size 32x32 -o "$tmp/f.png" \
+        >/dev/null 2>"$tmp/err"
+    rc=$?
+    if [ "$rc" -eq 1 ] && grep -q "^cube5ctl: $want" "$tmp/err"; then
+        ok "cube5ctl with --fault $fault: $want"
+    else
+        bad "cube5ctl with --fault $fault" "exit $rc, '$want' expected: $(cat "$tmp/err")"
+    fi
+done <<'EOF_FAULTS'
+stall:dma_read:2:9|endpoint stalled
+short:dma_read:2|short transfer
+timeout:interrupt:2|board did not answer in time
+disconnect:dma_read:2|board disconnected
+corrupt:reg_completion:5|protocol error
+EOF_FAULTS
+[ -f "$tmp/f.png" ] && bad "a failed frame left an image" "$tmp/f.png" || ok "no image written after a failed frame"
+
+"$ctl" info >/dev/null 2>"$tmp/err"
+rc=$?
+[ "$rc" -eq 1 ] && grep -q "no board 1209:0001" "$tmp/err" && ok "cube5ctl without a board: exit 1, no board 1209:0001" ||
+    bad "cube5ctl without a board" "exit $rc: $(cat "$tmp/err")"
+
 summary
