@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # make bench: at 256x256, every built-in scene rendered by cref (one thread and all cores)
 # and by the board model (one thread, 1 and 8 cells; Morton and FIFO queue keys), and the
-# model against cref (cube5 compare). Printed as tables and written to BUILD/bench.json.
+# model against cref (cube5 compare), and the same frame through the host driver over libusb
+# to the emulated board (cell upload MB/s, frames per second over the emulated link).
+# Printed as tables and written to BUILD/bench.json.
 # With ../shared/data/volumes/ present, also brain_mirrors with a real CT volume.
 set -euo pipefail
 build=${1:-build}
@@ -23,6 +25,9 @@ for scene in $scenes; do
         done
     done
     echo "compare|$scene|$("$cube5" compare "$scene" --size 256x256 --cells 2 --json)"
+    # The same frame through the host driver over libusb to the emulated board (umockdev).
+    echo "link|$scene|$("$build/cube5-board" run -- "$build/cube5ctl" render "$scene" --size 256x256 --cells 2 \
+        -o "$tmp/link.png" --json)"
 done > "$tmp/runs"
 if [ -f "$data/CThead_256x256x113_uint8.raw" ]; then
     echo "cref|brain_mirrors+CThead|$cores|$("$cube5" render brain_mirrors --size 256x256 --frames 1 \
@@ -34,7 +39,7 @@ else
 fi
 python3 - "$tmp/runs" "$out" <<'PY'
 import json, sys
-cref, rtl, cmp = [], [], []
+cref, rtl, cmp, link = [], [], [], []
 for line in open(sys.argv[1]):
     kind, rest = line.rstrip("\n").split("|", 1)
     if kind == "cref":
@@ -54,6 +59,14 @@ for line in open(sys.argv[1]):
                     "board_s": b["board_s"], "fetches": b["fetches"], "fetch_bytes": b["fetch_bytes"],
                     "spills": b["spills"], "cache_misses": b["cache_misses"],
                     "cache_miss_rate": b["cache_misses"] / max(1, b["cache_hits"] + b["cache_misses"])})
+    elif kind == "link":
+        name, text = rest.split("|", 1)
+        o = json.loads(text)
+        d, b = o["driver"], o["board"]
+        link.append({"scene": name, "cells": 8, "fetches_served": d["fetches_served"], "cell_bytes": d["cell_bytes"],
+                     "cell_upload_s": d["cell_upload_s"], "cell_upload_mb_s": d["cell_upload_mb_s"],
+                     "dma_reads": d["dma_reads"], "fb_bytes": d["fb_bytes"], "frame_s": d["frame_s"],
+                     "fps": 1 / d["frame_s"], "board_cycles": b["cycles"]})
     else:
         name, text = rest.split("|", 1)
         o = json.loads(text)
@@ -76,6 +89,13 @@ print("\n%-22s %8s %10s %9s %8s %8s %8s" % ("compare, 8 cells", "PSNR dB", "RMSE
 for r in cmp:
     print("%-22s %8.2f %10.2e %9.4f %8.3f %8.3f %8d" % (r["scene"], r["psnr_db"], r["rmse"], r["max_abs_err"],
                                                        r["cref_wall_s"], r["model_wall_s"], r["fetches"]))
-json.dump({"cref": cref, "rtl": rtl, "compare": cmp}, open(sys.argv[2], "w"), indent=1)
+print("\n%-22s %7s %10s %9s %11s %8s %7s" % ("host link, 8 cells", "fetches", "cell MB", "upload s", "upload MB/s",
+                                            "frame s", "fps"))
+for r in link:
+    print("%-22s %7d %10.2f %9.3f %11.1f %8.3f %7.2f" % (r["scene"], r["fetches_served"], r["cell_bytes"] / 1e6,
+                                                      r["cell_upload_s"], r["cell_upload_mb_s"], r["frame_s"], r["fps"]))
+print("  (cube5ctl through libusb to the emulated board under umockdev: MB/s = cell bytes / time from each")
+print("   doorbell to the cell's last completion; fps = 1 / (start_frame to frame_done), the model's own time included)")
+json.dump({"cref": cref, "rtl": rtl, "compare": cmp, "link": link}, open(sys.argv[2], "w"), indent=1)
 print("written:", sys.argv[2])
 PY
