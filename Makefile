@@ -14,11 +14,13 @@ LDLIBS   += $(shell pkg-config --libs OpenImageIO jansson 2>/dev/null) -lteem -l
 
 LIB_SRC  := $(wildcard common/*.c cref/*.c rtl_model/*.c vectors/gen/*.c)
 # The host link (docs/host-protocol.md): the driver library on libusb and the emulated board
-# on umockdev, each its own library so that a driver user never links umockdev.
+# on umockdev, each its own library so that a driver user never links umockdev. The pkg-config
+# calls are deferred (=, +=) to when a rule runs: on a fresh machine the packages arrive with
+# $(DEPS_OK), after this file was read.
 USB_PKGS := libusb-1.0 umockdev-1.0
 CPPFLAGS += -Ihost_driver -Iboard_emu $(shell pkg-config --cflags $(USB_PKGS) 2>/dev/null)
-USB_LIBS := $(shell pkg-config --libs libusb-1.0 2>/dev/null)
-EMU_LIBS := $(shell pkg-config --libs umockdev-1.0 libusb-1.0 2>/dev/null)
+USB_LIBS  = $(shell pkg-config --libs libusb-1.0 2>/dev/null)
+EMU_LIBS  = $(shell pkg-config --libs umockdev-1.0 libusb-1.0 2>/dev/null)
 DRV_SRC  := $(filter-out host_driver/cube5ctl.c,$(wildcard host_driver/*.c))
 EMU_SRC  := $(filter-out board_emu/cube5_board.c,$(wildcard board_emu/*.c))
 LINK_SRC := $(wildcard tests/link/*.c)
