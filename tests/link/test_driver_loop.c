@@ -248,36 +248,26 @@ TEST(driver_stall_recovers)
     CHECK_INT(c.stall_retries, 2);
 }
 
-TEST(driver_stall_gives_up)
+/* Each fault that ends the frame: its error and a word of its message. */
+TEST(driver_faults_give_their_errors)
 {
-    c5_fault f = {C5_FAULT_STALL, C5_TLP_INTERRUPT, 1, C5DRV_STALL_RETRIES + 1};
-    char msg[512];
-    CHECK_INT(faulty_frame(&f, NULL, NULL, msg, sizeof msg), C5DRV_E_STALL);
-    CHECK_HAS(msg, "stalled");
-}
-
-TEST(driver_short_transfer)
-{
-    c5_fault f = {C5_FAULT_SHORT, C5_TLP_DMA_READ, 2, 0};
-    char msg[512];
-    CHECK_INT(faulty_frame(&f, NULL, NULL, msg, sizeof msg), C5DRV_E_SHORT);
-    CHECK_HAS(msg, "short");
-}
-
-TEST(driver_garbage_is_refused)
-{
-    c5_fault f = {C5_FAULT_CORRUPT, C5_TLP_REG_COMPLETION, 4, 0};
-    char msg[512];
-    CHECK_INT(faulty_frame(&f, NULL, NULL, msg, sizeof msg), C5DRV_E_PROTOCOL);
-    CHECK_HAS(msg, "sync");
-}
-
-TEST(driver_silent_board_times_out)
-{
-    c5_fault f = {C5_FAULT_TIMEOUT, C5_TLP_INTERRUPT, 1, 0};
-    char msg[512];
-    CHECK_INT(faulty_frame(&f, NULL, NULL, msg, sizeof msg), C5DRV_E_TIMEOUT);
-    CHECK_HAS(msg, "within");
+    static const struct {
+        c5_fault f;
+        int code;
+        const char *word;
+    } cases[] = {
+        {{C5_FAULT_STALL, C5_TLP_INTERRUPT, 1, C5DRV_STALL_RETRIES + 1}, C5DRV_E_STALL, "stalled"},
+        {{C5_FAULT_SHORT, C5_TLP_DMA_READ, 2, 0}, C5DRV_E_SHORT, "short"},
+        {{C5_FAULT_CORRUPT, C5_TLP_REG_COMPLETION, 4, 0}, C5DRV_E_PROTOCOL, "sync"},
+        {{C5_FAULT_TIMEOUT, C5_TLP_INTERRUPT, 1, 0}, C5DRV_E_TIMEOUT, "within"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char msg[512];
+        int rc = faulty_frame(&cases[i].f, NULL, NULL, msg, sizeof msg);
+        CHECK_MSG(rc == cases[i].code, "case %zu: %s expected, got %s: %s", i, c5drv_strerror(cases[i].code),
+                  c5drv_strerror(rc), msg);
+        CHECK_HAS(msg, cases[i].word);
+    }
 }
 
 TEST(driver_disconnect)
