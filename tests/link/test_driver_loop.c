@@ -209,18 +209,29 @@ TEST(driver_calls_out_of_order)
     c5_emu_free(e);
 }
 
+/* A board, the driver on it over the loopback, and `default` loaded at 16x16 in 2 cells:
+ * the load's result, or 1 when no handle could be opened (*d NULL). */
+static int loop_with_default(c5_emu **e, c5drv **d)
+{
+    *e = c5_emu_new(NULL);
+    *d = open_loop(*e);
+    if (!*d) {
+        c5_emu_free(*e);
+        return 1;
+    }
+    int cells[3] = {2, 1, 1};
+    return c5drv_load_scene(*d, c5_builtin_scene_json("default"), NULL, "default", cells, 16, 16);
+}
+
 /* A frame with one link fault armed: the driver's error, and nothing hangs or leaks. After
  * a failure, the next call on the handle must fail as cleanly (disconnect: at once). */
 static int faulty_frame(const c5_fault *f, c5drv_counters *c, int *after, char *msg, size_t cap)
 {
-    c5_emu *e = c5_emu_new(NULL);
-    c5drv *d = open_loop(e);
-    if (!d) {
-        c5_emu_free(e);
+    c5_emu *e;
+    c5drv *d;
+    int rc = loop_with_default(&e, &d);
+    if (!d)
         return 1;
-    }
-    int cells[3] = {2, 1, 1};
-    int rc = c5drv_load_scene(d, c5_builtin_scene_json("default"), NULL, "default", cells, 16, 16);
     c5_emu_set_fault(e, f);
     if (rc == C5DRV_OK)
         rc = c5drv_start_frame(d, 0);
@@ -282,14 +293,11 @@ TEST(driver_disconnect)
 /* The board's own errors reach the caller as C5DRV_E_BOARD with the code named. */
 static int tampered_frame(uint32_t off, uint32_t add, char *msg, size_t cap)
 {
-    c5_emu *e = c5_emu_new(NULL);
-    c5drv *d = open_loop(e);
-    if (!d) {
-        c5_emu_free(e);
+    c5_emu *e;
+    c5drv *d;
+    int rc = loop_with_default(&e, &d);
+    if (!d)
         return 1;
-    }
-    int cells[3] = {2, 1, 1};
-    int rc = c5drv_load_scene(d, c5_builtin_scene_json("default"), NULL, "default", cells, 16, 16);
     tamper.on = 1;
     tamper.off = off;
     tamper.add = add;
