@@ -125,12 +125,20 @@ static const char *board_error_name(unsigned code)
     }
 }
 
+/* Acknowledges an interrupt source (int_status is write-one-to-clear) and reads the register
+ * that says what it was about. */
+static int ack_and_read(c5drv *d, uint32_t source, uint32_t off, uint32_t *v, double deadline)
+{
+    int rc = drv_reg_write(d, C5_REG_INT_STATUS_OFFSET, source, deadline);
+    return rc ? rc : drv_reg_read(d, off, v, deadline);
+}
+
 /* fetch_request: acknowledge, learn the cell, describe its buffer and ring the doorbell. */
 static int serve_fetch(c5drv *d, double deadline)
 {
     uint32_t v = 0;
-    int rc = drv_reg_write(d, C5_REG_INT_STATUS_OFFSET, C5_REG_INT_STATUS_FETCH_REQUEST_MASK, deadline);
-    if (rc || (rc = drv_reg_read(d, C5_REG_DMA_CELL_OFFSET, &v, deadline)))
+    int rc = ack_and_read(d, C5_REG_INT_STATUS_FETCH_REQUEST_MASK, C5_REG_DMA_CELL_OFFSET, &v, deadline);
+    if (rc)
         return rc;
     unsigned cell = c5_reg_dma_cell_get_cell(v);
     const c5_hostmem *m = &d->hm;
@@ -157,8 +165,8 @@ static int serve_fetch(c5drv *d, double deadline)
 static int board_error(c5drv *d, double deadline)
 {
     uint32_t st = 0;
-    int rc = drv_reg_write(d, C5_REG_INT_STATUS_OFFSET, C5_REG_INT_STATUS_ERROR_MASK, deadline);
-    if (rc || (rc = drv_reg_read(d, C5_REG_STATUS_OFFSET, &st, deadline)))
+    int rc = ack_and_read(d, C5_REG_INT_STATUS_ERROR_MASK, C5_REG_STATUS_OFFSET, &st, deadline);
+    if (rc)
         return rc;
     unsigned code = c5_reg_status_get_error(st);
     if (d->ur_seen)
