@@ -291,15 +291,22 @@ def vhdl_member(name):
     return name + VHDL_SUFFIX if name in VHDL_RESERVED else name
 
 
-def check_names(ck, layouts, signals):
-    """Generated C and VHDL names must be unique across the whole spec (layout "a_b" with
-    field "c" and layout "a" with field "b_c" would both define C5_A_B_C_LSB)."""
+def name_claimer(ck):
+    """claim(ident, who): records who generates ident; a second owner is an error."""
     owner = {}
 
     def claim(ident, who):
         if ident in owner and owner[ident] != who:
             ck.err(who, f"generated name {ident} collides with {owner[ident]}")
         owner.setdefault(ident, who)
+
+    return claim
+
+
+def check_names(ck, layouts, signals):
+    """Generated C and VHDL names must be unique across the whole spec (layout "a_b" with
+    field "c" and layout "a" with field "b_c" would both define C5_A_B_C_LSB)."""
+    claim = name_claimer(ck)
 
     for lay in layouts:
         up = lay["name"].upper()
@@ -850,16 +857,11 @@ def reg_mask(f):
 
 def check_reg_names(ck, regs):
     """Generated names (C5_REG_..., VHDL REG_...) must be unique across the map."""
-    owner = {}
-
-    def claim(ident, who):
-        if ident in owner and owner[ident] != who:
-            ck.err(who, f"generated name {ident} collides with {owner[ident]}")
-        owner.setdefault(ident, who)
+    claim = name_claimer(ck)
 
     for r in regs:
         up = r["name"].upper()
-        for suffix in ("OFFSET", "RESET", "FIELDS", "RESERVED_BITS", "T"):
+        for suffix in ("OFFSET", "RESET", "FIELDS", "RESERVED_BITS", "RW_BITS", "W1C_BITS", "WO_BITS", "T"):
             claim(f"{up}_{suffix}", f"register '{r['name']}'")
         for f in r["fields"]:
             for suffix in ("LSB", "WIDTH", "MASK", "RESET", "RANGE", "GET", "SET"):
