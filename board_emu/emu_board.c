@@ -14,9 +14,7 @@
 int c5_emu_send_locked(c5_emu *e, c5_tlp_type type, uint8_t tag, c5_tlp_status status, uint32_t length,
                        uint64_t addr, const void *payload)
 {
-    size_t pay = (type == C5_TLP_REG_COMPLETION || type == C5_TLP_DMA_COMPLETION) && status != C5_TLP_SC
-                     ? 0
-                     : (type == C5_TLP_REG_READ || type == C5_TLP_DMA_READ ? 0 : length);
+    size_t pay = c5_tlp_payload_bytes(&(c5_tlp_header_t){.type = type, .status = status, .length = length});
     c5_emu_pkt *p = malloc(sizeof *p + C5_TLP_HEADER_BYTES + pay);
     if (!p)
         return -1;

@@ -44,8 +44,7 @@ static int dma_read(frame *f, uint64_t addr, uint32_t len, uint8_t *dst)
             break;
         c5_emu_unlock(e); /* let the transport see the requests before we sleep */
         pthread_mutex_lock(&e->mu);
-        if (!(e->dma_error || stopped_locked(e) || (off == len && e->reads_outstanding == 0)) &&
-            e->reads_outstanding > 0)
+        if (!e->dma_error && !stopped_locked(e) && e->reads_outstanding > 0)
             pthread_cond_wait(&e->cv, &e->mu);
     }
     int rc = e->dma_error || stopped_locked(e) ? -1 : 0;
