@@ -1,0 +1,121 @@
+/* What the caster's files share and tests may reach: the volume's layout, one frame's view
+ * constants, the producer's task format. Not part of the public API (cast.h). */
+#ifndef C5_CAST_INTERNAL_H
+#define C5_CAST_INTERNAL_H
+
+#include <stdint.h>
+
+#include "cast.h"
+
+#define C5_CAST_BSIDE (C5_CAST_BRICK + 1)              /* voxels per brick side, apron included */
+#define C5_CAST_BVOX (C5_CAST_BSIDE * C5_CAST_BSIDE * C5_CAST_BSIDE)
+#define C5_CAST_BSTRIDE 768                            /* 729 voxels padded to 12 cache lines */
+#define C5_CAST_MAX_LEVELS 16
+/* Encoded normals: octahedral map, 7 bits per coordinate; one more code for "no gradient". */
+#define C5_CAST_NBITS 7
+#define C5_CAST_NZERO (1 << (2 * C5_CAST_NBITS))
+#define C5_CAST_NCODES (C5_CAST_NZERO + 1)
+
+struct c5_cast_volume {
+    size_t dims[3];
+    double spacing[3];
+    int cells[3];       /* dims - 1 per axis: the sample box is [0, cells] in voxel units */
+    int nb[3];          /* bricks per axis; 0 when the volume has no thickness on some axis */
+    uint8_t *bricks;    /* nb[0]*nb[1]*nb[2] bricks of C5_CAST_BSTRIDE voxels, [z][y][x] inside */
+    uint16_t *normals;  /* same layout: encoded normal per voxel; NULL until built */
+    uint8_t *vox;       /* the voxels as given, kept for the normals */
+    int levels;         /* octree levels; level 0 are the bricks */
+    int ln[C5_CAST_MAX_LEVELS][3];
+    uint8_t *minmax[C5_CAST_MAX_LEVELS]; /* per node (x fastest) its min and max voxel */
+};
+
+static inline size_t c5_cast_brick_index(const c5_cast_volume *v, int bx, int by, int bz)
+{
+    return ((size_t)bz * (size_t)v->nb[1] + (size_t)by) * (size_t)v->nb[0] + (size_t)bx;
+}
+
+/* Octahedral encoding of a direction (need not be unit length; zero gives C5_CAST_NZERO). */
+uint16_t c5_cast_normal_encode(double x, double y, double z);
+void c5_cast_normal_decode(uint16_t code, double n[3]);
+
+/* A segment of sample indices j0..j1 (inclusive): samples at t = j * step from the eye. */
+typedef struct {
+    int32_t j0, j1;
+} c5_cast_seg;
+
+/* One frame's constants, shared by the producer and the workers. Positions are in voxel
+ * units (world / spacing); t is world distance from the eye. */
+typedef struct {
+    const c5_cast_volume *v;
+    const c5_cast_tf *tf;
+    const c5_cast_camera *cam;
+    int w, h, k, mode, shading, prefetch, early;
+    double step;
+    double eye_v[3];        /* eye in voxel units */
+    double box_hi[3];       /* cells per axis */
+    double delta_v[3];      /* dilation of every box for the producer's rays, voxel units */
+    double margin_t;        /* added to both ends of each segment, world units */
+    int lookahead;          /* samples ahead of the current one that the prefetch looks at */
+    uint64_t hash_r[3];     /* the universal hash's random factors, in (0, PR) */
+    float (*shade)[2];      /* per normal code: diffuse and specular factors of the headlight */
+} c5_cast_view;
+
+/* Direction of the ray through image point (u, v) in pixels (pixel centres at +0.5), unit. */
+void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3]);
+
+/* A tile's work, as the producer leaves it in a worker's buffer. Units are pixels (k == 1,
+ * or plain/ess) or k x k subtiles, row-major within the tile; unit u's segments are
+ * seg[first[u] .. first[u+1]). */
+typedef struct {
+    int x0, y0;             /* tile origin in pixels */
+    int units_x, units_y;   /* units per row and column */
+    int unit;               /* unit side in pixels */
+    uint32_t first[C5_CAST_TILE * C5_CAST_TILE + 1];
+    c5_cast_seg *seg;
+    uint32_t seg_cap;
+    uint64_t (*hash)[C5_CAST_HASH_WORDS]; /* per unit, refine mode only */
+    uint64_t rays;          /* producer rays spent on this tile */
+    int last;               /* end of stream marker */
+} c5_cast_task;
+
+#define C5_CAST_J_MAX (INT32_MAX - 1)  /* last sample index a segment may name */
+#define C5_CAST_RAY_MAX 4096            /* brick intervals one ray may collect */
+#define C5_CAST_CORNER_MAX 1024         /* merged index ranges one ray may keep */
+
+/* The producer's working memory (one per producing thread). */
+typedef struct {
+    double t0[C5_CAST_RAY_MAX], t1[C5_CAST_RAY_MAX];
+    uint32_t leaves[C5_CAST_RAY_MAX];
+    c5_cast_seg row[2][C5_CAST_TILE + 1][C5_CAST_CORNER_MAX]; /* two rows of corner lists */
+    int row_n[2][C5_CAST_TILE + 1];
+    uint64_t hash[2][C5_CAST_TILE + 1][C5_CAST_HASH_WORDS];
+    c5_cast_seg tmp[2][2 * C5_CAST_CORNER_MAX];
+} c5_cast_scratch;
+c5_cast_scratch *c5_cast_scratch_new(void);
+void c5_cast_scratch_free(c5_cast_scratch *s);
+
+/* Producer: fills t for the tile at (x0, y0). -1 only when out of memory. */
+int c5_cast_produce(const c5_cast_view *vw, c5_cast_scratch *rs, int x0, int y0, c5_cast_task *t);
+
+/* The bricks whose (dilated) boxes a ray from the eye along unit d crosses and that the TF
+ * leaves non-empty, as intervals of t (world), sorted and merged; returns their count, or -1
+ * when more than cap intervals (or leaf_cap leaves) were met. `leaves` (may be NULL) receives
+ * the brick indices in visiting order. */
+int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double delta_v[3], double *t0, double *t1,
+                         int cap, uint32_t *leaves, int *n_leaves, int leaf_cap);
+
+/* Worker: renders the tile's pixels into img, adding to the counters. */
+typedef struct {
+    uint64_t samples, zero, hashed, terminated;
+} c5_cast_counts;
+void c5_cast_work(const c5_cast_view *vw, const c5_cast_task *t, float *rgb, c5_cast_counts *cnt);
+
+/* The refining hash key of the brick at (bx, by, bz): its smallest voxel coordinates. */
+static inline uint32_t c5_cast_hash_key(const c5_cast_view *vw, int bx, int by, int bz)
+{
+    uint64_t s = vw->hash_r[0] * (uint64_t)(bx * C5_CAST_BRICK) + vw->hash_r[1] * (uint64_t)(by * C5_CAST_BRICK) +
+                 vw->hash_r[2] * (uint64_t)(bz * C5_CAST_BRICK);
+    return (uint32_t)(s % C5_CAST_HASH_PR);
+}
+
+#endif

@@ -1,0 +1,304 @@
+/* The producer (the paper's PPE, sec. 5.1): per tile, rays walk the min/max octree front to
+ * back and keep the bricks the transfer function leaves non-empty, as segments (R, L) of the
+ * ray, here already turned into ranges of sample indices.
+ *
+ * Approximation (sec. 5.2): only the rays through the corners of k x k subtiles are walked,
+ * and each subtile takes the union of its 4 corners' lists. The paper's Figure 7 shows what
+ * that misses: a brick that some pixel's ray crosses between the corner rays. So every box is
+ * dilated by how far a pixel's ray can stray from its nearest corner ray before leaving the
+ * volume (docs/caster.md): a pixel p and its nearest corner c (at most k/sqrt2 pixels apart)
+ * have directions that differ by at most theta = (k/sqrt2) * 2 tan_half / h (the image plane
+ * at distance 1 is flat, so the chord bounds the angle), so at distance t the two rays are at
+ * most theta * t apart, and t never exceeds the far corner of the volume. A brick p crosses at
+ * t is therefore crossed by c's dilated walk at the same t, and every mode stays exact.
+ * Refining: each corner ray also sets the hash bits of the bricks it keeps. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cast_internal.h"
+
+typedef struct {
+    double o[3], d[3], inv[3];
+    int mask;                 /* child order: bit a set when the ray runs towards -a */
+    const double *delta;      /* dilation per axis (voxel units) */
+    double *t0, *t1;
+    int n, cap;
+    uint32_t *leaves;
+    int n_leaves, leaf_cap;
+    int overflow;
+    const c5_cast_volume *v;
+    const c5_cast_tf *tf;
+} walk;
+
+/* Slab test against the box [lo, hi] (voxel units); t >= 0. */
+static int hit_box(const walk *w, const double lo[3], const double hi[3], double *tn, double *tf)
+{
+    double a = 0, b = INFINITY;
+    for (int i = 0; i < 3; i++) {
+        if (w->d[i] == 0) {
+            if (w->o[i] < lo[i] || w->o[i] > hi[i])
+                return 0;
+            continue;
+        }
+        double s0 = (lo[i] - w->o[i]) * w->inv[i], s1 = (hi[i] - w->o[i]) * w->inv[i];
+        if (s0 > s1) {
+            double s = s0;
+            s0 = s1, s1 = s;
+        }
+        a = s0 > a ? s0 : a;
+        b = s1 < b ? s1 : b;
+    }
+    *tn = a, *tf = b;
+    return a <= b;
+}
+
+static void visit(walk *w, int l, int x, int y, int z)
+{
+    const c5_cast_volume *v = w->v;
+    const uint8_t *mm = v->minmax[l] + 2 * (((size_t)z * v->ln[l][1] + y) * v->ln[l][0] + x);
+    if (w->overflow || c5_cast_tf_empty(w->tf, mm[0], mm[1]))
+        return;
+    int side = C5_CAST_BRICK << l, idx[3] = {x, y, z};
+    double lo[3], hi[3], tn, tf;
+    for (int a = 0; a < 3; a++) {
+        int h = (idx[a] + 1) * side;
+        lo[a] = (double)idx[a] * side - w->delta[a];
+        hi[a] = (h < v->cells[a] ? h : v->cells[a]) + w->delta[a];
+    }
+    if (!hit_box(w, lo, hi, &tn, &tf))
+        return;
+    if (l == 0) {
+        if (w->n == w->cap || (w->leaves && w->n_leaves == w->leaf_cap)) {
+            w->overflow = 1;
+            return;
+        }
+        w->t0[w->n] = tn, w->t1[w->n] = tf;
+        w->n++;
+        if (w->leaves)
+            w->leaves[w->n_leaves++] = (uint32_t)c5_cast_brick_index(v, x, y, z);
+        return;
+    }
+    const int *c = v->ln[l - 1];
+    for (int i = 0; i < 8; i++) {
+        int o = i ^ w->mask, cx = 2 * x + (o & 1), cy = 2 * y + (o >> 1 & 1), cz = 2 * z + (o >> 2 & 1);
+        if (cx < c[0] && cy < c[1] && cz < c[2])
+            visit(w, l - 1, cx, cy, cz);
+    }
+}
+
+/* Sorts the intervals by start (they arrive nearly in order) and merges overlapping ones. */
+static int merge_intervals(double *t0, double *t1, int n)
+{
+    for (int i = 1; i < n; i++) {
+        double a = t0[i], b = t1[i];
+        int j = i - 1;
+        for (; j >= 0 && t0[j] > a; j--)
+            t0[j + 1] = t0[j], t1[j + 1] = t1[j];
+        t0[j + 1] = a, t1[j + 1] = b;
+    }
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (m && t0[i] <= t1[m - 1]) {
+            if (t1[i] > t1[m - 1])
+                t1[m - 1] = t1[i];
+            continue;
+        }
+        t0[m] = t0[i], t1[m] = t1[i];
+        m++;
+    }
+    return m;
+}
+
+int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double delta_v[3], double *t0, double *t1,
+                         int cap, uint32_t *leaves, int *n_leaves, int leaf_cap)
+{
+    const c5_cast_volume *v = vw->v;
+    walk w = {.delta = delta_v, .t0 = t0, .t1 = t1, .cap = cap, .leaves = leaves, .leaf_cap = leaf_cap,
+              .v = v, .tf = vw->tf};
+    for (int a = 0; a < 3; a++) {
+        w.o[a] = vw->eye_v[a];
+        w.d[a] = d[a] / v->spacing[a];
+        w.inv[a] = w.d[a] != 0 ? 1 / w.d[a] : 0;
+        w.mask |= (w.d[a] < 0) << a;
+    }
+    if (v->bricks)
+        visit(&w, v->levels - 1, 0, 0, 0);
+    if (n_leaves)
+        *n_leaves = w.n_leaves;
+    return w.overflow ? -1 : merge_intervals(t0, t1, w.n);
+}
+
+void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3])
+{
+    const c5_cast_camera *c = vw->cam;
+    double su = (2 * u / vw->w - 1) * c->tan_half, sv = (1 - 2 * v / vw->h) * c->tan_half;
+    double q[3], len = 0;
+    for (int a = 0; a < 3; a++) {
+        q[a] = c->f[a] + su * c->right[a] + sv * c->up[a];
+        len += q[a] * q[a];
+    }
+    len = sqrt(len);
+    for (int a = 0; a < 3; a++)
+        d[a] = q[a] / len;
+}
+
+/* Room for n more segments in the task. */
+static int reserve(c5_cast_task *t, uint32_t used, uint32_t n)
+{
+    if (used + n <= t->seg_cap)
+        return 0;
+    uint32_t cap = t->seg_cap ? t->seg_cap : 4096;
+    while (cap < used + n)
+        cap *= 2;
+    c5_cast_seg *s = realloc(t->seg, cap * sizeof *s);
+    if (!s)
+        return -1;
+    t->seg = s, t->seg_cap = cap;
+    return 0;
+}
+
+/* Sample index range of [a, b] widened by the margin, as inclusive j0..j1 (j1 < j0: none). */
+static c5_cast_seg to_indices(const c5_cast_view *vw, double a, double b)
+{
+    double j0 = ceil((a - vw->margin_t) / vw->step), j1 = floor((b + vw->margin_t) / vw->step);
+    j0 = j0 < 0 ? 0 : j0 > C5_CAST_J_MAX ? C5_CAST_J_MAX : j0;
+    j1 = j1 > C5_CAST_J_MAX ? C5_CAST_J_MAX : j1 < j0 - 1 ? j0 - 1 : j1;
+    return (c5_cast_seg){(int32_t)j0, (int32_t)j1};
+}
+
+static const c5_cast_seg EVERYTHING = {0, C5_CAST_J_MAX};
+
+/* One ray's segments as index ranges into out[0..C5_CAST_CORNER_MAX) and the hash bits of
+ * its bricks. A ray with more intervals than the scratch holds keeps one segment over the
+ * whole ray and sets every hash bit: slower, never wrong. */
+static int ray_list(const c5_cast_view *vw, c5_cast_scratch *rs, double u, double v, c5_cast_seg *out,
+                    uint64_t *hash)
+{
+    double d[3];
+    c5_cast_ray_dir(vw, u, v, d);
+    int nl = 0, n = 0;
+    int m = c5_cast_ray_segments(vw, d, vw->delta_v, rs->t0, rs->t1, C5_CAST_RAY_MAX, hash ? rs->leaves : NULL, &nl,
+                                 C5_CAST_RAY_MAX);
+    for (int i = 0; i < m && n >= 0; i++) {
+        c5_cast_seg s = to_indices(vw, rs->t0[i], rs->t1[i]);
+        if (s.j1 < s.j0)
+            continue;
+        if (n && s.j0 <= out[n - 1].j1 + 1) { /* no sample between: one segment */
+            if (s.j1 > out[n - 1].j1)
+                out[n - 1].j1 = s.j1;
+        } else if (n == C5_CAST_CORNER_MAX)
+            n = -1;
+        else
+            out[n++] = s;
+    }
+    if (m < 0 || n < 0) {
+        out[0] = EVERYTHING;
+        if (hash)
+            memset(hash, 0xff, C5_CAST_HASH_WORDS * sizeof *hash);
+        return 1;
+    }
+    for (int i = 0; hash && i < nl; i++) {
+        uint32_t b = rs->leaves[i], nx = (uint32_t)vw->v->nb[0], ny = (uint32_t)vw->v->nb[1];
+        uint32_t key = c5_cast_hash_key(vw, (int)(b % nx), (int)(b / nx % ny), (int)(b / (nx * ny)));
+        hash[key / 64] |= (uint64_t)1 << (key % 64);
+    }
+    return n;
+}
+
+/* Union of sorted, disjoint lists a and b into out (sorted, merged). */
+static int union_lists(const c5_cast_seg *a, int na, const c5_cast_seg *b, int nb, c5_cast_seg *out)
+{
+    int i = 0, j = 0, n = 0;
+    while (i < na || j < nb) {
+        c5_cast_seg s = (j >= nb || (i < na && a[i].j0 <= b[j].j0)) ? a[i++] : b[j++];
+        if (n && s.j0 <= out[n - 1].j1 + 1) {
+            if (s.j1 > out[n - 1].j1)
+                out[n - 1].j1 = s.j1;
+        } else
+            out[n++] = s;
+    }
+    return n;
+}
+
+c5_cast_scratch *c5_cast_scratch_new(void) { return malloc(sizeof(c5_cast_scratch)); }
+void c5_cast_scratch_free(c5_cast_scratch *s) { free(s); }
+
+/* plain: one segment per pixel over the whole ray (the worker clips it to the volume). */
+static int produce_plain(c5_cast_task *t)
+{
+    int n = t->units_x * t->units_y;
+    if (reserve(t, 0, (uint32_t)n))
+        return -1;
+    for (int u = 0; u < n; u++) {
+        t->first[u] = (uint32_t)u;
+        t->seg[u] = EVERYTHING;
+    }
+    t->first[n] = (uint32_t)n;
+    return 0;
+}
+
+/* ess: every pixel's own ray through its centre, boxes undilated (margin only). */
+static int produce_ess(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_task *t)
+{
+    uint32_t used = 0;
+    int u = 0;
+    for (int y = 0; y < t->units_y; y++)
+        for (int x = 0; x < t->units_x; x++, u++) {
+            t->first[u] = used;
+            if (reserve(t, used, C5_CAST_CORNER_MAX))
+                return -1;
+            used += (uint32_t)ray_list(vw, rs, t->x0 + x + 0.5, t->y0 + y + 0.5, t->seg + used, NULL);
+            t->rays++;
+        }
+    t->first[u] = used;
+    return 0;
+}
+
+/* approx (+ refine): rays through the subtile grid's corners (pixel edges, not centres), one
+ * row of corners at a time; each subtile the union of its 4 corners' lists and hashes. */
+static int produce_approx(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_task *t, int refine)
+{
+    int k = t->unit, cx = t->units_x + 1, cy = t->units_y + 1;
+    uint32_t used = 0;
+    int u = 0;
+    for (int b = 0; b < cy; b++) {
+        int r = b & 1, p = r ^ 1;
+        for (int a = 0; a < cx; a++) {
+            uint64_t *h = refine ? rs->hash[r][a] : NULL;
+            if (h)
+                memset(h, 0, sizeof rs->hash[r][a]);
+            rs->row_n[r][a] = ray_list(vw, rs, t->x0 + a * k, t->y0 + b * k, rs->row[r][a], h);
+            t->rays++;
+        }
+        for (int a = 0; b > 0 && a < cx - 1; a++, u++) {
+            t->first[u] = used;
+            if (reserve(t, used, 4 * C5_CAST_CORNER_MAX))
+                return -1;
+            int n1 = union_lists(rs->row[p][a], rs->row_n[p][a], rs->row[p][a + 1], rs->row_n[p][a + 1], rs->tmp[0]);
+            int n2 = union_lists(rs->row[r][a], rs->row_n[r][a], rs->row[r][a + 1], rs->row_n[r][a + 1], rs->tmp[1]);
+            used += (uint32_t)union_lists(rs->tmp[0], n1, rs->tmp[1], n2, t->seg + used);
+            for (int i = 0; refine && i < C5_CAST_HASH_WORDS; i++)
+                t->hash[u][i] = rs->hash[p][a][i] | rs->hash[p][a + 1][i] | rs->hash[r][a][i] | rs->hash[r][a + 1][i];
+        }
+    }
+    t->first[u] = used;
+    return 0;
+}
+
+int c5_cast_produce(const c5_cast_view *vw, c5_cast_scratch *rs, int x0, int y0, c5_cast_task *t)
+{
+    int unit = vw->mode == C5_CAST_APPROX || vw->mode == C5_CAST_APPROX_REFINE ? vw->k : 1;
+    t->x0 = x0, t->y0 = y0, t->unit = unit, t->rays = 0, t->last = 0;
+    int wpx = vw->w - x0 < C5_CAST_TILE ? vw->w - x0 : C5_CAST_TILE;
+    int hpx = vw->h - y0 < C5_CAST_TILE ? vw->h - y0 : C5_CAST_TILE;
+    t->units_x = (wpx + unit - 1) / unit, t->units_y = (hpx + unit - 1) / unit;
+    switch (vw->mode) {
+    case C5_CAST_PLAIN:
+        return produce_plain(t);
+    case C5_CAST_ESS:
+        return produce_ess(vw, rs, t);
+    default:
+        return produce_approx(vw, rs, t, vw->mode == C5_CAST_APPROX_REFINE);
+    }
+}

@@ -1,0 +1,395 @@
+/* The streaming-model caster (cref/cast): every skipping mode draws the bits of marching every
+ * sample, for any k, worker count, queue depth and prefetch setting, shaded and not; the
+ * paper's Figure 7 case; the octree and the classification table it relies on. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cast_internal.h"
+#include "harness.h"
+#include "rng.h"
+
+static void look_at(c5_cast_camera *c, const double eye[3], const double focal[3], double fov_deg)
+{
+    double up0[3] = {0, 0, 1}, len = 0;
+    for (int a = 0; a < 3; a++) {
+        c->eye[a] = eye[a], c->focal[a] = focal[a];
+        c->f[a] = focal[a] - eye[a];
+        len += c->f[a] * c->f[a];
+    }
+    for (int a = 0; a < 3; a++)
+        c->f[a] /= sqrt(len);
+    if (fabs(c->f[2]) > 0.99)
+        up0[1] = 1, up0[2] = 0;
+    double r[3] = {c->f[1] * up0[2] - c->f[2] * up0[1], c->f[2] * up0[0] - c->f[0] * up0[2],
+                   c->f[0] * up0[1] - c->f[1] * up0[0]};
+    len = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    for (int a = 0; a < 3; a++)
+        c->right[a] = r[a] / len;
+    c->up[0] = c->right[1] * c->f[2] - c->right[2] * c->f[1];
+    c->up[1] = c->right[2] * c->f[0] - c->right[0] * c->f[2];
+    c->up[2] = c->right[0] * c->f[1] - c->right[1] * c->f[0];
+    c->tan_half = tan(fov_deg * M_PI / 360);
+}
+
+/* Blobs of several densities in a noisy, mostly transparent field: empty bricks, partly
+ * empty ones and opaque ones, so every mode has something to skip and something to keep. */
+static uint8_t *blobs(const size_t d[3], uint64_t seed)
+{
+    uint8_t *v = malloc(d[0] * d[1] * d[2]);
+    double cen[4][4];
+    for (int b = 0; b < 4; b++) {
+        for (int a = 0; a < 3; a++)
+            cen[b][a] = c5_uniform(&seed) * (double)(d[a] - 1);
+        cen[b][3] = 2 + c5_uniform(&seed) * (double)d[0] / 5;
+    }
+    for (size_t k = 0; k < d[2]; k++)
+        for (size_t j = 0; j < d[1]; j++)
+            for (size_t i = 0; i < d[0]; i++) {
+                double val = 20 * c5_uniform(&seed); /* below the TF's first non-zero scalar */
+                for (int b = 0; b < 4; b++) {
+                    double r = hypot(hypot(i - cen[b][0], j - cen[b][1]), k - cen[b][2]);
+                    if (r < cen[b][3])
+                        val = fmax(val, 60 + 190 * (1 - r / cen[b][3]) * (b + 1) / 4);
+                }
+                v[(k * d[1] + j) * d[0] + i] = (uint8_t)val;
+            }
+    return v;
+}
+
+static void tf_ramp(c5_tf_desc *t)
+{
+    memset(t, 0, sizeof *t);
+    t->n_opacity = 4;
+    double op[4][2] = {{0, 0}, {40, 0}, {150, 0.2}, {255, 0.9}};
+    memcpy(t->opacity, op, sizeof op);
+    t->n_color = 3;
+    double co[3][4] = {{0, 1, 0, 0}, {128, 0.2, 0.9, 0.3}, {255, 1, 1, 1}};
+    memcpy(t->color, co, sizeof co);
+    t->ambient = 0.3, t->diffuse = 0.6, t->specular = 0.3, t->specular_power = 20;
+}
+
+typedef struct {
+    c5_cast_volume *v;
+    c5_cast_tf tf;
+} fixture;
+
+static int fixture_make(fixture *fx, const size_t d[3], const double sp[3], uint64_t seed)
+{
+    c5_err err;
+    uint8_t *vox = blobs(d, seed);
+    c5_tf_desc t;
+    tf_ramp(&t);
+    int rc = c5_cast_volume_make(vox, d, sp, &fx->v, &err) || c5_cast_volume_normals(fx->v, &err) ||
+             c5_cast_tf_build(&t, fmin(sp[0], fmin(sp[1], sp[2])) * 0.8, 1, &fx->tf, &err);
+    free(vox);
+    if (rc)
+        c5t_failf(__FILE__, __LINE__, "fixture: %s", err.msg);
+    return rc;
+}
+
+static int render(const fixture *fx, const c5_cast_camera *cam, int w, int h, const c5_cast_opts *o, c5_image *img,
+                  c5_cast_stats *st)
+{
+    c5_err err;
+    img->rgb = NULL;
+    if (c5_cast_render(fx->v, &fx->tf, cam, w, h, o, img, st, &err)) {
+        c5t_failf(__FILE__, __LINE__, "render: %s", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+static int differ(const c5_image *a, const c5_image *b)
+{
+    return memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * (size_t)a->h) != 0;
+}
+
+/* Fraction of pixels that are not black. */
+static double coverage(const c5_image *a)
+{
+    size_t n = 0, all = (size_t)a->w * (size_t)a->h;
+    for (size_t i = 0; i < all; i++)
+        n += a->rgb[3 * i] != 0 || a->rgb[3 * i + 1] != 0 || a->rgb[3 * i + 2] != 0;
+    return (double)n / (double)all;
+}
+
+TEST(cast_modes_draw_the_bits_of_plain)
+{
+    size_t d[3] = {45, 38, 29};
+    double sp[3] = {1, 1.25, 1.5};
+    fixture fx;
+    if (fixture_make(&fx, d, sp, 7))
+        return;
+    double c[3] = {22, 23.1, 21}, views[3][3] = {{90, -60, 50}, {22.3, 23.1, 120}, {-20, 40, -35}};
+    int n_diff = 0, n_cases = 0;
+    for (int vi = 0; vi < 3; vi++) {
+        c5_cast_camera cam;
+        look_at(&cam, views[vi], c, 35);
+        for (int shading = 0; shading < 2; shading++) {
+            c5_cast_opts o;
+            c5_cast_opts_default(&o);
+            o.mode = C5_CAST_PLAIN, o.workers = 1, o.shading = shading;
+            c5_image ref, img;
+            c5_cast_stats st_ref, st;
+            if (render(&fx, &cam, 53, 37, &o, &ref, &st_ref))
+                return;
+            CHECK_MSG(coverage(&ref) > 0.05 && coverage(&ref) < 0.95, "view %d: coverage %.3f", vi, coverage(&ref));
+            for (int mode = C5_CAST_ESS; mode < C5_CAST_MODES; mode++)
+                for (int k = 0; k <= 16; k = k ? 2 * k : 1) {
+                    o.mode = (c5_cast_mode)mode, o.k = k;
+                    o.workers = 1 + (k % 3), o.prefetch = k & 1, o.queue_depth = 1 + k % 5;
+                    if (render(&fx, &cam, 53, 37, &o, &img, &st))
+                        return;
+                    n_cases++;
+                    if (differ(&ref, &img)) {
+                        n_diff++;
+                        c5t_failf(__FILE__, __LINE__, "view %d shading %d mode %s k %d: image differs from plain", vi,
+                                  shading, c5_cast_mode_name(o.mode), k);
+                    }
+                    /* the skipping modes took no more samples (ess strictly fewer); zero-opacity ones are all they dropped */
+                    if (st.samples > st_ref.samples || (mode == C5_CAST_ESS && st.samples == st_ref.samples) || st.samples - st.samples_zero != st_ref.samples - st_ref.samples_zero)
+                        c5t_failf(__FILE__, __LINE__, "view %d mode %s k %d: samples %llu (non-zero %llu) vs plain %llu (%llu)",
+                                  vi, c5_cast_mode_name(o.mode), k, (unsigned long long)st.samples,
+                                  (unsigned long long)(st.samples - st.samples_zero), (unsigned long long)st_ref.samples,
+                                  (unsigned long long)(st_ref.samples - st_ref.samples_zero));
+                    c5_image_free(&img);
+                }
+            c5_image_free(&ref);
+        }
+    }
+    c5_cast_volume_free(fx.v);
+    CHECK_INT(n_diff, 0);
+    CHECK(n_cases == 3 * 2 * 3 * 6);
+}
+
+/* Refining only ever drops samples of bricks the octree calls empty, and it does drop some. */
+TEST(cast_refine_drops_samples)
+{
+    size_t d[3] = {64, 64, 64};
+    double sp[3] = {1, 1, 1};
+    fixture fx;
+    if (fixture_make(&fx, d, sp, 3))
+        return;
+    c5_cast_camera cam;
+    double eye[3] = {180, -120, 90}, c[3] = {31.5, 31.5, 31.5};
+    look_at(&cam, eye, c, 30);
+    c5_cast_opts o;
+    c5_cast_opts_default(&o);
+    c5_image a, b;
+    c5_cast_stats sa, sb;
+    o.mode = C5_CAST_APPROX, o.k = 8;
+    if (render(&fx, &cam, 64, 64, &o, &a, &sa))
+        return;
+    o.mode = C5_CAST_APPROX_REFINE;
+    if (render(&fx, &cam, 64, 64, &o, &b, &sb))
+        return;
+    CHECK(!differ(&a, &b));
+    CHECK(sb.samples_hashed > 0);
+    CHECK(sb.samples + sb.samples_hashed == sa.samples);
+    CHECK(sb.producer_rays == sa.producer_rays);
+    c5_image_free(&a);
+    c5_image_free(&b);
+    c5_cast_volume_free(fx.v);
+}
+
+/* The paper's Figure 7: a non-empty brick that no corner ray crosses. Searched for, not
+ * assumed: with k = 16 and a far camera, the corner rays are several bricks apart. */
+TEST(cast_figure7_missed_brick_is_still_drawn)
+{
+    size_t d[3] = {97, 97, 97};
+    double sp[3] = {1, 1, 1};
+    uint8_t *vox = calloc(d[0] * d[1] * d[2], 1);
+    c5_cast_volume *probe;
+    c5_err err;
+    c5_tf_desc t;
+    tf_ramp(&t);
+    c5_cast_tf tf;
+    CHECK(!c5_cast_tf_build(&t, 1, 1, &tf, &err));
+    c5_cast_camera cam;
+    double eye[3] = {48 + 20, 48 - 400, 48 + 15}, c[3] = {48, 48, 48};
+    look_at(&cam, eye, c, 30);
+    int w = 64, h = 64, k = 16;
+    /* candidate bricks: interior ones; for each, fill only its inner voxels (so that no
+     * neighbour brick becomes non-empty), and ask the producer's own walk whether a corner
+     * ray reaches it undilated and whether some pixel centre ray does */
+    int found = -1;
+    double zero[3] = {0, 0, 0};
+    for (int b = 0; b < 12 * 12 * 12 && found < 0; b++) {
+        int bx = b % 12, by = b / 12 % 12, bz = b / 144;
+        memset(vox, 0, d[0] * d[1] * d[2]);
+        for (int z = 1; z < 8; z++)
+            for (int y = 1; y < 8; y++)
+                for (int x = 1; x < 8; x++)
+                    vox[((size_t)(bz * 8 + z) * d[1] + (size_t)(by * 8 + y)) * d[0] + (size_t)(bx * 8 + x)] = 255;
+        CHECK(!c5_cast_volume_make(vox, d, sp, &probe, &err));
+        c5_cast_view vw = {.v = probe, .tf = &tf, .cam = &cam, .w = w, .h = h, .k = k, .step = 1};
+        for (int a = 0; a < 3; a++)
+            vw.eye_v[a] = eye[a];
+        double t0[64], t1[64], dir[3];
+        int corner_hits = 0, pixel_hits = 0;
+        for (int y = 0; y <= h; y += k)
+            for (int x = 0; x <= w; x += k) {
+                c5_cast_ray_dir(&vw, x, y, dir);
+                corner_hits += c5_cast_ray_segments(&vw, dir, zero, t0, t1, 64, NULL, NULL, 0) > 0;
+            }
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                c5_cast_ray_dir(&vw, x + 0.5, y + 0.5, dir);
+                pixel_hits += c5_cast_ray_segments(&vw, dir, zero, t0, t1, 64, NULL, NULL, 0) > 0;
+            }
+        c5_cast_volume_free(probe);
+        if (!corner_hits && pixel_hits >= 4)
+            found = b;
+    }
+    CHECK_MSG(found >= 0, "no brick that only pixel rays cross: the construction failed");
+    /* vox holds that brick now: draw it in every mode at this k */
+    c5_cast_volume *v;
+    CHECK(!c5_cast_volume_make(vox, d, sp, &v, &err));
+    free(vox);
+    c5_cast_opts o;
+    c5_cast_opts_default(&o);
+    o.k = k;
+    c5_image ref = {0}, img = {0};
+    c5_cast_stats st;
+    o.mode = C5_CAST_PLAIN;
+    CHECK(!c5_cast_render(v, &tf, &cam, w, h, &o, &ref, &st, &err));
+    CHECK_MSG(coverage(&ref) > 0, "the brick is not visible at all");
+    for (int mode = C5_CAST_APPROX; mode < C5_CAST_MODES; mode++) {
+        o.mode = (c5_cast_mode)mode;
+        CHECK(!c5_cast_render(v, &tf, &cam, w, h, &o, &img, &st, &err));
+        CHECK_MSG(!differ(&ref, &img), "mode %s dropped the brick no corner ray crosses", c5_cast_mode_name(o.mode));
+        CHECK(st.k == k);
+        c5_image_free(&img);
+    }
+    c5_image_free(&ref);
+    c5_cast_volume_free(v);
+}
+
+/* Every octree node's min and max are those of the voxels its bricks' cells reach. */
+TEST(cast_octree_minmax)
+{
+    size_t d[3] = {37, 20, 9};
+    double sp[3] = {1, 1, 1};
+    uint64_t s = 11;
+    uint8_t *vox = malloc(d[0] * d[1] * d[2]);
+    for (size_t i = 0; i < d[0] * d[1] * d[2]; i++)
+        vox[i] = (uint8_t)(c5_splitmix64(&s) >> 56);
+    c5_cast_volume *v;
+    c5_err err;
+    CHECK(!c5_cast_volume_make(vox, d, sp, &v, &err));
+    CHECK_INT(v->nb[0], 5);
+    CHECK_INT(v->nb[1], 3);
+    CHECK_INT(v->nb[2], 1);
+    for (int l = 0; l < v->levels; l++) {
+        int side = C5_CAST_BRICK << l;
+        for (int z = 0; z < v->ln[l][2]; z++)
+            for (int y = 0; y < v->ln[l][1]; y++)
+                for (int x = 0; x < v->ln[l][0]; x++) {
+                    unsigned lo = 255, hi = 0;
+                    for (size_t k = (size_t)z * side; k <= (size_t)(z + 1) * side && k < d[2]; k++)
+                        for (size_t j = (size_t)y * side; j <= (size_t)(y + 1) * side && j < d[1]; j++)
+                            for (size_t i = (size_t)x * side; i <= (size_t)(x + 1) * side && i < d[0]; i++) {
+                                unsigned q = vox[(k * d[1] + j) * d[0] + i];
+                                lo = q < lo ? q : lo, hi = q > hi ? q : hi;
+                            }
+                    const uint8_t *mm = v->minmax[l] + 2 * (((size_t)z * v->ln[l][1] + y) * v->ln[l][0] + x);
+                    CHECK_MSG(mm[0] == lo && mm[1] == hi, "level %d node %d,%d,%d: %u..%u, expected %u..%u", l, x,
+                              y, z, mm[0], mm[1], lo, hi);
+                }
+    }
+    CHECK_INT(v->ln[v->levels - 1][0] * v->ln[v->levels - 1][1] * v->ln[v->levels - 1][2], 1);
+    free(vox);
+    c5_cast_volume_free(v);
+}
+
+/* Emptiness of a scalar range agrees with the table it summarises, for every range. */
+TEST(cast_tf_emptiness)
+{
+    c5_tf_desc t;
+    tf_ramp(&t);
+    c5_cast_tf tf;
+    c5_err err;
+    CHECK(!c5_cast_tf_build(&t, 1, 1, &tf, &err));
+    for (unsigned lo = 0; lo < 256; lo += 3)
+        for (unsigned hi = lo; hi < 256; hi += 5) {
+            int empty = 1;
+            for (unsigned i = lo * C5_CAST_TF_SCALE; i <= hi * C5_CAST_TF_SCALE; i++)
+                empty &= tf.rgba[i][3] == 0;
+            CHECK_MSG(c5_cast_tf_empty(&tf, lo, hi) == empty, "range %u..%u", lo, hi);
+        }
+    CHECK(c5_cast_tf_empty(&tf, 0, 40));
+    CHECK(!c5_cast_tf_empty(&tf, 0, 41));
+    /* opacity correction: a = 1 - (1 - a_tf)^(step/unit) */
+    CHECK(!c5_cast_tf_build(&t, 2, 1, &tf, &err));
+    CHECK(fabs(tf.rgba[255 * C5_CAST_TF_SCALE][3] - (1 - 0.1 * 0.1)) < 1e-6);
+}
+
+TEST(cast_normal_codes_round_trip)
+{
+    uint64_t s = 5;
+    for (int i = 0; i < 2000; i++) {
+        double g[3] = {c5_uniform(&s) - 0.5, c5_uniform(&s) - 0.5, c5_uniform(&s) - 0.5}, n[3];
+        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        c5_cast_normal_decode(c5_cast_normal_encode(g[0], g[1], g[2]), n);
+        double cosang = (n[0] * g[0] + n[1] * g[1] + n[2] * g[2]) / len;
+        CHECK_MSG(cosang > cos(2.0 * M_PI / 180), "direction %d off by %.2f degrees", i, acos(cosang) * 180 / M_PI);
+    }
+    CHECK_INT(c5_cast_normal_encode(0, 0, 0), C5_CAST_NZERO);
+}
+
+/* A volume without thickness, a camera inside the volume, and bad arguments. */
+TEST(cast_edges)
+{
+    c5_err err;
+    c5_tf_desc t;
+    tf_ramp(&t);
+    c5_cast_tf tf;
+    CHECK(!c5_cast_tf_build(&t, 1, 1, &tf, &err));
+    size_t flat[3] = {16, 16, 1};
+    double sp[3] = {1, 1, 1};
+    uint8_t vox[16 * 16];
+    memset(vox, 200, sizeof vox);
+    c5_cast_volume *v;
+    CHECK(!c5_cast_volume_make(vox, flat, sp, &v, &err));
+    c5_cast_camera cam;
+    double eye[3] = {7.5, 7.5, 40}, c[3] = {7.5, 7.5, 0};
+    look_at(&cam, eye, c, 30);
+    c5_cast_opts o;
+    c5_cast_opts_default(&o);
+    c5_image img = {0};
+    c5_cast_stats st;
+    CHECK(!c5_cast_render(v, &tf, &cam, 20, 20, &o, &img, &st, &err));
+    CHECK(coverage(&img) == 0);
+    c5_image_free(&img);
+    c5_cast_volume_free(v);
+
+    fixture fx;
+    size_t d[3] = {40, 40, 40};
+    if (fixture_make(&fx, d, sp, 9))
+        return;
+    double in[3] = {20, 19, 21}, to[3] = {0, 0, 0};
+    look_at(&cam, in, to, 90);
+    o.mode = C5_CAST_PLAIN;
+    c5_image ref;
+    if (render(&fx, &cam, 32, 32, &o, &ref, &st))
+        return;
+    o.mode = C5_CAST_APPROX_REFINE;
+    if (render(&fx, &cam, 32, 32, &o, &img, &st))
+        return;
+    CHECK_MSG(!differ(&ref, &img), "camera inside the volume: approx+refine differs from plain");
+    CHECK_INT(st.k, 1); /* Proposition 1 does not hold inside the volume */
+    c5_image_free(&img);
+
+    o.workers = 0;
+    CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 32, 32, &o, &img, &st, &err) == -1 && strstr(err.msg, "workers"));
+    o.workers = 2, o.k = 3;
+    CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 32, 32, &o, &img, &st, &err) == -1 && strstr(err.msg, "k must"));
+    o.k = 0, o.shading = 1;
+    CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 16, 32, &o, &ref, &st, &err) == -1 && strstr(err.msg, "32x32"));
+    c5_image_free(&ref);
+    c5_cast_volume *bare;
+    size_t zero_dims[3] = {0, 4, 4};
+    CHECK(c5_cast_volume_make(vox, zero_dims, sp, &bare, &err) == -1 && strstr(err.msg, "dims"));
+    c5_cast_volume_free(fx.v);
+}
