@@ -381,7 +381,8 @@ TEST(peer_phantom_matches_numpy)
         CHECK(v);
         unsigned long crc = crc32(crc32(0L, Z_NULL, 0), v, (uInt)(n * n * n));
         free(v);
-        CHECK_MSG(crc == ref[i].crc, "%s n=%zu: crc32 %08lx, numpy's %08lx", ref[i].kind == C5_PHANTOM_ML ? "ml" : "shell",
+        CHECK_MSG(crc == ref[i].crc, "%s n=%zu: crc32 %08lx, numpy's %08lx",
+                  ref[i].kind == C5_PHANTOM_ML ? "ml" : "shell",
                   n, crc, ref[i].crc);
     }
 }

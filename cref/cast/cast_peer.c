@@ -216,38 +216,40 @@ static int tf_interpolation(tf_ctx *c, const json_t *root)
     return 0;
 }
 
-/* An optional number with a default. */
-static int tf_opt_number(tf_ctx *c, const json_t *obj, const char *key, const char *label_key, double lo,
-                         double dflt, double *out)
+/* An optional number >= 0 with a default; obj may be NULL (all defaults). */
+static int tf_opt_number(tf_ctx *c, const json_t *obj, const char *key, const char *label_key, double dflt,
+                         double *out)
 {
-    const json_t *v = json_object_get(obj, key);
+    const json_t *v = obj ? json_object_get(obj, key) : NULL;
     if (!v) {
         *out = dflt;
         return 0;
     }
-    return tf_number(c, label_key, NULL, v, lo, INFINITY, out);
+    return tf_number(c, label_key, NULL, v, 0.0, INFINITY, out);
 }
 
+/* The "shading" block, each key defaulting on its own as in build_property(). */
 static int tf_shading(tf_ctx *c, const json_t *root, c5_tf_desc *tf)
 {
     static const char *const keys[] = {"ambient", "diffuse", "specular", "specular_power", NULL};
+    const struct {
+        const char *label;
+        double dflt, *out;
+    } field[] = {
+        {"shading.ambient", PEER_AMBIENT, &tf->ambient},
+        {"shading.diffuse", PEER_DIFFUSE, &tf->diffuse},
+        {"shading.specular", PEER_SPECULAR, &tf->specular},
+        {"shading.specular_power", PEER_SPECULAR_POWER, &tf->specular_power},
+    };
     const json_t *sh = json_object_get(root, "shading");
-    if (!sh) {
-        tf->ambient = PEER_AMBIENT, tf->diffuse = PEER_DIFFUSE;
-        tf->specular = PEER_SPECULAR, tf->specular_power = PEER_SPECULAR_POWER;
-        return 0;
-    }
-    if (!json_is_object(sh))
+    if (sh && !json_is_object(sh))
         return tf_fail(c, "shading", "must be an object");
-    if (tf_check_keys(c, sh, "shading", keys))
+    if (sh && tf_check_keys(c, sh, "shading", keys))
         return -1;
-    return tf_opt_number(c, sh, "ambient", "shading.ambient", 0.0, PEER_AMBIENT, &tf->ambient) ||
-                   tf_opt_number(c, sh, "diffuse", "shading.diffuse", 0.0, PEER_DIFFUSE, &tf->diffuse) ||
-                   tf_opt_number(c, sh, "specular", "shading.specular", 0.0, PEER_SPECULAR, &tf->specular) ||
-                   tf_opt_number(c, sh, "specular_power", "shading.specular_power", 0.0, PEER_SPECULAR_POWER,
-                                 &tf->specular_power)
-               ? -1
-               : 0;
+    for (int i = 0; i < 4; i++)
+        if (tf_opt_number(c, sh, keys[i], field[i].label, field[i].dflt, field[i].out))
+            return -1;
+    return 0;
 }
 
 /* Everything but the JSON syntax: root is an object. */
@@ -313,12 +315,18 @@ int c5_peer_tf_parse(const char *json_text, const char *label, double min_spacin
 static const char tf_default_json[] =
     "{\n"
     "  \"name\": \"default\",\n"
-    "  \"description\": \"Semi-transparent CT-style TF for uint8 volumes: air (<40) transparent, faint reddish soft tissue / engine casing, orange semi-transparent mid range, ivory-to-white opaque-ish dense material (bone, metal). Tuned on engine (block ~128-160 semi-transparent, dense parts ~200-255 bright) and a CT head (skin ~64-80 faint, bone visible through it).\",\n"
+    "  \"description\": \"Semi-transparent CT-style TF for uint8 volumes: air (<40) transparent, "
+    "faint reddish soft tissue / engine casing, orange semi-transparent mid range, "
+    "ivory-to-white opaque-ish dense material (bone, "
+    "metal). Tuned on engine (block ~128-160 semi-transparent, "
+    "dense parts ~200-255 bright) and a CT head (skin ~64-80 faint, bone visible through it).\",\n"
     "  \"scalar_range\": [0, 255],\n"
     "  \"opacity_unit_distance_voxels\": 1.0,\n"
     "  \"interpolation\": \"linear\",\n"
-    "  \"opacity\": [[0, 0.0], [40, 0.0], [60, 0.002], [90, 0.004], [115, 0.01], [140, 0.03], [170, 0.1], [210, 0.3], [255, 0.6]],\n"
-    "  \"color\": [[0, 0.0, 0.0, 0.0], [40, 0.5, 0.1, 0.06], [80, 0.8, 0.3, 0.18], [125, 0.95, 0.6, 0.35], [170, 1.0, 0.88, 0.7], [255, 1.0, 1.0, 1.0]],\n"
+    "  \"opacity\": [[0, 0.0], [40, 0.0], [60, 0.002], [90, 0.004], [115, 0.01], [140, 0.03], [170, "
+    "0.1], [210, 0.3], [255, 0.6]],\n"
+    "  \"color\": [[0, 0.0, 0.0, 0.0], [40, 0.5, 0.1, 0.06], [80, 0.8, 0.3, 0.18], [125, 0.95, 0.6, "
+    "0.35], [170, 1.0, 0.88, 0.7], [255, 1.0, 1.0, 1.0]],\n"
     "  \"shading\": {\"ambient\": 0.45, \"diffuse\": 0.65, \"specular\": 0.3, \"specular_power\": 20.0},\n"
     "  \"background\": [0.0, 0.0, 0.0]\n"
     "}\n"
@@ -326,12 +334,14 @@ static const char tf_default_json[] =
 static const char tf_ml_json[] =
     "{\n"
     "  \"name\": \"ml\",\n"
-    "  \"description\": \"Marschner-Lobb preset: semi-transparent tent around rho = 0.5 (uint8 128), blue below, orange above.\",\n"
+    "  \"description\": \"Marschner-Lobb preset: semi-transparent tent around rho = 0.5 (uint8 128), "
+    "blue below, orange above.\",\n"
     "  \"scalar_range\": [0, 255],\n"
     "  \"opacity_unit_distance_voxels\": 1.0,\n"
     "  \"interpolation\": \"linear\",\n"
     "  \"opacity\": [[0, 0.0], [104, 0.0], [128, 0.12], [152, 0.0], [255, 0.0]],\n"
-    "  \"color\": [[0, 0.2, 0.3, 0.9], [110, 0.2, 0.5, 1.0], [128, 0.95, 0.95, 0.95], [146, 1.0, 0.55, 0.15], [255, 1.0, 0.3, 0.1]],\n"
+    "  \"color\": [[0, 0.2, 0.3, 0.9], [110, 0.2, 0.5, 1.0], [128, 0.95, 0.95, 0.95], [146, 1.0, 0.55, "
+    "0.15], [255, 1.0, 0.3, 0.1]],\n"
     "  \"shading\": {\"ambient\": 0.4, \"diffuse\": 0.6, \"specular\": 0.3, \"specular_power\": 20.0},\n"
     "  \"background\": [0.0, 0.0, 0.0]\n"
     "}\n"
