@@ -31,10 +31,10 @@ int c5_peer_tf_parse(const char *json_text, const char *label, double min_spacin
 int c5_peer_tf_load(const char *name_or_path, double min_spacing, c5_tf_desc *out, c5_err *err);
 
 typedef enum { C5_PHANTOM_ML, C5_PHANTOM_SHELL } c5_phantom;
-/* render_vtk.py synthetic_volume(n, kind): n^3 uint8, x fastest, n >= 2. Returns a malloc'd
- * buffer or NULL (out of memory). Computed in float like numpy's float32 grid; a voxel may
- * differ by one where a value lies within rounding of .5 (the bench passes our raw file to
- * VTK, so both draw identical voxels). */
+/* render_vtk.py synthetic_volume(n, kind): n^3 uint8, x fastest. Returns a malloc'd buffer,
+ * or NULL when n < 2, n > 2048 or out of memory. Computed in float32 operation for operation
+ * as numpy 1.24 does it, including numpy's own float32 sin/cos, so the voxels are numpy's:
+ * at n = 64 and 256 both phantoms equal render_vtk.py's byte for byte. */
 uint8_t *c5_phantom_make(c5_phantom kind, size_t n);
 int c5_phantom_parse(const char *s, c5_phantom *out);
 
