@@ -6,8 +6,11 @@
  * not merely the same mathematics:
  *   cameras   make_cameras() in double, in the Python's order (libm cos/sin/sqrt);
  *   TF files  load_tf() + build_property(), with the defaults build_property() applies;
- *   phantoms  synthetic_volume() in float32 as numpy 1.24 evaluates it, including numpy's
- *             own float32 sine and cosine (see np_sincosf below). */
+ *   phantoms  synthetic_volume() in float32 as numpy 1.24 evaluates it, with libm's sinf
+ *             and cosf in place of numpy's own float32 ones (which differ by an ulp for some
+ *             arguments): the shell phantom and ml at n = 64 are identical to numpy's, ml at
+ *             n = 256 differs by one in 64 voxels. The benchmarks hand VTK our raw file, so
+ *             both renderers always see the same voxels. */
 #include "cast_peer.h"
 
 #include <errno.h>
@@ -401,42 +404,6 @@ int c5_peer_tf_load(const char *name_or_path, double min_spacing, c5_tf_desc *ou
 
 #define PHANTOM_MAX_N 2048 /* 8 GiB of voxels; far beyond any benchmark volume */
 
-/* numpy's float32 sine or cosine (numpy >= 1.22 on x86 with FMA3, AVX2 or AVX-512, as on the
- * peer's machine), evaluated lane by lane: reduce by pi/2 with a three-part Cody-Waite
- * constant, then a short polynomial on [-pi/4, pi/4], fused multiply-adds throughout, and
- * libm beyond the reduction's range. glibc's sinf/cosf differ from it by an ulp for about
- * one argument in seven, and ml's outer cosine multiplies the inner one's error by 37.7:
- * with them, 64 voxels of ml at n = 256 come out one higher or lower than numpy's. This
- * emulation agreed bit for bit with numpy 1.24.2 on 3.5 million random arguments within
- * |x| < 40 (the phantoms need |x| <= 37.7); beyond |x| ~ 2000 it can still differ by an ulp
- * next to an odd multiple of pi/4. */
-static float np_trigf(float x, int want_cos)
-{
-    if (!(fabsf(x) <= (want_cos ? 71476.0625f : 117435.992f)))
-        return want_cos ? cosf(x) : sinf(x);
-    /* nearest multiple of pi/2: adding and removing 1.5 * 2^23 rounds to an integer */
-    float q = x * 0x1.45f306p-1f;
-    q = q + 0x1.8p23f;
-    q = q - 0x1.8p23f;
-    float r = fmaf(q, -0x1.921fb0p+0f, x);
-    r = fmaf(q, -0x1.5110b4p-22f, r);
-    r = fmaf(q, -0x1.846988p-48f, r);
-    float r2 = r * r;
-    float c = fmaf(0x1.98e616p-16f, r2, -0x1.6c06dcp-10f);
-    c = fmaf(c, r2, 0x1.55553cp-5f);
-    c = fmaf(c, r2, -0.5f);
-    c = fmaf(c, r2, 1.0f);
-    float s = fmaf(0x1.7d3bbcp-19f, r2, -0x1.a06bbap-13f);
-    s = fmaf(s, r2, 0x1.11119ap-7f);
-    s = fmaf(s, r2, -0x1.555556p-3f);
-    s = fmaf(s, r2, 0.0f);
-    s = fmaf(s, r, r);
-    /* cos(x) = sin(x + pi/2): one quadrant on */
-    unsigned k = (unsigned)(int)q + (want_cos ? 1u : 0u);
-    float v = (k & 1u) ? c : s;
-    return (k & 2u) ? 0.0f - v : v;
-}
-
 /* np.linspace(-1, 1, n, dtype=np.float32): i * step + start in double, the last point set
  * to the end exactly, then each rounded to float. */
 static void np_linspace(float *t, size_t n)
@@ -466,10 +433,10 @@ static void phantom_ml(uint8_t *vox, const float *t, size_t n, float *radial, fl
     for (size_t j = 0; j < n; j++)
         for (size_t i = 0; i < n; i++) {
             float r = sqrtf(t[i] * t[i] + t[j] * t[j]);
-            radial[j * n + i] = np_trigf(two_pi_fm * np_trigf(pi * r / 2.0f, 1), 1);
+            radial[j * n + i] = cosf(two_pi_fm * cosf(pi * r / 2.0f));
         }
     for (size_t k = 0; k < n; k++)
-        vertical[k] = 1.0f - np_trigf(pi * t[k] / 2.0f, 0);
+        vertical[k] = 1.0f - sinf(pi * t[k] / 2.0f);
     for (size_t k = 0; k < n; k++)
         for (size_t ji = 0; ji < n * n; ji++) {
             float rho = (vertical[k] + 0.25f * (1.0f + radial[ji])) / 2.5f;

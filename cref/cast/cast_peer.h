@@ -33,8 +33,9 @@ int c5_peer_tf_load(const char *name_or_path, double min_spacing, c5_tf_desc *ou
 typedef enum { C5_PHANTOM_ML, C5_PHANTOM_SHELL } c5_phantom;
 /* render_vtk.py synthetic_volume(n, kind): n^3 uint8, x fastest. Returns a malloc'd buffer,
  * or NULL when n < 2, n > 2048 or out of memory. Computed in float32 operation for operation
- * as numpy 1.24 does it, including numpy's own float32 sin/cos, so the voxels are numpy's:
- * at n = 64 and 256 both phantoms equal render_vtk.py's byte for byte. */
+ * as numpy 1.24 does it, but with libm's sinf/cosf: the shell phantom equals render_vtk.py's
+ * byte for byte at n = 64 and 256, ml at n = 64 too; ml at n = 256 differs by one in 64 of
+ * its voxels (numpy's float32 cosine differs from libm's by an ulp for some arguments). */
 uint8_t *c5_phantom_make(c5_phantom kind, size_t n);
 int c5_phantom_parse(const char *s, c5_phantom *out);
 
