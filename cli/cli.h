@@ -57,6 +57,7 @@ void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);
 int c5_cli_help(int argc, char **argv, const char *usage);
 
 typedef int (*c5_cmd_fn)(int argc, char **argv);
+int c5_cmd_cast(int argc, char **argv);
 int c5_cmd_compare(int argc, char **argv);
 int c5_cmd_render(int argc, char **argv);
 int c5_cmd_schedule(int argc, char **argv);

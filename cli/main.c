@@ -9,6 +9,7 @@ static const struct {
     c5_cmd_fn fn;
     const char *summary;
 } cmds[] = {
+    {"cast", c5_cmd_cast, "the streaming-model volume ray caster over the peer benchmark's views (fps)"},
     {"compare", c5_cmd_compare, "render a frame with cref and the board model and compare the images"},
     {"render", c5_cmd_render, "render a scene with cref or the board model (--model rtl)"},
     {"schedule", c5_cmd_schedule, "the Cell Tree scheduler against Max Work over a scene's frames"},

@@ -1,0 +1,430 @@
+/* cube5 cast: the streaming-model caster (cref/cast, docs/caster.md) over the peer benchmark's
+ * views of a volume, timed per view: fps as the median over the views, producer against
+ * worker time, load balance. The input is a volume file, a phantom of render_vtk.py, or a
+ * scene (its grid and transfer function). */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include "cast_peer.h"
+#include "cli.h"
+#include "volume.h"
+
+static const char USAGE[] =
+    "usage: cube5 cast VOLUME|SCENE [-o OUT] [--views N] [--size N] [--mode MODE] [--threads N]\n"
+    "                  [--shading on|off] [--json] [options]\n"
+    "\n"
+    "Renders the peer benchmark's views (../shared/bench/peer-vtk conventions: SplitMix64 cameras\n"
+    "around the volume, 30-degree perspective, its transfer-function files) with the streaming-\n"
+    "model ray caster and reports frames per second as the median over the views.\n"
+    "\n"
+    "VOLUME is a uint8 .raw file (dims from an Open SciVis name NAME_XxYxZ_uint8.raw, or --dims),\n"
+    "a .nrrd/.nhdr file, or phantom:ml:N / phantom:shell:N (render_vtk.py's synthetic volumes).\n"
+    "SCENE is a built-in scene or a scene .json: its grid and transfer function are cast.\n"
+    "\n"
+    "  -o OUT             write the first view (.png or .exr)\n"
+    "  --views N          views 1..1000 (default 24)\n"
+    "  --size N           image N x N, 1..4096 (default 256)\n"
+    "  --mode M           plain | ess | approx | approx+refine (default approx+refine)\n"
+    "  --threads N        worker threads 1..64 (default 2); the producer is one more thread\n"
+    "  --shading on|off   headlight Blinn-Phong (default off)\n"
+    "  --k N              approximation interval 1,2,4,8,16 (default: Proposition 1 per view)\n"
+    "  --prefetch on|off  prefetch the next brick along each ray (default on)\n"
+    "  --distance F       eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)\n"
+    "  --tf NAME|FILE     default | ml | a TF file of the peer's format (default: default, or the\n"
+    "                     scene's transfer function)\n"
+    "  --step S           sample distance in voxels (times the smallest spacing; default 1)\n"
+    "  --seed N           camera stream seed (default 1)\n"
+    "  --repeats N        passes over the views; the median of the per-pass medians (default 1)\n"
+    "  --dims XxYxZ       dims of a raw file whose name does not give them\n"
+    "  --spacing X,Y,Z    voxel spacing (default 1,1,1, or the NRRD header's)\n"
+    "  --save-raw FILE    write the voxels cast as raw uint8 (for the peer: render_vtk.py --raw)\n"
+    "  --json             the figures as JSON on stdout\n";
+
+typedef struct {
+    const char *input, *out, *tf, *save_raw;
+    int views, size, threads, shading, k, prefetch, repeats, json;
+    c5_cast_mode mode;
+    double distance, step;
+    long seed;
+    size_t dims[3];
+    double spacing[3];
+    int has_dims, has_spacing;
+} args;
+
+static int on_off(const char *opt, const char *v, int *out, c5_err *err)
+{
+    if (!strcmp(v, "on") || !strcmp(v, "off")) {
+        *out = !strcmp(v, "on");
+        return 0;
+    }
+    return c5_fail(err, "%s: expected on or off, got '%s'", opt, v);
+}
+
+static int parse_triple(const char *opt, const char *v, char sep, double out[3], c5_err *err)
+{
+    char *end;
+    const char *p = v;
+    for (int i = 0; i < 3; i++) {
+        out[i] = strtod(p, &end);
+        if (end == p || !(out[i] > 0) || !isfinite(out[i]) || *end != (i < 2 ? sep : 0))
+            return c5_fail(err, "%s: expected three positive numbers separated by '%c', got '%s'", opt, sep, v);
+        p = end + 1;
+    }
+    return 0;
+}
+
+static int parse_args(int argc, char **argv, args *a, c5_err *err)
+{
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .repeats = 1,
+                .mode = C5_CAST_APPROX_REFINE, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
+                .spacing = {1, 1, 1}};
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        long n;
+        int takes = o[0] == '-' && strcmp(o, "--json") != 0;
+        if (takes && !v)
+            return c5_fail(err, "%s needs a value", o);
+        if (!strcmp(o, "--json"))
+            a->json = 1;
+        else if (!strcmp(o, "-o"))
+            a->out = v;
+        else if (!strcmp(o, "--views")) {
+            if (c5_cli_int(o, v, 1, 1000, &n, err))
+                return -1;
+            a->views = (int)n;
+        } else if (!strcmp(o, "--size")) {
+            if (c5_cli_int(o, v, 1, 4096, &n, err))
+                return -1;
+            a->size = (int)n;
+        } else if (!strcmp(o, "--threads")) {
+            if (c5_cli_int(o, v, 1, C5_CAST_MAX_WORKERS, &n, err))
+                return -1;
+            a->threads = (int)n;
+        } else if (!strcmp(o, "--k")) {
+            if (c5_cli_int(o, v, 1, 16, &n, err))
+                return -1;
+            if (n & (n - 1))
+                return c5_fail(err, "--k: expected 1, 2, 4, 8 or 16, got '%s'", v);
+            a->k = (int)n;
+        } else if (!strcmp(o, "--repeats")) {
+            if (c5_cli_int(o, v, 1, 100, &n, err))
+                return -1;
+            a->repeats = (int)n;
+        } else if (!strcmp(o, "--seed")) {
+            if (c5_cli_int(o, v, 0, 0x7fffffffL, &a->seed, err))
+                return -1;
+        } else if (!strcmp(o, "--mode")) {
+            if (c5_cast_mode_parse(v, &a->mode))
+                return c5_fail(err, "--mode: expected plain, ess, approx or approx+refine, got '%s'", v);
+        } else if (!strcmp(o, "--shading")) {
+            if (on_off(o, v, &a->shading, err))
+                return -1;
+        } else if (!strcmp(o, "--prefetch")) {
+            if (on_off(o, v, &a->prefetch, err))
+                return -1;
+        } else if (!strcmp(o, "--distance")) {
+            if (c5_cli_double(o, v, 1e-3, 1e6, &a->distance, err))
+                return -1;
+        } else if (!strcmp(o, "--step")) {
+            if (c5_cli_double(o, v, 1e-3, 1e3, &a->step, err))
+                return -1;
+        } else if (!strcmp(o, "--tf"))
+            a->tf = v;
+        else if (!strcmp(o, "--save-raw"))
+            a->save_raw = v;
+        else if (!strcmp(o, "--dims")) {
+            double d[3];
+            if (parse_triple(o, v, 'x', d, err))
+                return -1;
+            for (int k = 0; k < 3; k++) {
+                if (d[k] != floor(d[k]) || d[k] > C5_VOLUME_MAX_DIM)
+                    return c5_fail(err, "--dims: expected whole numbers 1..%u, got '%s'", C5_VOLUME_MAX_DIM, v);
+                a->dims[k] = (size_t)d[k];
+            }
+            a->has_dims = 1;
+        } else if (!strcmp(o, "--spacing")) {
+            if (parse_triple(o, v, ',', a->spacing, err))
+                return -1;
+            a->has_spacing = 1;
+        } else if (o[0] == '-')
+            return c5_fail(err, "unknown option '%s' (see cube5 cast --help)", o);
+        else if (a->input)
+            return c5_fail(err, "unexpected argument '%s' (one VOLUME or SCENE)", o);
+        else {
+            a->input = o;
+            continue;
+        }
+        i += takes;
+    }
+    if (!a->input)
+        return c5_fail(err, "cast needs a VOLUME or SCENE (see cube5 cast --help)");
+    return 0;
+}
+
+/* What is cast: voxels, their geometry, the transfer function, a name for the report. */
+typedef struct {
+    uint8_t *vox;
+    size_t dims[3];
+    double spacing[3];
+    c5_tf_desc tf;
+    char name[256];
+} input;
+
+static int has_ext(const char *p, const char *ext)
+{
+    size_t n = strlen(p), e = strlen(ext);
+    return n > e && !strcasecmp(p + n - e, ext);
+}
+
+static int load_input(const args *a, input *in, c5_err *err)
+{
+    const char *tf = a->tf ? a->tf : "default";
+    memcpy(in->spacing, a->spacing, sizeof in->spacing);
+    if (!strncmp(a->input, "phantom:", 8)) {
+        c5_phantom kind;
+        char k[16];
+        long n;
+        const char *colon = strchr(a->input + 8, ':');
+        size_t len = colon ? (size_t)(colon - a->input - 8) : 0;
+        if (!colon || len >= sizeof k)
+            return c5_fail(err, "%s: expected phantom:ml:N or phantom:shell:N", a->input);
+        memcpy(k, a->input + 8, len);
+        k[len] = 0;
+        if (c5_phantom_parse(k, &kind))
+            return c5_fail(err, "%s: unknown phantom '%s' (ml or shell)", a->input, k);
+        if (c5_cli_int("phantom size", colon + 1, 2, 1024, &n, err))
+            return -1;
+        for (int i = 0; i < 3; i++)
+            in->dims[i] = (size_t)n;
+        if (!(in->vox = c5_phantom_make(kind, (size_t)n)))
+            return c5_fail(err, "%s: out of memory", a->input);
+        snprintf(in->name, sizeof in->name, "synthetic_%s_%ld", k, n);
+        if (!a->tf && kind == C5_PHANTOM_ML)
+            tf = "ml";
+    } else if (has_ext(a->input, ".raw") || has_ext(a->input, ".nrrd") || has_ext(a->input, ".nhdr")) {
+        c5_raw_spec spec = {.type = a->has_dims ? C5_VOX_U8 : C5_VOX_NONE};
+        memcpy(spec.dims, a->dims, sizeof spec.dims);
+        c5_volume v;
+        if (c5_volume_load(a->input, &spec, &v, err))
+            return -1;
+        if (v.type != C5_VOX_U8) {
+            c5_volume_free(&v);
+            return c5_fail(err, "%s: cast takes uint8 volumes (the peer's convention); use the _uint8 file or a "
+                                "scene with a window",
+                           a->input);
+        }
+        memcpy(in->dims, v.dims, sizeof in->dims);
+        if (!a->has_spacing && v.spacing[0] > 0 && v.spacing[1] > 0 && v.spacing[2] > 0)
+            memcpy(in->spacing, v.spacing, sizeof in->spacing);
+        in->vox = v.data;
+        const char *base = strrchr(a->input, '/');
+        snprintf(in->name, sizeof in->name, "%s", base ? base + 1 : a->input);
+        char *dot = strrchr(in->name, '.');
+        if (dot)
+            *dot = 0;
+    } else {
+        c5_scene s;
+        c5_supervol sv;
+        char label[512];
+        if (c5_cli_scene_setup(a->input, NULL, 0, 0, 0, &s, label, sizeof label, err) ||
+            c5_supervol_build(&s, &sv, err))
+            return -1;
+        if (c5_supervol_empty(&sv)) {
+            c5_supervol_free(&sv);
+            return c5_fail(err, "%s: the scene has no volume to cast", label);
+        }
+        memcpy(in->dims, sv.dims, sizeof in->dims);
+        double sp[3] = {sv.spacing.x, sv.spacing.y, sv.spacing.z};
+        memcpy(in->spacing, sp, sizeof sp);
+        in->vox = sv.v;
+        sv.v = NULL;
+        c5_supervol_free(&sv);
+        snprintf(in->name, sizeof in->name, "%s", a->input);
+        if (!a->tf) {
+            in->tf = s.tf;
+            if (!(in->tf.unit_distance > 0))
+                in->tf.unit_distance = fmin(sp[0], fmin(sp[1], sp[2]));
+            return 0;
+        }
+    }
+    return c5_peer_tf_load(tf, fmin(in->spacing[0], fmin(in->spacing[1], in->spacing[2])), &in->tf, err);
+}
+
+static int cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return a < b ? -1 : a > b;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Per view, the last pass's figures (the counts are the same in every pass). */
+typedef struct {
+    double ms, producer_ms, worker_ms, imbalance;
+    c5_cast_stats st;
+} view_fig;
+
+static int write_raw(const char *path, const input *in, c5_err *err)
+{
+    FILE *f = fopen(path, "wb");
+    size_t n = in->dims[0] * in->dims[1] * in->dims[2];
+    if (!f || fwrite(in->vox, 1, n, f) != n || fclose(f))
+        return c5_fail(err, "%s: could not write the raw volume", path);
+    return 0;
+}
+
+static int same_path(const char *a, const char *b)
+{
+    char ra[4096], rb[4096];
+    return realpath(a, ra) && realpath(b, rb) && !strcmp(ra, rb);
+}
+
+int c5_cmd_cast(int argc, char **argv)
+{
+    if (c5_cli_help(argc, argv, USAGE))
+        return 0;
+    c5_err err;
+    args a;
+    input in = {0};
+    c5_cast_volume *cv = NULL;
+    c5_cast_camera *cams = NULL;
+    view_fig *fig = NULL;
+    double *pass_median = NULL, *tmp = NULL;
+    c5_image img = {0};
+    int rc = C5_EXIT_INPUT;
+    if (parse_args(argc, argv, &a, &err))
+        goto fail;
+    if (a.out) {
+        const char *dot = strrchr(a.out, '.');
+        if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr"))) {
+            c5_fail(&err, "%s: unsupported image extension (use .png or .exr)", a.out);
+            goto fail;
+        }
+    }
+    const char *outs[2] = {a.out, a.save_raw};
+    for (int i = 0; i < 2; i++)
+        if (outs[i] && (same_path(outs[i], a.input) || (a.tf && same_path(outs[i], a.tf)))) {
+            c5_fail(&err, "%s: is an input; refusing to overwrite it", outs[i]);
+            goto fail;
+        }
+    double t0 = now_s();
+    if (load_input(&a, &in, &err) || c5_cast_volume_make(in.vox, in.dims, in.spacing, &cv, &err))
+        goto fail;
+    rc = C5_EXIT_RUNTIME;
+    if (a.shading && c5_cast_volume_normals(cv, &err))
+        goto fail;
+    double setup_ms = (now_s() - t0) * 1e3;
+    if (a.save_raw && write_raw(a.save_raw, &in, &err))
+        goto fail;
+    double ms_sp = fmin(in.spacing[0], fmin(in.spacing[1], in.spacing[2]));
+    c5_cast_tf tf;
+    rc = C5_EXIT_INPUT;
+    if (c5_cast_tf_build(&in.tf, a.step * ms_sp, in.tf.unit_distance, &tf, &err))
+        goto fail;
+    rc = C5_EXIT_RUNTIME;
+    cams = calloc((size_t)a.views, sizeof *cams);
+    fig = calloc((size_t)a.views, sizeof *fig);
+    pass_median = calloc((size_t)a.repeats, sizeof *pass_median);
+    tmp = calloc((size_t)a.views, sizeof *tmp);
+    if (!cams || !fig || !pass_median || !tmp) {
+        c5_fail(&err, "out of memory");
+        goto fail;
+    }
+    c5_peer_cameras(in.dims, in.spacing, a.views, (uint64_t)a.seed, a.distance, C5_PEER_VIEW_ANGLE, cams);
+    c5_cast_opts o;
+    c5_cast_opts_default(&o);
+    o.mode = a.mode, o.k = a.k, o.workers = a.threads, o.shading = a.shading, o.prefetch = a.prefetch;
+    o.step = a.step * ms_sp;
+    for (int p = 0; p < a.repeats; p++) {
+        for (int i = 0; i < a.views; i++) {
+            view_fig *f = &fig[i];
+            if (c5_cast_render(cv, &tf, &cams[i], a.size, a.size, &o, &img, &f->st, &err))
+                goto fail;
+            f->ms = f->st.frame_s * 1e3, f->producer_ms = f->st.producer_s * 1e3;
+            f->worker_ms = 0;
+            for (int w = 0; w < f->st.workers; w++)
+                f->worker_ms += f->st.worker_s[w] * 1e3 / f->st.workers;
+            f->imbalance = c5_cast_load_imbalance(&f->st);
+            tmp[i] = f->ms;
+            if (i == 0 && p == 0 && a.out && c5_image_write(a.out, &img, &err))
+                goto fail;
+        }
+        pass_median[p] = median(tmp, a.views);
+    }
+    double ms_med = median(pass_median, a.repeats), prod = 0, work = 0, imb = 0, samples = 0, mean = 0;
+    int k_min = 16, k_max = 1;
+    for (int i = 0; i < a.views; i++) {
+        prod += fig[i].producer_ms / a.views, work += fig[i].worker_ms / a.views;
+        imb += fig[i].imbalance / a.views, samples += (double)fig[i].st.samples / a.views;
+        mean += fig[i].ms / a.views;
+        k_min = fig[i].st.k < k_min ? fig[i].st.k : k_min, k_max = fig[i].st.k > k_max ? fig[i].st.k : k_max;
+    }
+    if (a.json) {
+        json_t *j = json_object(), *per = json_array();
+        for (int i = 0; i < a.views; i++) {
+            const c5_cast_stats *s = &fig[i].st;
+            json_array_append_new(
+                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I}", "ms", fig[i].ms, "producer_ms",
+                               fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct",
+                               fig[i].imbalance, "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
+                               (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
+                               (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
+                               "rays_terminated", (json_int_t)s->rays_terminated));
+        }
+        json_object_set_new(j, "dataset",
+                            json_pack("{s:s,s:[I,I,I],s:[f,f,f]}", "name", in.name, "dims", (json_int_t)in.dims[0],
+                                      (json_int_t)in.dims[1], (json_int_t)in.dims[2], "spacing", in.spacing[0],
+                                      in.spacing[1], in.spacing[2]));
+        json_object_update_new(
+            j, json_pack("{s:s,s:i,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode), "threads",
+                         a.threads, "shading", a.shading, "prefetch", a.prefetch, "size", a.size, "views", a.views,
+                         "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
+                         (json_int_t)a.seed));
+        json_object_update_new(
+            j, json_pack("{s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:i,s:i,s:o}", "fps_median", 1000 / ms_med, "ms_median",
+                         ms_med, "ms_mean", mean, "producer_ms_mean", prod, "worker_ms_mean", work,
+                         "load_imbalance_pct_mean", imb, "setup_ms", setup_ms, "k_min", k_min, "k_max", k_max,
+                         "per_view", per));
+        json_object_set_new(j, "samples_mean", json_real(samples));
+        char *text = json_dumps(j, JSON_COMPACT);
+        puts(text);
+        free(text);
+        json_decref(j);
+    } else {
+        printf("%s %zux%zux%zu, %d views at %dx%d, mode %s, k %d..%d, %d worker%s, shading %s, prefetch %s\n",
+               in.name, in.dims[0], in.dims[1], in.dims[2], a.views, a.size, a.size, c5_cast_mode_name(a.mode), k_min,
+               k_max, a.threads, a.threads == 1 ? "" : "s", a.shading ? "on" : "off", a.prefetch ? "on" : "off");
+        printf("median %.2f ms/frame (%.1f fps), mean %.2f ms; producer %.2f ms, worker %.2f ms per frame; "
+               "load imbalance %.1f%%; %.0f samples per frame; setup %.0f ms\n",
+               ms_med, 1000 / ms_med, mean, prod, work, imb, samples, setup_ms);
+    }
+    rc = 0;
+    goto done;
+fail:
+    fprintf(stderr, "cube5: error: cast: %s\n", err.msg);
+done:
+    c5_image_free(&img);
+    c5_cast_volume_free(cv);
+    free(in.vox);
+    free(cams);
+    free(fig);
+    free(pass_median);
+    free(tmp);
+    return rc;
+}
