@@ -232,5 +232,44 @@ expect schedule_bad_tree_nodes 2 "--tree-nodes: expected an integer" -- "$cube5"
 expect schedule_bad_cells 2 "--cells: expected N or NxMxK" -- "$cube5" schedule default --cells 0
 expect schedule_unknown_option 2 "unknown option '--model'" -- "$cube5" schedule default --model rtl
 
+# cube5 cast (docs/caster.md): every mode and worker count writes the same bits; the JSON has
+# the figures the bench reads; bad input is refused with one line.
+head -c 16 /dev/zero >"$tmp/tiny_2x2x2_uint16.raw"
+for m in plain ess approx approx+refine; do
+    for t in 1 3; do
+        "$cube5" cast phantom:shell:40 --size 48 --views 2 --mode "$m" --threads "$t" --shading on \
+            -o "$tmp/cast_${m}_$t.exr" >/dev/null || bad "cast_$m_$t" "exit $?"
+    done
+done
+same=1
+for f in "$tmp"/cast_*.exr; do cmp -s "$f" "$tmp/cast_plain_1.exr" || { same=0; echo "    differs: $f"; }; done
+if [ "$same" = 1 ] && [ "$(ls "$tmp"/cast_*.exr | wc -l)" = 8 ]; then ok cast_modes_same_bits; else bad cast_modes_same_bits; fi
+json=$("$cube5" cast phantom:ml:32 --size 32 --views 3 --k 4 --json)
+if python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+assert d["fps_median"] > 0 and d["ms_median"] > 0 and len(d["per_view"]) == 3
+assert d["k_min"] == d["k_max"] == 4 and d["dataset"]["dims"] == [32, 32, 32]
+assert all(v["samples"] > 0 for v in d["per_view"])' "$json"; then ok cast_json; else bad cast_json "$json"; fi
+"$cube5" cast phantom:shell:24 --size 16 --views 1 --save-raw "$tmp/shell_24x24x24_uint8.raw" >/dev/null
+a=$("$cube5" cast phantom:shell:24 --size 16 --views 2 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["per_view"][1]["samples"])')
+b=$("$cube5" cast "$tmp/shell_24x24x24_uint8.raw" --size 16 --views 2 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["per_view"][1]["samples"])')
+if [ -n "$a" ] && [ "$a" = "$b" ]; then ok cast_save_raw_round_trip; else bad cast_save_raw_round_trip "$a vs $b"; fi
+expect cast_scene 0 "" -- "$cube5" cast default --size 16 --views 1
+expect cast_no_input 2 "cast needs a VOLUME or SCENE" -- "$cube5" cast
+expect cast_bad_mode 2 "--mode: expected plain, ess" -- "$cube5" cast phantom:ml:8 --mode fast
+expect cast_bad_k 2 "--k: expected 1, 2, 4, 8 or 16" -- "$cube5" cast phantom:ml:8 --k 3
+expect cast_bad_shading 2 "--shading: expected on or off" -- "$cube5" cast phantom:ml:8 --shading yes
+expect cast_bad_phantom 2 "unknown phantom 'foot'" -- "$cube5" cast phantom:foot:8
+expect cast_missing_file 2 "nothere_4x4x4_uint8.raw" -- "$cube5" cast "$tmp/nothere_4x4x4_uint8.raw"
+expect cast_uint16 2 "cast takes uint8 volumes" -- "$cube5" cast "$tmp/tiny_2x2x2_uint16.raw"
+expect cast_bad_tf 2 "nothere.json" -- "$cube5" cast phantom:ml:8 --tf "$tmp/nothere.json"
+expect cast_bad_ext 2 "unsupported image extension" -- "$cube5" cast phantom:ml:8 -o "$tmp/x.bmp"
+cp "$tmp/vol_10x10x10_uint8.raw" "$tmp/keep_10x10x10_uint8.raw"
+expect cast_no_overwrite 2 "refusing to overwrite" -- "$cube5" cast "$tmp/keep_10x10x10_uint8.raw" --save-raw "$tmp/keep_10x10x10_uint8.raw"
+if cmp -s "$tmp/vol_10x10x10_uint8.raw" "$tmp/keep_10x10x10_uint8.raw"; then ok cast_input_kept; else bad cast_input_kept; fi
+scene "$tmp/novol.json" ''
+expect cast_no_volume_scene 2 "has no volume to cast" -- "$cube5" cast "$tmp/novol.json"
+
 summary
 [ "$failed" -eq 0 ]

@@ -226,18 +226,20 @@ TEST(cast_figure7_missed_brick_is_still_drawn)
         c5_cast_view vw = {.v = probe, .tf = &tf, .cam = &cam, .w = w, .h = h, .k = k, .step = 1};
         for (int a = 0; a < 3; a++)
             vw.eye_v[a] = eye[a];
+        CHECK(!c5_cast_view_classify(&vw, 0));
         double t0[64], t1[64], dir[3];
         int corner_hits = 0, pixel_hits = 0;
         for (int y = 0; y <= h; y += k)
             for (int x = 0; x <= w; x += k) {
                 c5_cast_ray_dir(&vw, x, y, dir);
-                corner_hits += c5_cast_ray_segments(&vw, dir, zero, t0, t1, 64, NULL, NULL, 0) > 0;
+                corner_hits += c5_cast_ray_segments(&vw, dir, zero, t0, t1, 64, NULL) > 0;
             }
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++) {
                 c5_cast_ray_dir(&vw, x + 0.5, y + 0.5, dir);
-                pixel_hits += c5_cast_ray_segments(&vw, dir, zero, t0, t1, 64, NULL, NULL, 0) > 0;
+                pixel_hits += c5_cast_ray_segments(&vw, dir, zero, t0, t1, 64, NULL) > 0;
             }
+        c5_cast_view_release(&vw);
         c5_cast_volume_free(probe);
         if (!corner_hits && pixel_hits >= 4)
             found = b;

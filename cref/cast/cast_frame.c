@@ -118,6 +118,8 @@ static int view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_t
     uint64_t st = 0xC5CA57ull;
     for (int a = 0; a < 3; a++)
         vw->hash_r[a] = 1 + c5_splitmix64(&st) % (C5_CAST_HASH_PR - 1);
+    if (c5_cast_view_classify(vw, o->mode == C5_CAST_APPROX_REFINE))
+        return c5_fail(err, "cast: out of memory for the octree's classification");
     if (!o->shading)
         return 0;
     if (v->bricks && !v->normals)
@@ -258,7 +260,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         return -1;
     c5_cast_view vw;
     if (view_setup(&vw, v, tf, cam, w, h, o, err)) {
-        free(vw.shade);
+        c5_cast_view_release(&vw);
         return -1;
     }
     int nw = o->workers, depth = o->queue_depth ? o->queue_depth : 4, ntiles = 0, rc = -1, allocated = 0;
@@ -341,7 +343,7 @@ done:
     free(wk);
     free(rings);
     free(tiles);
-    free(vw.shade);
+    c5_cast_view_release(&vw);
     st->frame_s = now_s() - t_start;
     return rc;
 }

@@ -58,7 +58,20 @@ typedef struct {
     int lookahead;          /* samples ahead of the current one that the prefetch looks at */
     uint64_t hash_r[3];     /* the universal hash's random factors, in (0, PR) */
     float (*shade)[2];      /* per normal code: diffuse and specular factors of the headlight */
+    /* the octree classified through this frame's TF (c5_cast_view_classify): per node
+     * C5_CAST_EMPTY, C5_CAST_MIXED or C5_CAST_SOLID (every brick below it non-empty) */
+    uint8_t *cls[C5_CAST_MAX_LEVELS];
+    uint64_t (*node_hash[C5_CAST_MAX_LEVELS])[C5_CAST_HASH_WORDS]; /* refine: per node, its bricks' bits */
 } c5_cast_view;
+
+enum { C5_CAST_EMPTY, C5_CAST_MIXED, C5_CAST_SOLID };
+
+/* Classifies every octree node of vw->v through vw->tf, bottom up: a brick is empty when the
+ * TF is zero over its voxels' range; a parent is empty (solid) when all its children are.
+ * With `hashes`, also the OR of the hash bits of each node's bricks (levels >= 1). -1 when
+ * out of memory. c5_cast_view_release frees what it allocated. */
+int c5_cast_view_classify(c5_cast_view *vw, int hashes);
+void c5_cast_view_release(c5_cast_view *vw);
 
 /* Direction of the ray through image point (u, v) in pixels (pixel centres at +0.5), unit. */
 void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3]);
@@ -85,7 +98,6 @@ typedef struct {
 /* The producer's working memory (one per producing thread). */
 typedef struct {
     double t0[C5_CAST_RAY_MAX], t1[C5_CAST_RAY_MAX];
-    uint32_t leaves[C5_CAST_RAY_MAX];
     c5_cast_seg row[2][C5_CAST_TILE + 1][C5_CAST_CORNER_MAX]; /* two rows of corner lists */
     int row_n[2][C5_CAST_TILE + 1];
     uint64_t hash[2][C5_CAST_TILE + 1][C5_CAST_HASH_WORDS];
@@ -97,12 +109,12 @@ void c5_cast_scratch_free(c5_cast_scratch *s);
 /* Producer: fills t for the tile at (x0, y0). -1 only when out of memory. */
 int c5_cast_produce(const c5_cast_view *vw, c5_cast_scratch *rs, int x0, int y0, c5_cast_task *t);
 
-/* The bricks whose (dilated) boxes a ray from the eye along unit d crosses and that the TF
- * leaves non-empty, as intervals of t (world), sorted and merged; returns their count, or -1
- * when more than cap intervals (or leaf_cap leaves) were met. `leaves` (may be NULL) receives
- * the brick indices in visiting order. */
+/* The octree walk of one ray from the eye along unit d: the intervals of t (world) where it
+ * crosses the boxes, dilated by delta_v, of non-empty bricks (a solid node's box at once),
+ * sorted and merged; returns their count, or -1 when more than cap intervals were met. With
+ * `hash`, ORs in the hash bits of those bricks (needs c5_cast_view_classify(vw, 1)). */
 int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double delta_v[3], double *t0, double *t1,
-                         int cap, uint32_t *leaves, int *n_leaves, int leaf_cap);
+                         int cap, uint64_t *hash);
 
 /* Worker: renders the tile's pixels into img, adding to the counters. */
 typedef struct {

@@ -24,11 +24,9 @@ typedef struct {
     const double *delta;      /* dilation per axis (voxel units) */
     double *t0, *t1;
     int n, cap;
-    uint32_t *leaves;
-    int n_leaves, leaf_cap;
+    uint64_t *hash;
     int overflow;
-    const c5_cast_volume *v;
-    const c5_cast_tf *tf;
+    const c5_cast_view *vw;
 } walk;
 
 /* Slab test against the box [lo, hi] (voxel units); t >= 0. */
@@ -55,9 +53,10 @@ static int hit_box(const walk *w, const double lo[3], const double hi[3], double
 
 static void visit(walk *w, int l, int x, int y, int z)
 {
-    const c5_cast_volume *v = w->v;
-    const uint8_t *mm = v->minmax[l] + 2 * (((size_t)z * v->ln[l][1] + y) * v->ln[l][0] + x);
-    if (w->overflow || c5_cast_tf_empty(w->tf, mm[0], mm[1]))
+    const c5_cast_volume *v = w->vw->v;
+    size_t node = ((size_t)z * v->ln[l][1] + y) * v->ln[l][0] + x;
+    int cls = w->vw->cls[l][node];
+    if (w->overflow || cls == C5_CAST_EMPTY)
         return;
     int side = C5_CAST_BRICK << l, idx[3] = {x, y, z};
     double lo[3], hi[3], tn, tf;
@@ -68,15 +67,20 @@ static void visit(walk *w, int l, int x, int y, int z)
     }
     if (!hit_box(w, lo, hi, &tn, &tf))
         return;
-    if (l == 0) {
-        if (w->n == w->cap || (w->leaves && w->n_leaves == w->leaf_cap)) {
+    if (l == 0 || cls == C5_CAST_SOLID) {
+        /* every brick below is non-empty: the union of their dilated boxes is this one's */
+        if (w->n == w->cap) {
             w->overflow = 1;
             return;
         }
         w->t0[w->n] = tn, w->t1[w->n] = tf;
         w->n++;
-        if (w->leaves)
-            w->leaves[w->n_leaves++] = (uint32_t)c5_cast_brick_index(v, x, y, z);
+        if (w->hash && l == 0) {
+            uint32_t key = c5_cast_hash_key(w->vw, x, y, z);
+            w->hash[key / 64] |= (uint64_t)1 << (key % 64);
+        } else if (w->hash)
+            for (int i = 0; i < C5_CAST_HASH_WORDS; i++)
+                w->hash[i] |= w->vw->node_hash[l][node][i];
         return;
     }
     const int *c = v->ln[l - 1];
@@ -111,11 +115,10 @@ static int merge_intervals(double *t0, double *t1, int n)
 }
 
 int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double delta_v[3], double *t0, double *t1,
-                         int cap, uint32_t *leaves, int *n_leaves, int leaf_cap)
+                         int cap, uint64_t *hash)
 {
     const c5_cast_volume *v = vw->v;
-    walk w = {.delta = delta_v, .t0 = t0, .t1 = t1, .cap = cap, .leaves = leaves, .leaf_cap = leaf_cap,
-              .v = v, .tf = vw->tf};
+    walk w = {.delta = delta_v, .t0 = t0, .t1 = t1, .cap = cap, .hash = hash, .vw = vw};
     for (int a = 0; a < 3; a++) {
         w.o[a] = vw->eye_v[a];
         w.d[a] = d[a] / v->spacing[a];
@@ -124,9 +127,62 @@ int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double
     }
     if (v->bricks)
         visit(&w, v->levels - 1, 0, 0, 0);
-    if (n_leaves)
-        *n_leaves = w.n_leaves;
     return w.overflow ? -1 : merge_intervals(t0, t1, w.n);
+}
+
+/* Bottom-up classification; see cast_internal.h. */
+int c5_cast_view_classify(c5_cast_view *vw, int hashes)
+{
+    const c5_cast_volume *v = vw->v;
+    for (int l = 0; l < v->levels; l++) {
+        size_t n = (size_t)v->ln[l][0] * (size_t)v->ln[l][1] * (size_t)v->ln[l][2];
+        if (!(vw->cls[l] = malloc(n)))
+            return -1;
+        if (hashes && l > 0 && !(vw->node_hash[l] = calloc(n, sizeof *vw->node_hash[l])))
+            return -1;
+        for (int z = 0; z < v->ln[l][2]; z++)
+            for (int y = 0; y < v->ln[l][1]; y++)
+                for (int x = 0; x < v->ln[l][0]; x++) {
+                    size_t node = ((size_t)z * v->ln[l][1] + y) * v->ln[l][0] + x;
+                    if (l == 0) {
+                        const uint8_t *mm = v->minmax[0] + 2 * node;
+                        vw->cls[0][node] = c5_cast_tf_empty(vw->tf, mm[0], mm[1]) ? C5_CAST_EMPTY : C5_CAST_SOLID;
+                        continue;
+                    }
+                    const int *c = v->ln[l - 1];
+                    int any = 0, all = 1;
+                    for (int i = 0; i < 8; i++) {
+                        int cx = 2 * x + (i & 1), cy = 2 * y + (i >> 1 & 1), cz = 2 * z + (i >> 2 & 1);
+                        if (cx >= c[0] || cy >= c[1] || cz >= c[2])
+                            continue;
+                        size_t ch = ((size_t)cz * c[1] + cy) * c[0] + cx;
+                        int k = vw->cls[l - 1][ch];
+                        any |= k != C5_CAST_EMPTY, all &= k == C5_CAST_SOLID;
+                        if (!hashes || k == C5_CAST_EMPTY)
+                            continue;
+                        uint64_t *h = vw->node_hash[l][node];
+                        if (l == 1) {
+                            uint32_t key = c5_cast_hash_key(vw, cx, cy, cz);
+                            h[key / 64] |= (uint64_t)1 << (key % 64);
+                        } else
+                            for (int wd = 0; wd < C5_CAST_HASH_WORDS; wd++)
+                                h[wd] |= vw->node_hash[l - 1][ch][wd];
+                    }
+                    vw->cls[l][node] = !any ? C5_CAST_EMPTY : all ? C5_CAST_SOLID : C5_CAST_MIXED;
+                }
+    }
+    return 0;
+}
+
+void c5_cast_view_release(c5_cast_view *vw)
+{
+    for (int l = 0; l < C5_CAST_MAX_LEVELS; l++) {
+        free(vw->cls[l]);
+        free(vw->node_hash[l]);
+        vw->cls[l] = NULL, vw->node_hash[l] = NULL;
+    }
+    free(vw->shade);
+    vw->shade = NULL;
 }
 
 void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3])
@@ -177,9 +233,10 @@ static int ray_list(const c5_cast_view *vw, c5_cast_scratch *rs, double u, doubl
 {
     double d[3];
     c5_cast_ray_dir(vw, u, v, d);
-    int nl = 0, n = 0;
-    int m = c5_cast_ray_segments(vw, d, vw->delta_v, rs->t0, rs->t1, C5_CAST_RAY_MAX, hash ? rs->leaves : NULL, &nl,
-                                 C5_CAST_RAY_MAX);
+    int n = 0;
+    if (hash)
+        memset(hash, 0, C5_CAST_HASH_WORDS * sizeof *hash);
+    int m = c5_cast_ray_segments(vw, d, vw->delta_v, rs->t0, rs->t1, C5_CAST_RAY_MAX, hash);
     for (int i = 0; i < m && n >= 0; i++) {
         c5_cast_seg s = to_indices(vw, rs->t0[i], rs->t1[i]);
         if (s.j1 < s.j0)
@@ -197,11 +254,6 @@ static int ray_list(const c5_cast_view *vw, c5_cast_scratch *rs, double u, doubl
         if (hash)
             memset(hash, 0xff, C5_CAST_HASH_WORDS * sizeof *hash);
         return 1;
-    }
-    for (int i = 0; hash && i < nl; i++) {
-        uint32_t b = rs->leaves[i], nx = (uint32_t)vw->v->nb[0], ny = (uint32_t)vw->v->nb[1];
-        uint32_t key = c5_cast_hash_key(vw, (int)(b % nx), (int)(b / nx % ny), (int)(b / (nx * ny)));
-        hash[key / 64] |= (uint64_t)1 << (key % 64);
     }
     return n;
 }
@@ -266,8 +318,6 @@ static int produce_approx(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_t
         int r = b & 1, p = r ^ 1;
         for (int a = 0; a < cx; a++) {
             uint64_t *h = refine ? rs->hash[r][a] : NULL;
-            if (h)
-                memset(h, 0, sizeof rs->hash[r][a]);
             rs->row_n[r][a] = ray_list(vw, rs, t->x0 + a * k, t->y0 + b * k, rs->row[r][a], h);
             t->rays++;
         }
