@@ -142,10 +142,10 @@ for key in vtk_ms:
 print("VTK vtkFixedPointVolumeRayCastMapper vs cube5 cast (approx+refine), 256x256, 24 views, 2 threads;")
 print("ms = median over %d interleaved rounds of each one's median ms/frame; images: view 0" %
       len(next(iter(vtk_ms.values()))))
-print("%-8s %6s %5s %9s %9s %9s %8s %6s %8s %8s %9s" % ("dataset", "dist", "shade", "VTK ms", "ours ms",
+print("%-8s %6s %5s %9s %9s %9s %8s %6s %8s %8s %11s" % ("dataset", "dist", "shade", "VTK ms", "ours ms",
       "VTK/ours", "our fps", ">26?", "PSNR dB", "mean|d|", "lum V/o"))
 for r in rows:
-    print("%-8s %6.4g %5s %9.1f %9.1f %9.2f %8.1f %6s %8.2f %8.2f %5.1f/%-5.1f" % (
+    print("%-8s %6.4f %5s %9.1f %9.1f %9.2f %8.1f %6s %8.2f %8.2f %5.1f/%-5.1f" % (
         r["dataset"], r["distance_factor"], "on" if r["shading"] else "off", r["vtk_ms"], r["ours_ms"],
         r["ratio_vtk_over_ours"], r["ours_fps"], "yes" if r["beats_26fps"] else "no", r["psnr_db"],
         r["mean_abs_diff"], r["vtk_mean_lum"], r["ours_mean_lum"]))
