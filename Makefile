@@ -42,7 +42,7 @@ REGS_H      := $(BUILD)/gen/c5_regs_map.h
 REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
-.PHONY: all demo test asan bench tb results deps docs golden fpga-report clean
+.PHONY: all demo test asan bench bench-peer tb results deps docs golden fpga-report clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
 
@@ -135,6 +135,11 @@ asan:
 
 bench: $(BUILD)/cube5 $(LINK_BINS)
 	bash scripts/bench.sh $(BUILD)
+
+# Our caster against VTK's vtkFixedPointVolumeRayCastMapper (../shared/bench/peer-vtk),
+# interleaved rounds; env ROUNDS, ONLY, DISTS (scripts/bench-peer.sh).
+bench-peer: $(BUILD)/cube5
+	bash scripts/bench-peer.sh $(BUILD)
 
 # The board model against cref on every built-in scene, 1, 8 and 27 cells (tb/README.md).
 tb: $(BUILD)/cube5

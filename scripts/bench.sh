@@ -5,6 +5,7 @@
 # to the emulated board (cell upload MB/s, frames per second over the emulated link).
 # Printed as tables and written to BUILD/bench.json.
 # With ../shared/data/volumes/ present, also brain_mirrors with a real CT volume.
+# Then the caster section (cube5 cast, the paper's Figures 11-13 and Table 2): scripts/bench-cast.sh.
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -99,3 +100,4 @@ print("   doorbell to the cell's last completion; fps = 1 / (start_frame to fram
 json.dump({"cref": cref, "rtl": rtl, "compare": cmp, "link": link}, open(sys.argv[2], "w"), indent=1)
 print("written:", sys.argv[2])
 PY
+bash "$(dirname "$0")/bench-cast.sh" "$build"
