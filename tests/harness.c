@@ -97,3 +97,13 @@ int main(int argc, char **argv)
     printf("SUMMARY passed=%d failed=%d\n", passed, failed);
     return failed ? 1 : 0;
 }
+
+const char *c5t_json(const char *s)
+{
+    static char buf[8192];
+    size_t i;
+    for (i = 0; s[i] && i < sizeof buf - 1; i++)
+        buf[i] = s[i] == '\'' ? '"' : s[i];
+    buf[i] = 0;
+    return buf;
+}

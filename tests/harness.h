@@ -11,6 +11,9 @@ typedef void (*c5t_fn)(void);
 void c5t_register(const char *name, c5t_fn fn);
 void c5t_failf(const char *file, int line, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 int c5t_failed_now(void);
+/* JSON written with ' for " (readable in C strings): the text with every ' turned into ".
+ * Returns a static buffer, valid until the next call. */
+const char *c5t_json(const char *s);
 /* A fresh empty directory for this test case, removed after the run. */
 const char *c5t_tmpdir(void);
 /* Path of a file inside c5t_tmpdir(); valid until the next call with the same slot. */

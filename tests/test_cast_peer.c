@@ -2,7 +2,7 @@
  * camera test vectors, the transfer-function files and every validation rule, and the two
  * phantoms, checked at grid points where the formula gives exact values and, as a whole,
  * against checksums of render_vtk.py's own output. JSON in this file is written with ' for "
- * (see J()). */
+ * (see c5t_json()). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -100,16 +100,6 @@ TEST(peer_cameras_orthonormal)
 
 /* ---- transfer functions --------------------------------------------------------------- */
 
-/* The JSON text with every ' turned into ". */
-static const char *J(const char *s)
-{
-    static char buf[8192];
-    size_t i;
-    for (i = 0; s[i] && i < sizeof buf - 1; i++)
-        buf[i] = s[i] == '\'' ? '"' : s[i];
-    buf[i] = 0;
-    return buf;
-}
 
 TEST(peer_tf_builtin_default)
 {
@@ -149,12 +139,12 @@ TEST(peer_tf_defaults)
 {
     c5_tf_desc tf;
     c5_err e;
-    CHECK_INT(c5_peer_tf_parse(J("{" PTS "}"), "t.json", 2.0, &tf, &e), 0);
+    CHECK_INT(c5_peer_tf_parse(c5t_json("{" PTS "}"), "t.json", 2.0, &tf, &e), 0);
     CHECK_INT(tf.n_opacity, 2);
     CHECK_INT(tf.n_color, 1);
     CHECK_INT(tf.unit_distance == 2.0, 1);
     CHECK_INT(tf.ambient == 0.3 && tf.diffuse == 0.7 && tf.specular == 0.2 && tf.specular_power == 10, 1);
-    CHECK_INT(c5_peer_tf_parse(J("{" PTS ", 'opacity_unit_distance_voxels': 2.5, 'shading': {'diffuse': 0.5},"
+    CHECK_INT(c5_peer_tf_parse(c5t_json("{" PTS ", 'opacity_unit_distance_voxels': 2.5, 'shading': {'diffuse': 0.5},"
                                  " 'interpolation': 'linear', 'scalar_range': [0, 255], 'background': [0, 0, 0],"
                                  " 'name': 'n', 'description': 'd'}"),
                                "t.json", 2.0, &tf, &e),
@@ -202,7 +192,7 @@ TEST(peer_tf_validation)
         c5_tf_desc tf;
         c5_err e = {{0}};
         memset(&tf, 0x5a, sizeof tf);
-        int rc = c5_peer_tf_parse(J(bad[i].json), "t.json", 1.0, &tf, &e);
+        int rc = c5_peer_tf_parse(c5t_json(bad[i].json), "t.json", 1.0, &tf, &e);
         CHECK_MSG(rc == -1, "case %zu accepted: %s", i, bad[i].json);
         CHECK_MSG(!strncmp(e.msg, "t.json: ", 8), "case %zu: \"%s\" does not name the file", i, e.msg);
         CHECK_HAS(e.msg, bad[i].where);
@@ -211,7 +201,7 @@ TEST(peer_tf_validation)
     }
     c5_tf_desc tf;
     c5_err e;
-    CHECK_INT(c5_peer_tf_parse(J("{" PTS "}"), "t.json", 0.0, &tf, &e), -1);
+    CHECK_INT(c5_peer_tf_parse(c5t_json("{" PTS "}"), "t.json", 0.0, &tf, &e), -1);
     CHECK_HAS(e.msg, "spacing");
 }
 
@@ -239,7 +229,7 @@ TEST(peer_tf_load_file)
     const char *p = c5t_path(0, "tf_mine.json");
     FILE *f = fopen(p, "w");
     CHECK(f);
-    fputs(J("{'opacity': [[10, 0], [20, 0.25]], 'color': [[0, 0.5, 0.5, 0.5]], 'shading': {'specular_power': 40}}"), f);
+    fputs(c5t_json("{'opacity': [[10, 0], [20, 0.25]], 'color': [[0, 0.5, 0.5, 0.5]], 'shading': {'specular_power': 40}}"), f);
     fclose(f);
     c5_tf_desc tf;
     c5_err e;
@@ -249,7 +239,7 @@ TEST(peer_tf_load_file)
     /* a file's messages carry its path */
     f = fopen(p, "w");
     CHECK(f);
-    fputs(J("{'opacity': [[10, 0], [20, 2]], 'color': [[0, 0.5, 0.5, 0.5]]}"), f);
+    fputs(c5t_json("{'opacity': [[10, 0], [20, 2]], 'color': [[0, 0.5, 0.5, 0.5]]}"), f);
     fclose(f);
     CHECK_INT(c5_peer_tf_load(p, 1.0, &tf, &e), -1);
     CHECK_HAS(e.msg, p);

@@ -1,5 +1,5 @@
 /* Scene parser tests: a full and a minimal scene, every validation rule, camera paths and
- * loading from a file. JSON in this file is written with ' for " (see J()). */
+ * loading from a file. JSON in this file is written with ' for " (see c5t_json()). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,21 +9,11 @@
 
 static c5_scene scene; /* large; kept off the stack */
 
-/* The JSON text with every ' turned into ". */
-static const char *J(const char *s)
-{
-    static char buf[8192];
-    size_t i;
-    for (i = 0; s[i] && i < sizeof buf - 1; i++)
-        buf[i] = s[i] == '\'' ? '"' : s[i];
-    buf[i] = 0;
-    return buf;
-}
 
 static int parse(const char *json, c5_err *e)
 {
     e->msg[0] = 0;
-    return c5_scene_parse(J(json), "/scenes", "t.json", &scene, e);
+    return c5_scene_parse(c5t_json(json), "/scenes", "t.json", &scene, e);
 }
 
 /* The scene must be refused with a message "t.json: ..." holding both `where` (the JSON
@@ -244,7 +234,7 @@ TEST(scene_minimal_defaults)
     CHECK_NEAR(c.fov_deg, 30, 0);
 
     /* Generator defaults, shading-section defaults, the built-in name. */
-    CHECK_MSG(c5_scene_parse(J("{" CAM ", 'volumes': [{'generator': 'marschner_lobb', 'dims': [4, 4, 4]},"
+    CHECK_MSG(c5_scene_parse(c5t_json("{" CAM ", 'volumes': [{'generator': 'marschner_lobb', 'dims': [4, 4, 4]},"
                                "{'generator': 'blobs', 'dims': [4, 4, 4]}, {'generator': 'sphere', 'dims': [4, 4, 4]},"
                                "{'generator': 'constant', 'dims': [4, 4, 4]}, {'generator': 'ramp', 'dims': [4, 4, 4]}],"
                                TF ", 'grid': {'origin': [1, 2, 3]}, 'render': {}}"),
@@ -562,7 +552,7 @@ TEST(scene_load_file)
 {
     c5_err e;
     const char *path = c5t_path(0, "my.scene.json");
-    CHECK_INT(write_file(path, J("{" CAM ", 'volumes': [{'file': 'vol_2x2x2_uint8.raw'}], " TF "}")), 0);
+    CHECK_INT(write_file(path, c5t_json("{" CAM ", 'volumes': [{'file': 'vol_2x2x2_uint8.raw'}], " TF "}")), 0);
     CHECK_MSG(c5_scene_load_file(path, &scene, &e) == 0, "%s", e.msg);
     CHECK(!strcmp(scene.name, "my.scene"));
     char want[1100];
@@ -570,7 +560,7 @@ TEST(scene_load_file)
     CHECK_MSG(!strcmp(scene.volumes[0].path, want), "path %s, want %s", scene.volumes[0].path, want);
 
     /* Errors name the file. */
-    CHECK_INT(write_file(path, J("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'fov': 0}}")), 0);
+    CHECK_INT(write_file(path, c5t_json("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'fov': 0}}")), 0);
     CHECK_INT(c5_scene_load_file(path, &scene, &e), -1);
     CHECK_HAS(e.msg, path);
     CHECK_HAS(e.msg, "camera.fov: must be in (0, 180), got 0");

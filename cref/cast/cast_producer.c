@@ -29,28 +29,6 @@ typedef struct {
     const c5_cast_view *vw;
 } walk;
 
-/* Slab test against the box [lo, hi] (voxel units); t >= 0. */
-static int hit_box(const walk *w, const double lo[3], const double hi[3], double *tn, double *tf)
-{
-    double a = 0, b = INFINITY;
-    for (int i = 0; i < 3; i++) {
-        if (w->d[i] == 0) {
-            if (w->o[i] < lo[i] || w->o[i] > hi[i])
-                return 0;
-            continue;
-        }
-        double s0 = (lo[i] - w->o[i]) * w->inv[i], s1 = (hi[i] - w->o[i]) * w->inv[i];
-        if (s0 > s1) {
-            double s = s0;
-            s0 = s1, s1 = s;
-        }
-        a = s0 > a ? s0 : a;
-        b = s1 < b ? s1 : b;
-    }
-    *tn = a, *tf = b;
-    return a <= b;
-}
-
 static void visit(walk *w, int l, int x, int y, int z)
 {
     const c5_cast_volume *v = w->vw->v;
@@ -65,7 +43,7 @@ static void visit(walk *w, int l, int x, int y, int z)
         lo[a] = (double)idx[a] * side - w->delta[a];
         hi[a] = (h < v->cells[a] ? h : v->cells[a]) + w->delta[a];
     }
-    if (!hit_box(w, lo, hi, &tn, &tf))
+    if (!c5_cast_slab(w->o, w->d, w->inv, lo, hi, &tn, &tf))
         return;
     if (l == 0 || cls == C5_CAST_SOLID) {
         /* every brick below is non-empty: the union of their dilated boxes is this one's */

@@ -10,28 +10,6 @@
 
 #include "cast_internal.h"
 
-/* Entry and exit t of the ray o + t d (voxel units per world t) through [0, hi]; 0 on a miss. */
-static int volume_span(const double o[3], const double d[3], const double hi[3], double *tin, double *tout)
-{
-    double a = 0, b = INFINITY;
-    for (int i = 0; i < 3; i++) {
-        if (d[i] == 0) {
-            if (o[i] < 0 || o[i] > hi[i])
-                return 0;
-            continue;
-        }
-        double s0 = (0 - o[i]) / d[i], s1 = (hi[i] - o[i]) / d[i];
-        if (s0 > s1) {
-            double s = s0;
-            s0 = s1, s1 = s;
-        }
-        a = s0 > a ? s0 : a;
-        b = s1 < b ? s1 : b;
-    }
-    *tin = a, *tout = b;
-    return a <= b;
-}
-
 static inline float lerp(float a, float b, float t) { return a + t * (b - a); }
 
 static inline float tri(const float c[8], float fx, float fy, float fz)
@@ -95,17 +73,18 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
     out[0] = out[1] = out[2] = 0;
     if (!bricks)
         return;
-    double d[3], o[3], dv[3], tin, tout;
+    double d[3], o[3], dv[3], inv[3], tin, tout, lo[3] = {0, 0, 0};
     c5_cast_ray_dir(vw, px + 0.5, py + 0.5, d);
     ray_f r;
     for (int a = 0; a < 3; a++) {
         o[a] = vw->eye_v[a];
         dv[a] = d[a] / v->spacing[a];
+        inv[a] = dv[a] != 0 ? 1 / dv[a] : 0;
         r.o[a] = (float)o[a], r.d[a] = (float)dv[a], r.hi[a] = (float)vw->box_hi[a], r.last[a] = v->cells[a] - 1;
     }
     r.step = (float)vw->step;
     r.nb0 = (size_t)v->nb[0], r.nb01 = (size_t)v->nb[0] * (size_t)v->nb[1];
-    if (!volume_span(o, dv, vw->box_hi, &tin, &tout))
+    if (!c5_cast_slab(o, dv, inv, lo, vw->box_hi, &tin, &tout))
         return;
     double jd_in = ceil(tin / vw->step), jd_out = floor(tout / vw->step);
     if (jd_out > C5_CAST_J_MAX)
