@@ -13,6 +13,7 @@
 #include "cast_peer.h"
 #include "cli.h"
 #include "volume.h"
+#include "clock.h"
 
 static const char USAGE[] =
     "usage: cube5 cast VOLUME|SCENE [-o OUT] [--views N] [--size N] [--mode MODE] [--threads N]\n"
@@ -267,13 +268,6 @@ static double median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /* Per view, the last pass's figures (the counts are the same in every pass). */
 typedef struct {
     double ms, producer_ms, worker_ms, imbalance;
@@ -323,13 +317,13 @@ int c5_cmd_cast(int argc, char **argv)
             c5_fail(&err, "%s: is an input; refusing to overwrite it", outs[i]);
             goto fail;
         }
-    double t0 = now_s();
+    double t0 = c5_now_s();
     if (load_input(&a, &in, &err) || c5_cast_volume_make(in.vox, in.dims, in.spacing, &cv, &err))
         goto fail;
     rc = C5_EXIT_RUNTIME;
     if (a.shading && c5_cast_volume_normals(cv, &err))
         goto fail;
-    double setup_ms = (now_s() - t0) * 1e3;
+    double setup_ms = (c5_now_s() - t0) * 1e3;
     if (a.save_raw && write_raw(a.save_raw, &in, &err))
         goto fail;
     double ms_sp = fmin(in.spacing[0], fmin(in.spacing[1], in.spacing[2]));

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "cref.h"
 #include "metrics.h"
+#include "clock.h"
 
 static const char usage_text[] =
     "usage: cube5 compare [SCENE|FILE.json] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
@@ -82,13 +83,6 @@ static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
         }
     }
     return 0;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* What the two runs produced. Host times are measured here, around each call, so that both
@@ -230,14 +224,14 @@ int c5_cmd_compare(int argc, char **argv)
     c5_cref_opts copts = {.threads = (int)a.threads};
     c5_board_opts bopts = {.key = a.key};
     memcpy(bopts.cells, a.cells, sizeof bopts.cells);
-    double t0 = now_s();
+    double t0 = c5_now_s();
     if (c5_cref_render(&s, &sv, (int)a.frame, &copts, &r.ref, &r.cref, &err) != 0)
         goto fail;
-    double t1 = now_s();
+    double t1 = c5_now_s();
     if (c5_board_render(&s, &sv, (int)a.frame, &bopts, &r.test, &r.board, &err) != 0)
         goto fail;
     r.cref_wall_s = t1 - t0;
-    r.model_wall_s = now_s() - t1;
+    r.model_wall_s = c5_now_s() - t1;
     if (c5_image_compare(&r.ref, &r.test, &r.d, &err) != 0)
         goto fail;
     if (a.diff) {

@@ -9,6 +9,7 @@
 
 #include "camera.h"
 #include "trace.h"
+#include "clock.h"
 
 #define TILE 16
 
@@ -69,17 +70,10 @@ int c5_cref_thread_count(int requested)
     return n < 1 ? 1 : n > 256 ? 256 : (int)n;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 int c5_cref_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_cref_opts *opts, c5_image *out,
                    c5_cref_stats *stats, c5_err *err)
 {
-    double start = now_s();
+    double start = c5_now_s();
     memset(stats, 0, sizeof *stats);
     if (c5_image_alloc(out, s->render.width, s->render.height, err) != 0)
         return -1;
@@ -148,7 +142,7 @@ int c5_cref_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5
     free(ctx);
     if (rc != 0)
         c5_image_free(out);
-    stats->wall_s = now_s() - start;
+    stats->wall_s = c5_now_s() - start;
     return rc;
 }
 

@@ -14,6 +14,7 @@
 #include "ray_queue.h"
 #include "regs.h"
 #include "taps.h"
+#include "clock.h"
 
 #define CLOCK_HZ 100e6
 #define RDRAM_BW 800e6
@@ -108,13 +109,6 @@ static int edram_insert(board *b, const c5_bray *r)
     return 1;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /* The processor hands a ray on: the active cell's sorter (the ray stays in its cell, so its
  * Cell Tree node stays), else (full, or another cell) over the ray bus to the DSP, which
  * tags it with its node before queueing it in SDRAM. */
@@ -127,9 +121,9 @@ static void on_enqueue(void *ctx, const c5_bray *r)
         b->st->spills++;
     }
     c5_bray q = *r;
-    double t0 = now_s();
+    double t0 = c5_now_s();
     q.node = c5_ctree_tag(b->tree, r->node, (int)r->cell);
-    b->st->tree_wall_s += now_s() - t0;
+    b->st->tree_wall_s += c5_now_s() - t0;
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
         t->tree_tag(t->ctx, r->node, (int)r->cell, q.node);
@@ -274,7 +268,7 @@ static const c5_supervol *grid_or_dummy(const c5_supervol *sv, c5_supervol *dumm
 int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
                     c5_image *out, c5_board_stats *stats, c5_err *err)
 {
-    double start = now_s();
+    double start = c5_now_s();
     memset(stats, 0, sizeof *stats);
     c5_board_opts o = *opts;
     for (int a = 0; a < 3; a++)
@@ -393,6 +387,6 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->cycles = stats->cycles_process + stats->cycles_fetch;
     stats->board_s = (double)stats->cycles / CLOCK_HZ;
     board_free(&b);
-    stats->wall_s = now_s() - start;
+    stats->wall_s = c5_now_s() - start;
     return 0;
 }

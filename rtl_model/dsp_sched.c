@@ -4,13 +4,7 @@
 #include <time.h>
 
 #include "dsp_sched.h"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "clock.h"
 
 void c5_dsp_sched_free(c5_dsp_sched_result *r)
 {
@@ -42,7 +36,7 @@ static int slab_bound(const c5_dep_tree *dt, const c5_dsp_sched_opts *o)
 
 static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
 {
-    double t1 = now_s();
+    double t1 = c5_now_s();
     c5_exact_opts eo = {.max_states = o->exact_states, .max_nodes = o->exact_nodes, .use_rollout_ub = 1,
                         .group_max = C5_EXACT_GROUPS_DEFAULT};
     c5_exact_stats es;
@@ -60,7 +54,7 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
         if (c5_sched_beam(dt, o->beam_width > 0 ? o->beam_width : 200, &r->best_known, NULL, err) != 0)
             return -1;
     }
-    r->exact_wall_s = now_s() - t1;
+    r->exact_wall_s = c5_now_s() - t1;
     return 0;
 }
 
@@ -73,7 +67,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     r->optimum = -1;
     if (t->overflow)
         return 0;
-    double t0 = now_s();
+    double t0 = c5_now_s();
     int n = r->nodes, rc = -1;
     int *parent = malloc(sizeof *parent * (size_t)(n + 1)), *cell = malloc(sizeof *cell * (size_t)(n + 1));
     int *gen = malloc(sizeof *gen * (size_t)(n + 1));
@@ -91,7 +85,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     if (c5_tree_check(&dt, err) != 0 || c5_sched_celltree(&dt, rule, &r->next, err) != 0 ||
         c5_tree_generations(&dt, gen) < 0 || c5_ctree_annotate(t, id, gen, n, err) != 0)
         goto done;
-    r->sched_wall_s = now_s() - t0;
+    r->sched_wall_s = c5_now_s() - t0;
     r->peels_completion = r->next.peels_completion;
     r->peels_split = r->next.peels_split;
     r->nodes_examined = r->next.nodes_examined;

@@ -51,7 +51,6 @@ int c5_cast_volume_make(const uint8_t *vox, const size_t dims[3], const double s
 void c5_cast_volume_free(c5_cast_volume *v);
 /* Builds the encoded per-voxel normals once (not thread-safe against a running frame). */
 int c5_cast_volume_normals(c5_cast_volume *v, c5_err *err);
-void c5_cast_volume_geometry(const c5_cast_volume *v, size_t dims[3], double spacing[3]);
 
 /* ---- classification ------------------------------------------------------------------- */
 

@@ -11,6 +11,7 @@
 
 #include "cast_internal.h"
 #include "rng.h"
+#include "clock.h"
 
 static const char *const MODE_NAMES[C5_CAST_MODES] = {"plain", "ess", "approx", "approx+refine"};
 
@@ -30,13 +31,6 @@ void c5_cast_opts_default(c5_cast_opts *o)
 {
     *o = (c5_cast_opts){.mode = C5_CAST_APPROX_REFINE, .k = 0, .workers = 2, .shading = 0, .prefetch = 1,
                         .early_termination = 1, .step = 0, .queue_depth = 4};
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static double min_spacing(const c5_cast_volume *v) { return fmin(v->spacing[0], fmin(v->spacing[1], v->spacing[2])); }
@@ -158,13 +152,13 @@ static void *worker_main(void *arg)
 {
     worker *wk = arg;
     ring *r = wk->r;
-    double t0 = now_s();
+    double t0 = c5_now_s();
     for (;;) {
         pthread_mutex_lock(&r->mu);
-        double w0 = now_s();
+        double w0 = c5_now_s();
         while (!r->count)
             pthread_cond_wait(&r->cv, &r->mu);
-        wk->wait_s += now_s() - w0;
+        wk->wait_s += c5_now_s() - w0;
         c5_cast_task *t = &r->slot[r->head];
         pthread_mutex_unlock(&r->mu);
         int last = t->last;
@@ -178,7 +172,7 @@ static void *worker_main(void *arg)
         if (last)
             break;
     }
-    wk->busy_s = now_s() - t0 - wk->wait_s;
+    wk->busy_s = c5_now_s() - t0 - wk->wait_s;
     return NULL;
 }
 
@@ -186,10 +180,10 @@ static void *worker_main(void *arg)
 static c5_cast_task *ring_acquire(ring *r, double *wait_s)
 {
     pthread_mutex_lock(&r->mu);
-    double w0 = now_s();
+    double w0 = c5_now_s();
     while (r->count == r->depth)
         pthread_cond_wait(&r->cv, &r->mu);
-    *wait_s += now_s() - w0;
+    *wait_s += c5_now_s() - w0;
     c5_cast_task *t = &r->slot[(r->head + r->count) % r->depth];
     pthread_mutex_unlock(&r->mu);
     return t;
@@ -254,7 +248,7 @@ static int check_args(const c5_cast_camera *cam, int w, int h, const c5_cast_opt
 int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_camera *cam, int w, int h,
                    const c5_cast_opts *o, c5_image *out, c5_cast_stats *st, c5_err *err)
 {
-    double t_start = now_s();
+    double t_start = c5_now_s();
     memset(st, 0, sizeof *st);
     if (check_args(cam, w, h, o, out, err))
         return -1;
@@ -294,7 +288,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
             break;
         }
     }
-    double t0 = now_s();
+    double t0 = c5_now_s();
     for (int i = 0; i < ntiles && !failed; i++) {
         ring *r = &rings[i % started];
         c5_cast_task *t = ring_acquire(r, &st->producer_wait_s);
@@ -311,7 +305,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         ring_acquire(&rings[i], &st->producer_wait_s)->last = 1;
         ring_publish(&rings[i]);
     }
-    st->producer_s = now_s() - t0 - st->producer_wait_s;
+    st->producer_s = c5_now_s() - t0 - st->producer_wait_s;
     for (int i = 0; i < started; i++) {
         pthread_join(th[i], NULL);
         pthread_mutex_destroy(&rings[i].mu);
@@ -344,6 +338,6 @@ done:
     free(rings);
     free(tiles);
     c5_cast_view_release(&vw);
-    st->frame_s = now_s() - t_start;
+    st->frame_s = c5_now_s() - t_start;
     return rc;
 }

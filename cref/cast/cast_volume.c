@@ -147,12 +147,6 @@ void c5_cast_volume_free(c5_cast_volume *v)
     free(v);
 }
 
-void c5_cast_volume_geometry(const c5_cast_volume *v, size_t dims[3], double spacing[3])
-{
-    memcpy(dims, v->dims, sizeof v->dims);
-    memcpy(spacing, v->spacing, sizeof v->spacing);
-}
-
 /* ---- normals ------------------------------------------------------------------------- */
 
 uint16_t c5_cast_normal_encode(double x, double y, double z)

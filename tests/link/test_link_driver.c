@@ -12,6 +12,7 @@
 #include "supervol.h"
 #include "tlp.h"
 #include "usb_fixture.h"
+#include "clock.h"
 
 typedef struct {
     c5_link_fixture fx;
@@ -132,13 +133,6 @@ TEST(link_open_wrong_serial_not_found)
     CHECK_MSG(strstr(msg, "OTHER") != NULL, "message names the serial: %s", msg);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /* default at 32x32 in 8 cells with the fault armed after the scene is loaded: the frame's
  * result code, the stall retries and the wall time. */
 static int faulted_frame(c5_fault f, unsigned timeout_ms, uint64_t *retries, double *wall, char *msg, size_t cap)
@@ -150,14 +144,14 @@ static int faulted_frame(c5_fault f, unsigned timeout_ms, uint64_t *retries, dou
     }
     int split[3] = {2, 2, 2};
     int rc = c5drv_load_scene(l.d, c5_builtin_scene_json("default"), NULL, "default", split, 32, 32);
-    double t0 = now_s();
+    double t0 = c5_now_s();
     if (rc == C5DRV_OK) {
         c5_emu_set_fault(l.fx.board, &f);
         rc = c5drv_start_frame(l.d, 0);
         if (rc == C5DRV_OK)
             rc = c5drv_wait_frame(l.d, timeout_ms);
     }
-    *wall = now_s() - t0;
+    *wall = c5_now_s() - t0;
     c5drv_counters c = {0};
     if (rc == C5DRV_OK)
         c5drv_read_counters(l.d, &c);
