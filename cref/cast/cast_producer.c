@@ -19,9 +19,9 @@
 #include "cast_internal.h"
 
 typedef struct {
-    double o[3], d[3], inv[3];
+    double o[3], inv[3];
+    double sg_delta[3];       /* dilation per axis (voxel units), signed as the ray runs */
     int mask;                 /* child order: bit a set when the ray runs towards -a */
-    const double *delta;      /* dilation per axis (voxel units) */
     double *t0, *t1;
     int n, cap;
     uint64_t *hash;
@@ -29,22 +29,16 @@ typedef struct {
     const c5_cast_view *vw;
 } walk;
 
-static void visit(walk *w, int l, int x, int y, int z)
+/* The walk is parametric: a node gets from its parent, per axis, the t at which the ray
+ * enters and leaves its dilated slab, and splits them for its children with two planes per
+ * axis (the mid plane moved by +-delta: dilated children overlap). Axes the ray runs parallel
+ * to carry -inf/+inf (inside) or +inf/-inf (outside). Boxes are not clipped to the volume at
+ * its far faces (a superset; the workers clip every ray to the volume). */
+static void visit(walk *w, int l, int x, int y, int z, const double en[3], const double ex[3], double tn, double tf)
 {
     const c5_cast_volume *v = w->vw->v;
     size_t node = ((size_t)z * v->ln[l][1] + y) * v->ln[l][0] + x;
     int cls = w->vw->cls[l][node];
-    if (w->overflow || cls == C5_CAST_EMPTY)
-        return;
-    int side = C5_CAST_BRICK << l, idx[3] = {x, y, z};
-    double lo[3], hi[3], tn, tf;
-    for (int a = 0; a < 3; a++) {
-        int h = (idx[a] + 1) * side;
-        lo[a] = (double)idx[a] * side - w->delta[a];
-        hi[a] = (h < v->cells[a] ? h : v->cells[a]) + w->delta[a];
-    }
-    if (!c5_cast_slab(w->o, w->d, w->inv, lo, hi, &tn, &tf))
-        return;
     if (l == 0 || cls == C5_CAST_SOLID) {
         /* every brick below is non-empty: the union of their dilated boxes is this one's */
         if (w->n == w->cap) {
@@ -61,11 +55,34 @@ static void visit(walk *w, int l, int x, int y, int z)
                 w->hash[i] |= w->vw->node_hash[l][node][i];
         return;
     }
+    int side = C5_CAST_BRICK << l, idx[3] = {x, y, z};
+    double near_ex[3], far_en[3];
+    for (int a = 0; a < 3; a++) {
+        double m = (double)idx[a] * side + side / 2;
+        if (w->inv[a] != 0) {
+            near_ex[a] = (m + w->sg_delta[a] - w->o[a]) * w->inv[a];
+            far_en[a] = (m - w->sg_delta[a] - w->o[a]) * w->inv[a];
+        } else {
+            near_ex[a] = w->o[a] <= m + w->sg_delta[a] ? INFINITY : -INFINITY;
+            far_en[a] = w->o[a] >= m - w->sg_delta[a] ? -INFINITY : INFINITY;
+        }
+    }
     const int *c = v->ln[l - 1];
-    for (int i = 0; i < 8; i++) {
+    const uint8_t *ccls = w->vw->cls[l - 1];
+    for (int i = 0; i < 8 && !w->overflow; i++) {
         int o = i ^ w->mask, cx = 2 * x + (o & 1), cy = 2 * y + (o >> 1 & 1), cz = 2 * z + (o >> 2 & 1);
-        if (cx < c[0] && cy < c[1] && cz < c[2])
-            visit(w, l - 1, cx, cy, cz);
+        if (cx >= c[0] || cy >= c[1] || cz >= c[2] || ccls[((size_t)cz * c[1] + cy) * c[0] + cx] == C5_CAST_EMPTY)
+            continue;
+        double cen[3], cex[3], a0 = tn, b0 = tf;
+        for (int a = 0; a < 3; a++) {
+            int far = i >> a & 1;
+            cen[a] = far ? far_en[a] : en[a];
+            cex[a] = far ? ex[a] : near_ex[a];
+            a0 = cen[a] > a0 ? cen[a] : a0;
+            b0 = cex[a] < b0 ? cex[a] : b0;
+        }
+        if (a0 <= b0)
+            visit(w, l - 1, cx, cy, cz, cen, cex, a0, b0);
     }
 }
 
@@ -96,15 +113,30 @@ int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double
                          int cap, uint64_t *hash)
 {
     const c5_cast_volume *v = vw->v;
-    walk w = {.delta = delta_v, .t0 = t0, .t1 = t1, .cap = cap, .hash = hash, .vw = vw};
+    walk w = {.t0 = t0, .t1 = t1, .cap = cap, .hash = hash, .vw = vw};
+    if (!v->bricks)
+        return 0;
+    int top = v->levels - 1;
+    double side = C5_CAST_BRICK << top, en[3], ex[3], tn = 0, tf = INFINITY;
     for (int a = 0; a < 3; a++) {
+        double da = d[a] / v->spacing[a];
         w.o[a] = vw->eye_v[a];
-        w.d[a] = d[a] / v->spacing[a];
-        w.inv[a] = w.d[a] != 0 ? 1 / w.d[a] : 0;
-        w.mask |= (w.d[a] < 0) << a;
+        w.inv[a] = da != 0 ? 1 / da : 0;
+        w.mask |= (da < 0) << a;
+        w.sg_delta[a] = da < 0 ? -delta_v[a] : delta_v[a];
+        double lo = -delta_v[a], hi = side + delta_v[a];
+        if (da != 0) {
+            double s0 = (lo - w.o[a]) * w.inv[a], s1 = (hi - w.o[a]) * w.inv[a];
+            en[a] = da < 0 ? s1 : s0, ex[a] = da < 0 ? s0 : s1;
+        } else {
+            int in = w.o[a] >= lo && w.o[a] <= hi;
+            en[a] = in ? -INFINITY : INFINITY, ex[a] = in ? INFINITY : -INFINITY;
+        }
+        tn = en[a] > tn ? en[a] : tn;
+        tf = ex[a] < tf ? ex[a] : tf;
     }
-    if (v->bricks)
-        visit(&w, v->levels - 1, 0, 0, 0);
+    if (tn <= tf && vw->cls[top][0] != C5_CAST_EMPTY)
+        visit(&w, top, 0, 0, 0, en, ex, tn, tf);
     return w.overflow ? -1 : merge_intervals(t0, t1, w.n);
 }
 

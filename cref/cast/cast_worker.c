@@ -42,36 +42,128 @@ typedef struct {
     size_t nb0, nb01;       /* brick strides */
 } ray_f;
 
-/* Sample j's position (voxel units, clamped into the volume): its brick, the offset of its
- * cell inside the brick, the fractions; bc receives the brick's coordinates. */
-static inline size_t locate(const ray_f *r, int32_t j, float f[3], int *off, int bc[3])
+/* Sample position x = o + t d on one axis, clamped into [0, hi]: its cell (at most `last`)
+ * and the fraction inside it. Every sample's position comes from this alone. */
+static inline int cell(float o, float d, float hi, int last, float t, float *f)
 {
-    float t = (float)j * r->step;
-    int lc[3];
-    for (int a = 0; a < 3; a++) {
-        float x = r->o[a] + t * r->d[a];
-        x = x < 0 ? 0 : x;
-        x = x > r->hi[a] ? r->hi[a] : x;
-        int i = (int)x;
-        i = i > r->last[a] ? r->last[a] : i;
-        f[a] = x - (float)i;
-        bc[a] = (unsigned)i / C5_CAST_BRICK;
-        lc[a] = (unsigned)i % C5_CAST_BRICK;
+    float x = o + t * d;
+    x = x < 0 ? 0 : x;
+    x = x > hi ? hi : x;
+    int i = (int)x;
+    i = i > last ? last : i;
+    *f = x - (float)i;
+    return i;
+}
+
+static inline size_t brick_of(const ray_f *r, int ix, int iy, int iz)
+{
+    return (size_t)((unsigned)iz / C5_CAST_BRICK) * r->nb01 + (size_t)((unsigned)iy / C5_CAST_BRICK) * r->nb0 + (size_t)((unsigned)ix / C5_CAST_BRICK);
+}
+
+/* Brick coordinates packed into one word: a change of brick is one compare. */
+static inline uint64_t brick_key(int ix, int iy, int iz)
+{
+    return (uint64_t)((unsigned)ix / C5_CAST_BRICK) | (uint64_t)((unsigned)iy / C5_CAST_BRICK) << 21 | (uint64_t)((unsigned)iz / C5_CAST_BRICK) << 42;
+}
+
+/* The brick holding sample j (for the prefetch). */
+static size_t brick_at(const ray_f *r, int32_t j)
+{
+    float t = (float)j * r->step, f;
+    int ix = cell(r->o[0], r->d[0], r->hi[0], r->last[0], t, &f);
+    int iy = cell(r->o[1], r->d[1], r->hi[1], r->last[1], t, &f);
+    int iz = cell(r->o[2], r->d[2], r->hi[2], r->last[2], t, &f);
+    return brick_of(r, ix, iy, iz);
+}
+
+/* Marches samples j0..j1 of one ray, compositing into acc (C0, C1, C2, A); *state carries the
+ * current brick across segments. Returns 1 when the ray terminated early. Inlined with
+ * constant `shading` and `hashed`, so each variant's loop has no test it does not need. */
+typedef struct {
+    uint64_t key;
+    const uint8_t *b;
+    const uint16_t *n;
+    int skip;
+} brick_state;
+
+static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0, int32_t j1, int32_t jout,
+                             const uint64_t *hash, const int shading, float acc[4], brick_state *bs,
+                             c5_cast_counts *cnt)
+{
+    const float(*rgba)[4] = vw->tf->rgba;
+    const float(*shade)[2] = vw->shade;
+    const int prefetch = vw->prefetch, early = vw->early, lookahead = vw->lookahead;
+    const float o0 = r->o[0], o1 = r->o[1], o2 = r->o[2], d0 = r->d[0], d1 = r->d[1], d2 = r->d[2];
+    const float h0 = r->hi[0], h1 = r->hi[1], h2 = r->hi[2], step = r->step;
+    const int l0 = r->last[0], l1 = r->last[1], l2 = r->last[2];
+    float C0 = acc[0], C1 = acc[1], C2 = acc[2], A = acc[3];
+    uint64_t n_samples = 0, n_zero = 0, n_hashed = 0;
+    int done = 0;
+    for (int32_t j = j0; j <= j1; j++) {
+        float t = (float)j * step, fx, fy, fz;
+        int ix = cell(o0, d0, h0, l0, t, &fx), iy = cell(o1, d1, h1, l1, t, &fy), iz = cell(o2, d2, h2, l2, t, &fz);
+        uint64_t key = brick_key(ix, iy, iz);
+        if (key != bs->key) {
+            bs->key = key;
+            size_t bi = brick_of(r, ix, iy, iz);
+            bs->b = vw->v->bricks + bi * C5_CAST_BSTRIDE;
+            if (shading)
+                bs->n = vw->v->normals + bi * C5_CAST_BSTRIDE;
+            if (hash) {
+                uint32_t hk = c5_cast_hash_key(vw, ix / C5_CAST_BRICK, iy / C5_CAST_BRICK, iz / C5_CAST_BRICK);
+                bs->skip = !(hash[hk / 64] >> (hk % 64) & 1);
+            }
+            if (prefetch) {
+                size_t nb = brick_at(r, j + lookahead < jout ? j + lookahead : jout);
+                if (nb != bi)
+                    prefetch_brick(vw, nb);
+            }
+        }
+        if (hash && bs->skip) {
+            n_hashed++;
+            continue;
+        }
+        n_samples++;
+        int off = (int)((unsigned)ix % C5_CAST_BRICK + DY * ((unsigned)iy % C5_CAST_BRICK) + DZ * ((unsigned)iz % C5_CAST_BRICK));
+        const uint8_t *b = bs->b + off;
+        float x00 = lerp(b[0], b[DX], fx), x10 = lerp(b[DY], b[DY + DX], fx);
+        float x01 = lerp(b[DZ], b[DZ + DX], fx), x11 = lerp(b[DZ + DY], b[DZ + DY + DX], fx);
+        float sv = lerp(lerp(x00, x10, fy), lerp(x01, x11, fy), fz);
+        const float *e = rgba[(int)(sv * C5_CAST_TF_SCALE + 0.5f)];
+        float a = e[3];
+        /* no branch on a == 0: it is unpredictable, and compositing a zero sample adds +0 */
+        n_zero += a == 0;
+        float c0 = e[0], c1 = e[1], c2 = e[2];
+        if (shading && a != 0) {
+            const uint16_t *n = bs->n + off;
+            float df[8], sp[8];
+            for (int i = 0; i < 8; i++) {
+                df[i] = shade[n[CORNER[i]]][0];
+                sp[i] = shade[n[CORNER[i]]][1];
+            }
+            float kd = tri(df, fx, fy, fz), ks = a * tri(sp, fx, fy, fz);
+            c0 = c0 * kd + ks, c1 = c1 * kd + ks, c2 = c2 * kd + ks;
+        }
+        float T = 1 - A;
+        C0 += T * c0, C1 += T * c1, C2 += T * c2;
+        A += T * a;
+        if (early && A > C5_CAST_OPAQUE) {
+            cnt->terminated++;
+            done = 1;
+            break;
+        }
     }
-    *off = lc[0] + DY * lc[1] + DZ * lc[2];
-    return (size_t)bc[2] * r->nb01 + (size_t)bc[1] * r->nb0 + (size_t)bc[0];
+    acc[0] = C0, acc[1] = C1, acc[2] = C2, acc[3] = A;
+    cnt->samples += n_samples, cnt->zero += n_zero, cnt->hashed += n_hashed;
+    return done;
 }
 
 static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg, int nseg, const uint64_t *hash,
                   float out[3], c5_cast_counts *cnt)
 {
     const c5_cast_volume *v = vw->v;
-    const float(*rgba)[4] = vw->tf->rgba;
-    const uint8_t *bricks = v->bricks;
-    const uint16_t *normals = v->normals;
-    const float(*shade)[2] = vw->shade;
     out[0] = out[1] = out[2] = 0;
-    if (!bricks)
+    if (!v->bricks)
         return;
     double d[3], o[3], dv[3], inv[3], tin, tout, lo[3] = {0, 0, 0};
     c5_cast_ray_dir(vw, px + 0.5, py + 0.5, d);
@@ -92,68 +184,21 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
     if (jd_in > jd_out)
         return;
     int32_t jin = (int32_t)jd_in, jout = (int32_t)jd_out;
-    const int prefetch = vw->prefetch, shading = vw->shading, early = vw->early, lookahead = vw->lookahead;
-    float C0 = 0, C1 = 0, C2 = 0, A = 0;
-    uint64_t n_samples = 0, n_zero = 0, n_hashed = 0;
-    size_t last = (size_t)-1;
-    int skip = 0;
+    float acc[4] = {0, 0, 0, 0};
+    brick_state bs = {UINT64_MAX, NULL, NULL, 0};
     for (int s = 0; s < nseg; s++) {
         int32_t j0 = seg[s].j0 > jin ? seg[s].j0 : jin, j1 = seg[s].j1 < jout ? seg[s].j1 : jout;
-        for (int32_t j = j0; j <= j1; j++) {
-            float f[3];
-            int off, bc[3];
-            size_t bi = locate(&r, j, f, &off, bc);
-            if (bi != last) {
-                last = bi;
-                if (hash) {
-                    uint32_t key = c5_cast_hash_key(vw, bc[0], bc[1], bc[2]);
-                    skip = !(hash[key / 64] >> (key % 64) & 1);
-                }
-                if (prefetch) {
-                    float g[3];
-                    int o2, bc2[3];
-                    size_t nb = locate(&r, j + lookahead < jout ? j + lookahead : jout, g, &o2, bc2);
-                    if (nb != bi)
-                        prefetch_brick(vw, nb);
-                }
-            }
-            if (skip) {
-                n_hashed++;
-                continue;
-            }
-            n_samples++;
-            const uint8_t *b = bricks + bi * C5_CAST_BSTRIDE + off;
-            float fx = f[0], fy = f[1], fz = f[2];
-            float x00 = lerp(b[0], b[DX], fx), x10 = lerp(b[DY], b[DY + DX], fx);
-            float x01 = lerp(b[DZ], b[DZ + DX], fx), x11 = lerp(b[DZ + DY], b[DZ + DY + DX], fx);
-            float sv = lerp(lerp(x00, x10, fy), lerp(x01, x11, fy), fz);
-            const float *e = rgba[(int)(sv * C5_CAST_TF_SCALE + 0.5f)];
-            float a = e[3];
-            /* no branch on a == 0: it is unpredictable, and compositing a zero sample adds +0 */
-            n_zero += a == 0;
-            float c0 = e[0], c1 = e[1], c2 = e[2];
-            if (shading && a != 0) {
-                const uint16_t *n = normals + bi * C5_CAST_BSTRIDE + off;
-                float df[8], sp[8];
-                for (int i = 0; i < 8; i++) {
-                    df[i] = shade[n[CORNER[i]]][0];
-                    sp[i] = shade[n[CORNER[i]]][1];
-                }
-                float kd = tri(df, fx, fy, fz), ks = a * tri(sp, fx, fy, fz);
-                c0 = c0 * kd + ks, c1 = c1 * kd + ks, c2 = c2 * kd + ks;
-            }
-            float T = 1 - A;
-            C0 += T * c0, C1 += T * c1, C2 += T * c2;
-            A += T * a;
-            if (early && A > C5_CAST_OPAQUE) {
-                cnt->terminated++;
-                goto done;
-            }
-        }
+        int stop;
+        if (vw->shading)
+            stop = hash ? march_span(vw, &r, j0, j1, jout, hash, 1, acc, &bs, cnt)
+                        : march_span(vw, &r, j0, j1, jout, NULL, 1, acc, &bs, cnt);
+        else
+            stop = hash ? march_span(vw, &r, j0, j1, jout, hash, 0, acc, &bs, cnt)
+                        : march_span(vw, &r, j0, j1, jout, NULL, 0, acc, &bs, cnt);
+        if (stop)
+            break;
     }
-done:
-    cnt->samples += n_samples, cnt->zero += n_zero, cnt->hashed += n_hashed;
-    out[0] = C0, out[1] = C1, out[2] = C2;
+    out[0] = acc[0], out[1] = acc[1], out[2] = acc[2];
 }
 
 void c5_cast_work(const c5_cast_view *vw, const c5_cast_task *t, float *rgb, c5_cast_counts *cnt)
