@@ -35,6 +35,8 @@ static const char USAGE[] =
     "  --shading on|off   headlight Blinn-Phong (default off)\n"
     "  --k N              approximation interval 1,2,4,8,16 (default: Proposition 1 per view)\n"
     "  --prefetch on|off  prefetch the next brick along each ray (default on)\n"
+    "  --sub-bricks on|off skipping modes: drop samples in 4^3-cell sub-bricks the TF leaves\n"
+    "                     empty (default on)\n"
     "  --distance F       eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)\n"
     "  --tf NAME|FILE     default | ml | a TF file of the peer's format (default: default, or the\n"
     "                     scene's transfer function)\n"
@@ -48,7 +50,7 @@ static const char USAGE[] =
 
 typedef struct {
     const char *input, *out, *tf, *save_raw;
-    int views, size, threads, shading, k, prefetch, repeats, json;
+    int views, size, threads, shading, k, prefetch, sub_bricks, repeats, json;
     c5_cast_mode mode;
     double distance, step;
     long seed;
@@ -81,7 +83,7 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .repeats = 1,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1, .repeats = 1,
                 .mode = C5_CAST_APPROX_REFINE, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
     for (int i = 1; i < argc; i++) {
@@ -127,6 +129,9 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
                 return -1;
         } else if (!strcmp(o, "--prefetch")) {
             if (on_off(o, v, &a->prefetch, err))
+                return -1;
+        } else if (!strcmp(o, "--sub-bricks")) {
+            if (on_off(o, v, &a->sub_bricks, err))
                 return -1;
         } else if (!strcmp(o, "--distance")) {
             if (c5_cli_double(o, v, 1e-3, 1e6, &a->distance, err))
@@ -344,6 +349,7 @@ int c5_cmd_cast(int argc, char **argv)
     c5_cast_opts o;
     c5_cast_opts_default(&o);
     o.mode = a.mode, o.k = a.k, o.workers = a.threads, o.shading = a.shading, o.prefetch = a.prefetch;
+    o.sub_bricks = a.sub_bricks;
     o.step = a.step * ms_sp;
     for (int p = 0; p < a.repeats; p++) {
         for (int i = 0; i < a.views; i++) {
@@ -374,11 +380,12 @@ int c5_cmd_cast(int argc, char **argv)
         for (int i = 0; i < a.views; i++) {
             const c5_cast_stats *s = &fig[i].st;
             json_array_append_new(
-                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I}", "ms", fig[i].ms, "producer_ms",
+                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "ms", fig[i].ms, "producer_ms",
                                fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct",
                                fig[i].imbalance, "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
                                (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
                                (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
+                               "samples_sub", (json_int_t)s->samples_sub,
                                "rays_terminated", (json_int_t)s->rays_terminated));
         }
         json_object_set_new(j, "dataset",
@@ -386,8 +393,8 @@ int c5_cmd_cast(int argc, char **argv)
                                       (json_int_t)in.dims[1], (json_int_t)in.dims[2], "spacing", in.spacing[0],
                                       in.spacing[1], in.spacing[2]));
         json_object_update_new(
-            j, json_pack("{s:s,s:i,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode), "threads",
-                         a.threads, "shading", a.shading, "prefetch", a.prefetch, "size", a.size, "views", a.views,
+            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode), "threads",
+                         a.threads, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks, "size", a.size, "views", a.views,
                          "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
                          (json_int_t)a.seed));
         json_object_update_new(
@@ -401,9 +408,10 @@ int c5_cmd_cast(int argc, char **argv)
         free(text);
         json_decref(j);
     } else {
-        printf("%s %zux%zux%zu, %d views at %dx%d, mode %s, k %d..%d, %d worker%s, shading %s, prefetch %s\n",
+        printf("%s %zux%zux%zu, %d views at %dx%d, mode %s, k %d..%d, %d worker%s, shading %s, prefetch %s, sub-bricks %s\n",
                in.name, in.dims[0], in.dims[1], in.dims[2], a.views, a.size, a.size, c5_cast_mode_name(a.mode), k_min,
-               k_max, a.threads, a.threads == 1 ? "" : "s", a.shading ? "on" : "off", a.prefetch ? "on" : "off");
+               k_max, a.threads, a.threads == 1 ? "" : "s", a.shading ? "on" : "off", a.prefetch ? "on" : "off",
+               a.sub_bricks ? "on" : "off");
         printf("median %.2f ms/frame (%.1f fps), mean %.2f ms; producer %.2f ms, worker %.2f ms per frame; "
                "load imbalance %.1f%%; %.0f samples per frame; setup %.0f ms\n",
                ms_med, 1000 / ms_med, mean, prod, work, imb, samples, setup_ms);

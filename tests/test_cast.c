@@ -122,7 +122,7 @@ TEST(cast_modes_draw_the_bits_of_plain)
     if (fixture_make(&fx, d, sp, 7))
         return;
     double c[3] = {22, 23.1, 21}, views[3][3] = {{90, -60, 50}, {22.3, 23.1, 120}, {-20, 40, -35}};
-    int n_diff = 0, n_cases = 0;
+    int n_diff = 0, n_cases = 0, n_sub = 0;
     for (int vi = 0; vi < 3; vi++) {
         c5_cast_camera cam;
         look_at(&cam, views[vi], c, 35);
@@ -134,14 +134,17 @@ TEST(cast_modes_draw_the_bits_of_plain)
             c5_cast_stats st_ref, st;
             if (render(&fx, &cam, 53, 37, &o, &ref, &st_ref))
                 return;
+            CHECK(st_ref.samples_sub == 0); /* plain drops nothing */
             CHECK_MSG(coverage(&ref) > 0.05 && coverage(&ref) < 0.95, "view %d: coverage %.3f", vi, coverage(&ref));
             for (int mode = C5_CAST_ESS; mode < C5_CAST_MODES; mode++)
                 for (int k = 0; k <= 16; k = k ? 2 * k : 1) {
                     o.mode = (c5_cast_mode)mode, o.k = k;
                     o.workers = 1 + (k % 3), o.prefetch = k & 1, o.queue_depth = 1 + k % 5;
+                    o.sub_bricks = !(k & 2);
                     if (render(&fx, &cam, 53, 37, &o, &img, &st))
                         return;
                     n_cases++;
+                    n_sub += st.samples_sub > 0;
                     if (differ(&ref, &img)) {
                         n_diff++;
                         c5t_failf(__FILE__, __LINE__, "view %d shading %d mode %s k %d: image differs from plain", vi,
@@ -161,6 +164,7 @@ TEST(cast_modes_draw_the_bits_of_plain)
     c5_cast_volume_free(fx.v);
     CHECK_INT(n_diff, 0);
     CHECK(n_cases == 3 * 2 * 3 * 6);
+    CHECK(n_sub > 0); /* the sub-bricks did drop samples, yet the images are the same */
 }
 
 /* Refining only ever drops samples of bricks the octree calls empty, and it does drop some. */
@@ -186,7 +190,7 @@ TEST(cast_refine_drops_samples)
         return;
     CHECK(!differ(&a, &b));
     CHECK(sb.samples_hashed > 0);
-    CHECK(sb.samples + sb.samples_hashed == sa.samples);
+    CHECK(sb.samples + sb.samples_sub + sb.samples_hashed == sa.samples + sa.samples_sub);
     CHECK(sb.producer_rays == sa.producer_rays);
     c5_image_free(&a);
     c5_image_free(&b);

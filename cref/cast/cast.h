@@ -91,6 +91,7 @@ typedef struct {
     int workers;       /* worker threads, 1..C5_CAST_MAX_WORKERS; the producer is the calling thread */
     int shading;       /* headlight Blinn-Phong, two-sided (peer README) */
     int prefetch;      /* prefetch the next brick along the ray on entering a brick */
+    int sub_bricks;    /* skipping modes: drop samples in sub-bricks the TF leaves empty */
     int early_termination;
     double step;       /* sample distance in world units; 0: the smallest spacing */
     int queue_depth;   /* bounded buffer entries per worker (the paper's 4-entry mailbox); 0: 4 */
@@ -111,6 +112,7 @@ typedef struct {
     uint64_t samples;         /* samples reconstructed and classified */
     uint64_t samples_hashed;  /* samples dropped by the refining hash */
     uint64_t samples_zero;    /* of `samples`, those with opacity 0 */
+    uint64_t samples_sub;     /* samples dropped as lying in an empty sub-brick (opacity 0) */
     uint64_t rays_terminated; /* rays ended by early termination */
 } c5_cast_stats;
 
@@ -123,7 +125,7 @@ double c5_cast_load_imbalance(const c5_cast_stats *st);
 int c5_cast_prop1_k(const c5_cast_volume *v, const c5_cast_camera *cam, int w, int h);
 
 /* Renders one w x h view into out (allocated here when out->rgb is NULL, else it must be
- * w x h). Same bits for any worker count, queue depth, prefetch setting and mode. */
+ * w x h). Same bits for any worker count, queue depth, prefetch and sub-brick setting and mode. */
 int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_camera *cam, int w, int h,
                    const c5_cast_opts *o, c5_image *out, c5_cast_stats *st, c5_err *err);
 

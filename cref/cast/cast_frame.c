@@ -30,7 +30,7 @@ int c5_cast_mode_parse(const char *s, c5_cast_mode *m)
 void c5_cast_opts_default(c5_cast_opts *o)
 {
     *o = (c5_cast_opts){.mode = C5_CAST_APPROX_REFINE, .k = 0, .workers = 2, .shading = 0, .prefetch = 1,
-                        .early_termination = 1, .step = 0, .queue_depth = 4};
+                        .sub_bricks = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
 }
 
 static double min_spacing(const c5_cast_volume *v) { return fmin(v->spacing[0], fmin(v->spacing[1], v->spacing[2])); }
@@ -91,6 +91,7 @@ static int view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_t
     memset(vw, 0, sizeof *vw);
     vw->v = v, vw->tf = tf, vw->cam = cam, vw->w = w, vw->h = h, vw->mode = o->mode;
     vw->shading = o->shading, vw->prefetch = o->prefetch, vw->early = o->early_termination;
+    vw->sub_skip = o->sub_bricks && o->mode != C5_CAST_PLAIN; /* plain marches every sample */
     double ms = min_spacing(v);
     vw->step = o->step > 0 ? o->step : ms;
     int approx = o->mode == C5_CAST_APPROX || o->mode == C5_CAST_APPROX_REFINE;
@@ -313,6 +314,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         st->worker_s[i] = wk[i].busy_s, st->worker_wait_s[i] = wk[i].wait_s;
         st->samples += wk[i].cnt.samples, st->samples_zero += wk[i].cnt.zero;
         st->samples_hashed += wk[i].cnt.hashed, st->rays_terminated += wk[i].cnt.terminated;
+        st->samples_sub += wk[i].cnt.sub;
     }
     st->workers = started, st->k = vw.k;
     if (failed) {

@@ -11,6 +11,10 @@
 #define C5_CAST_BVOX (C5_CAST_BSIDE * C5_CAST_BSIDE * C5_CAST_BSIDE)
 #define C5_CAST_BSTRIDE 768                            /* 729 voxels padded to 12 cache lines */
 #define C5_CAST_MAX_LEVELS 16
+/* Sub-bricks: each brick's 2x2x2 octants of 4^3 cells, below the octree's leaves. Their
+ * emptiness lets a worker drop a zero-opacity sample for the price of its position. */
+#define C5_CAST_SUB (C5_CAST_BRICK / 2)
+#define C5_CAST_SUBS 8
 /* Encoded normals: octahedral map, 7 bits per coordinate; one more code for "no gradient". */
 #define C5_CAST_NBITS 7
 #define C5_CAST_NZERO (1 << (2 * C5_CAST_NBITS))
@@ -27,6 +31,7 @@ struct c5_cast_volume {
     int levels;         /* octree levels; level 0 are the bricks */
     int ln[C5_CAST_MAX_LEVELS][3];
     uint8_t *minmax[C5_CAST_MAX_LEVELS]; /* per node (x fastest) its min and max voxel */
+    uint8_t *sub_minmax;  /* per brick, per sub-brick s = sx + 2 sy + 4 sz: min and max voxel */
 };
 
 static inline size_t c5_cast_brick_index(const c5_cast_volume *v, int bx, int by, int bz)
@@ -49,7 +54,7 @@ typedef struct {
     const c5_cast_volume *v;
     const c5_cast_tf *tf;
     const c5_cast_camera *cam;
-    int w, h, k, mode, shading, prefetch, early;
+    int w, h, k, mode, shading, prefetch, early, sub_skip;
     double step;
     double eye_v[3];        /* eye in voxel units */
     double box_hi[3];       /* cells per axis */
@@ -62,6 +67,7 @@ typedef struct {
      * C5_CAST_EMPTY, C5_CAST_MIXED or C5_CAST_SOLID (every brick below it non-empty) */
     uint8_t *cls[C5_CAST_MAX_LEVELS];
     uint64_t (*node_hash[C5_CAST_MAX_LEVELS])[C5_CAST_HASH_WORDS]; /* refine: per node, its bricks' bits */
+    uint8_t *sub_mask;      /* per brick: bit s set when sub-brick s is non-empty through the TF */
 } c5_cast_view;
 
 enum { C5_CAST_EMPTY, C5_CAST_MIXED, C5_CAST_SOLID };
@@ -143,7 +149,7 @@ int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double
 
 /* Worker: renders the tile's pixels into img, adding to the counters. */
 typedef struct {
-    uint64_t samples, zero, hashed, terminated;
+    uint64_t samples, zero, hashed, sub, terminated;
 } c5_cast_counts;
 void c5_cast_work(const c5_cast_view *vw, const c5_cast_task *t, float *rgb, c5_cast_counts *cnt);
 

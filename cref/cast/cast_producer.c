@@ -144,6 +144,8 @@ int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double
 int c5_cast_view_classify(c5_cast_view *vw, int hashes)
 {
     const c5_cast_volume *v = vw->v;
+    if (v->bricks && !(vw->sub_mask = malloc((size_t)v->nb[0] * (size_t)v->nb[1] * (size_t)v->nb[2])))
+        return -1;
     for (int l = 0; l < v->levels; l++) {
         size_t n = (size_t)v->ln[l][0] * (size_t)v->ln[l][1] * (size_t)v->ln[l][2];
         if (!(vw->cls[l] = malloc(n)))
@@ -157,6 +159,12 @@ int c5_cast_view_classify(c5_cast_view *vw, int hashes)
                     if (l == 0) {
                         const uint8_t *mm = v->minmax[0] + 2 * node;
                         vw->cls[0][node] = c5_cast_tf_empty(vw->tf, mm[0], mm[1]) ? C5_CAST_EMPTY : C5_CAST_SOLID;
+                        unsigned bits = 0;
+                        for (int s = 0; s < C5_CAST_SUBS; s++) {
+                            const uint8_t *sm = v->sub_minmax + 2 * (C5_CAST_SUBS * node + s);
+                            bits |= (unsigned)!c5_cast_tf_empty(vw->tf, sm[0], sm[1]) << s;
+                        }
+                        vw->sub_mask[node] = (uint8_t)bits;
                         continue;
                     }
                     const int *c = v->ln[l - 1];
@@ -192,7 +200,8 @@ void c5_cast_view_release(c5_cast_view *vw)
         vw->cls[l] = NULL, vw->node_hash[l] = NULL;
     }
     free(vw->shade);
-    vw->shade = NULL;
+    free(vw->sub_mask);
+    vw->shade = NULL, vw->sub_mask = NULL;
 }
 
 void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3])

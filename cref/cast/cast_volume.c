@@ -29,16 +29,16 @@ static void fill_brick(const c5_cast_volume *v, int bx, int by, int bz, uint8_t 
             }
 }
 
-/* Min and max of the voxels a brick's cells reach: voxel indices 8b .. 8b+8, within dims. */
-static void brick_minmax(const c5_cast_volume *v, int bx, int by, int bz, uint8_t mm[2])
+/* Min and max of the voxels that the n^3 cells from voxel (i0, j0, k0) reach: voxel indices
+ * i0 .. i0+n per axis, within dims. */
+static void box_minmax(const c5_cast_volume *v, size_t i0, size_t j0, size_t k0, int n, uint8_t mm[2])
 {
     unsigned lo = 255, hi = 0;
-    size_t i1 = clampz(bx * C5_CAST_BRICK + C5_CAST_BRICK, v->dims[0]);
-    size_t j1 = clampz(by * C5_CAST_BRICK + C5_CAST_BRICK, v->dims[1]);
-    size_t k1 = clampz(bz * C5_CAST_BRICK + C5_CAST_BRICK, v->dims[2]);
-    for (size_t k = (size_t)bz * C5_CAST_BRICK; k <= k1; k++)
-        for (size_t j = (size_t)by * C5_CAST_BRICK; j <= j1; j++)
-            for (size_t i = (size_t)bx * C5_CAST_BRICK; i <= i1; i++) {
+    size_t i1 = clampz((long)i0 + n, v->dims[0]), j1 = clampz((long)j0 + n, v->dims[1]);
+    size_t k1 = clampz((long)k0 + n, v->dims[2]);
+    for (size_t k = clampz((long)k0, v->dims[2]); k <= k1; k++)
+        for (size_t j = clampz((long)j0, v->dims[1]); j <= j1; j++)
+            for (size_t i = clampz((long)i0, v->dims[0]); i <= i1; i++) {
                 unsigned s = v->vox[vidx(v, i, j, k)];
                 lo = s < lo ? s : lo;
                 hi = s > hi ? s : hi;
@@ -51,12 +51,18 @@ static int build_octree(c5_cast_volume *v, c5_err *err)
     for (int a = 0; a < 3; a++)
         v->ln[0][a] = v->nb[a];
     size_t n0 = (size_t)v->nb[0] * (size_t)v->nb[1] * (size_t)v->nb[2];
-    if (!(v->minmax[0] = malloc(2 * n0)))
+    if (!(v->minmax[0] = malloc(2 * n0)) || !(v->sub_minmax = malloc(2 * C5_CAST_SUBS * n0)))
         return c5_fail(err, "cast: out of memory for the octree");
     for (int bz = 0; bz < v->nb[2]; bz++)
         for (int by = 0; by < v->nb[1]; by++)
-            for (int bx = 0; bx < v->nb[0]; bx++)
-                brick_minmax(v, bx, by, bz, v->minmax[0] + 2 * c5_cast_brick_index(v, bx, by, bz));
+            for (int bx = 0; bx < v->nb[0]; bx++) {
+                size_t b = c5_cast_brick_index(v, bx, by, bz), i0 = (size_t)bx * C5_CAST_BRICK;
+                size_t j0 = (size_t)by * C5_CAST_BRICK, k0 = (size_t)bz * C5_CAST_BRICK;
+                box_minmax(v, i0, j0, k0, C5_CAST_BRICK, v->minmax[0] + 2 * b);
+                for (int s = 0; s < C5_CAST_SUBS; s++)
+                    box_minmax(v, i0 + (s & 1) * C5_CAST_SUB, j0 + (s >> 1 & 1) * C5_CAST_SUB,
+                               k0 + (s >> 2) * C5_CAST_SUB, C5_CAST_SUB, v->sub_minmax + 2 * (C5_CAST_SUBS * b + s));
+            }
     int l = 0;
     while (v->ln[l][0] > 1 || v->ln[l][1] > 1 || v->ln[l][2] > 1) {
         const int *c = v->ln[l];
@@ -141,6 +147,7 @@ void c5_cast_volume_free(c5_cast_volume *v)
         return;
     for (int l = 0; l < C5_CAST_MAX_LEVELS; l++)
         free(v->minmax[l]);
+    free(v->sub_minmax);
     free(v->bricks);
     free(v->normals);
     free(v->vox);

@@ -84,6 +84,7 @@ typedef struct {
     const uint8_t *b;
     const uint16_t *n;
     int skip;
+    unsigned sub;           /* the brick's non-empty sub-bricks (all when not skipping) */
 } brick_state;
 
 static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0, int32_t j1, int32_t jout,
@@ -97,7 +98,7 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
     const float h0 = r->hi[0], h1 = r->hi[1], h2 = r->hi[2], step = r->step;
     const int l0 = r->last[0], l1 = r->last[1], l2 = r->last[2];
     float C0 = acc[0], C1 = acc[1], C2 = acc[2], A = acc[3];
-    uint64_t n_samples = 0, n_zero = 0, n_hashed = 0;
+    uint64_t n_samples = 0, n_zero = 0, n_hashed = 0, n_sub = 0;
     int done = 0;
     for (int32_t j = j0; j <= j1; j++) {
         float t = (float)j * step, fx, fy, fz;
@@ -109,6 +110,7 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
             bs->b = vw->v->bricks + bi * C5_CAST_BSTRIDE;
             if (shading)
                 bs->n = vw->v->normals + bi * C5_CAST_BSTRIDE;
+            bs->sub = vw->sub_skip ? vw->sub_mask[bi] : 0xffu;
             if (hash) {
                 uint32_t hk = c5_cast_hash_key(vw, ix / C5_CAST_BRICK, iy / C5_CAST_BRICK, iz / C5_CAST_BRICK);
                 bs->skip = !(hash[hk / 64] >> (hk % 64) & 1);
@@ -121,6 +123,12 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
         }
         if (hash && bs->skip) {
             n_hashed++;
+            continue;
+        }
+        unsigned sb = ((unsigned)ix / C5_CAST_SUB & 1) | ((unsigned)iy / C5_CAST_SUB & 1) << 1 |
+                      ((unsigned)iz / C5_CAST_SUB & 1) << 2;
+        if (!(bs->sub >> sb & 1)) { /* the TF is zero over the sub-brick's range: opacity 0 */
+            n_sub++;
             continue;
         }
         n_samples++;
@@ -154,7 +162,7 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
         }
     }
     acc[0] = C0, acc[1] = C1, acc[2] = C2, acc[3] = A;
-    cnt->samples += n_samples, cnt->zero += n_zero, cnt->hashed += n_hashed;
+    cnt->samples += n_samples, cnt->zero += n_zero, cnt->hashed += n_hashed, cnt->sub += n_sub;
     return done;
 }
 
@@ -185,7 +193,7 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
         return;
     int32_t jin = (int32_t)jd_in, jout = (int32_t)jd_out;
     float acc[4] = {0, 0, 0, 0};
-    brick_state bs = {UINT64_MAX, NULL, NULL, 0};
+    brick_state bs = {UINT64_MAX, NULL, NULL, 0, 0xffu};
     for (int s = 0; s < nseg; s++) {
         int32_t j0 = seg[s].j0 > jin ? seg[s].j0 : jin, j1 = seg[s].j1 < jout ? seg[s].j1 : jout;
         int stop;
