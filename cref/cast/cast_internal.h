@@ -66,6 +66,7 @@ typedef struct {
     /* the octree classified through this frame's TF (c5_cast_view_classify): per node
      * C5_CAST_EMPTY, C5_CAST_MIXED or C5_CAST_SOLID (every brick below it non-empty) */
     uint8_t *cls[C5_CAST_MAX_LEVELS];
+    uint8_t *kids[C5_CAST_MAX_LEVELS];  /* levels >= 1: per node, bit o set when child o exists and is not empty */
     uint64_t (*node_hash[C5_CAST_MAX_LEVELS])[C5_CAST_HASH_WORDS]; /* refine: per node, its bricks' bits */
     uint8_t *sub_mask;      /* per brick: bit s set when sub-brick s is non-empty through the TF */
 } c5_cast_view;

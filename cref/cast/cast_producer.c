@@ -67,12 +67,12 @@ static void visit(walk *w, int l, int x, int y, int z, const double en[3], const
             far_en[a] = w->o[a] >= m - w->sg_delta[a] ? -INFINITY : INFINITY;
         }
     }
-    const int *c = v->ln[l - 1];
-    const uint8_t *ccls = w->vw->cls[l - 1];
+    unsigned kids = w->vw->kids[l][node];
     for (int i = 0; i < 8 && !w->overflow; i++) {
-        int o = i ^ w->mask, cx = 2 * x + (o & 1), cy = 2 * y + (o >> 1 & 1), cz = 2 * z + (o >> 2 & 1);
-        if (cx >= c[0] || cy >= c[1] || cz >= c[2] || ccls[((size_t)cz * c[1] + cy) * c[0] + cx] == C5_CAST_EMPTY)
+        int o = i ^ w->mask;
+        if (!(kids >> o & 1))
             continue;
+        int cx = 2 * x + (o & 1), cy = 2 * y + (o >> 1 & 1), cz = 2 * z + (o >> 2 & 1);
         double cen[3], cex[3], a0 = tn, b0 = tf;
         for (int a = 0; a < 3; a++) {
             int far = i >> a & 1;
@@ -148,7 +148,7 @@ int c5_cast_view_classify(c5_cast_view *vw, int hashes)
         return -1;
     for (int l = 0; l < v->levels; l++) {
         size_t n = (size_t)v->ln[l][0] * (size_t)v->ln[l][1] * (size_t)v->ln[l][2];
-        if (!(vw->cls[l] = malloc(n)))
+        if (!(vw->cls[l] = malloc(n)) || (l > 0 && !(vw->kids[l] = malloc(n))))
             return -1;
         if (hashes && l > 0 && !(vw->node_hash[l] = calloc(n, sizeof *vw->node_hash[l])))
             return -1;
@@ -168,14 +168,15 @@ int c5_cast_view_classify(c5_cast_view *vw, int hashes)
                         continue;
                     }
                     const int *c = v->ln[l - 1];
-                    int any = 0, all = 1;
+                    int all = 1;
+                    unsigned kids = 0;
                     for (int i = 0; i < 8; i++) {
                         int cx = 2 * x + (i & 1), cy = 2 * y + (i >> 1 & 1), cz = 2 * z + (i >> 2 & 1);
                         if (cx >= c[0] || cy >= c[1] || cz >= c[2])
                             continue;
                         size_t ch = ((size_t)cz * c[1] + cy) * c[0] + cx;
                         int k = vw->cls[l - 1][ch];
-                        any |= k != C5_CAST_EMPTY, all &= k == C5_CAST_SOLID;
+                        kids |= (unsigned)(k != C5_CAST_EMPTY) << i, all &= k == C5_CAST_SOLID;
                         if (!hashes || k == C5_CAST_EMPTY)
                             continue;
                         uint64_t *h = vw->node_hash[l][node];
@@ -186,7 +187,8 @@ int c5_cast_view_classify(c5_cast_view *vw, int hashes)
                             for (int wd = 0; wd < C5_CAST_HASH_WORDS; wd++)
                                 h[wd] |= vw->node_hash[l - 1][ch][wd];
                     }
-                    vw->cls[l][node] = !any ? C5_CAST_EMPTY : all ? C5_CAST_SOLID : C5_CAST_MIXED;
+                    vw->cls[l][node] = !kids ? C5_CAST_EMPTY : all ? C5_CAST_SOLID : C5_CAST_MIXED;
+                    vw->kids[l][node] = (uint8_t)kids;
                 }
     }
     return 0;
@@ -196,8 +198,9 @@ void c5_cast_view_release(c5_cast_view *vw)
 {
     for (int l = 0; l < C5_CAST_MAX_LEVELS; l++) {
         free(vw->cls[l]);
+        free(vw->kids[l]);
         free(vw->node_hash[l]);
-        vw->cls[l] = NULL, vw->node_hash[l] = NULL;
+        vw->cls[l] = NULL, vw->kids[l] = NULL, vw->node_hash[l] = NULL;
     }
     free(vw->shade);
     free(vw->sub_mask);
