@@ -37,6 +37,7 @@ static const char USAGE[] =
     "  --prefetch on|off  prefetch the next brick along each ray (default on)\n"
     "  --sub-bricks on|off skipping modes: drop samples in 4^3-cell sub-bricks the TF leaves\n"
     "                     empty (default on)\n"
+    "  --queue-depth N    tasks each worker's buffer holds, 1..1024 (default 4, the paper's)\n"
     "  --distance F       eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)\n"
     "  --tf NAME|FILE     default | ml | a TF file of the peer's format (default: default, or the\n"
     "                     scene's transfer function)\n"
@@ -50,7 +51,7 @@ static const char USAGE[] =
 
 typedef struct {
     const char *input, *out, *tf, *save_raw;
-    int views, size, threads, shading, k, prefetch, sub_bricks, repeats, json;
+    int views, size, threads, shading, k, prefetch, sub_bricks, queue_depth, repeats, json;
     c5_cast_mode mode;
     double distance, step;
     long seed;
@@ -83,7 +84,7 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1, .repeats = 1,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX_REFINE, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
     for (int i = 1; i < argc; i++) {
@@ -130,6 +131,10 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
         } else if (!strcmp(o, "--prefetch")) {
             if (on_off(o, v, &a->prefetch, err))
                 return -1;
+        } else if (!strcmp(o, "--queue-depth")) {
+            if (c5_cli_int(o, v, 1, 1024, &n, err))
+                return -1;
+            a->queue_depth = (int)n;
         } else if (!strcmp(o, "--sub-bricks")) {
             if (on_off(o, v, &a->sub_bricks, err))
                 return -1;
@@ -349,7 +354,7 @@ int c5_cmd_cast(int argc, char **argv)
     c5_cast_opts o;
     c5_cast_opts_default(&o);
     o.mode = a.mode, o.k = a.k, o.workers = a.threads, o.shading = a.shading, o.prefetch = a.prefetch;
-    o.sub_bricks = a.sub_bricks;
+    o.sub_bricks = a.sub_bricks, o.queue_depth = a.queue_depth;
     o.step = a.step * ms_sp;
     for (int p = 0; p < a.repeats; p++) {
         for (int i = 0; i < a.views; i++) {

@@ -80,31 +80,6 @@ enum { C5_CAST_EMPTY, C5_CAST_MIXED, C5_CAST_SOLID };
 int c5_cast_view_classify(c5_cast_view *vw, int hashes);
 void c5_cast_view_release(c5_cast_view *vw);
 
-/* The ray o + t d (voxel units per world t; inv[a] = 1/d[a], unused where d[a] == 0) against
- * the box [lo, hi]: 1 and its entry and exit t (entry clamped to t >= 0), or 0 on a miss. The
- * producer's walk and the workers' volume span share it. */
-static inline int c5_cast_slab(const double o[3], const double d[3], const double inv[3], const double lo[3],
-                               const double hi[3], double *tn, double *tf)
-{
-    double a = 0, b = 1.0 / 0.0;
-    for (int i = 0; i < 3; i++) {
-        if (d[i] == 0) {
-            if (o[i] < lo[i] || o[i] > hi[i])
-                return 0;
-            continue;
-        }
-        double s0 = (lo[i] - o[i]) * inv[i], s1 = (hi[i] - o[i]) * inv[i];
-        if (s0 > s1) {
-            double s = s0;
-            s0 = s1, s1 = s;
-        }
-        a = s0 > a ? s0 : a;
-        b = s1 < b ? s1 : b;
-    }
-    *tn = a, *tf = b;
-    return a <= b;
-}
-
 /* Direction of the ray through image point (u, v) in pixels (pixel centres at +0.5), unit. */
 void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3]);
 

@@ -166,6 +166,30 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
     return done;
 }
 
+/* The ray o + t d (voxel units per world t; inv[a] = 1/d[a], unused where d[a] == 0) against
+ * the box [lo, hi]: 1 and its entry and exit t (entry clamped to t >= 0), or 0 on a miss. */
+static int slab(const double o[3], const double d[3], const double inv[3], const double lo[3],
+                               const double hi[3], double *tn, double *tf)
+{
+    double a = 0, b = 1.0 / 0.0;
+    for (int i = 0; i < 3; i++) {
+        if (d[i] == 0) {
+            if (o[i] < lo[i] || o[i] > hi[i])
+                return 0;
+            continue;
+        }
+        double s0 = (lo[i] - o[i]) * inv[i], s1 = (hi[i] - o[i]) * inv[i];
+        if (s0 > s1) {
+            double s = s0;
+            s0 = s1, s1 = s;
+        }
+        a = s0 > a ? s0 : a;
+        b = s1 < b ? s1 : b;
+    }
+    *tn = a, *tf = b;
+    return a <= b;
+}
+
 static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg, int nseg, const uint64_t *hash,
                   float out[3], c5_cast_counts *cnt)
 {
@@ -184,7 +208,7 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
     }
     r.step = (float)vw->step;
     r.nb0 = (size_t)v->nb[0], r.nb01 = (size_t)v->nb[0] * (size_t)v->nb[1];
-    if (!c5_cast_slab(o, dv, inv, lo, vw->box_hi, &tin, &tout))
+    if (!slab(o, dv, inv, lo, vw->box_hi, &tin, &tout))
         return;
     double jd_in = ceil(tin / vw->step), jd_out = floor(tout / vw->step);
     if (jd_out > C5_CAST_J_MAX)
