@@ -131,6 +131,14 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
         r->eps_g = c5_regs_fx(fmax(1e-6 * diag_g, 1.0 / 64), GEOM_F, 1, GEOM_MAX);
     } else {
         r->eps_g = 1 << (GEOM_F - 6);
+        /* No grid: geom and "voxel" coordinates are both world units from the origin. The hit
+         * unit finds a hit again from the ray's position (c5_geom_from_voxel of the pos that
+         * c5_proc_new_ray stored with c5_geom_to_voxel); with these scales left 0 every
+         * surfaces-only ray was re-intersected from the origin instead of its own start. */
+        for (int a = 0; a < 3; a++) {
+            r->gscale[a] = (int64_t)1 << 16;
+            r->vscale[a] = (int64_t)1 << 20;
+        }
     }
     if (check_max(s->tf.ambient, 16, "shading.ambient", err) || check_max(s->tf.diffuse, 16, "shading.diffuse", err) ||
         check_max(s->tf.specular, 16, "shading.specular", err))
