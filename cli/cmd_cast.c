@@ -38,6 +38,8 @@ static const char USAGE[] =
     "  --sub-bricks on|off skipping modes: drop samples in 4^3-cell sub-bricks the TF leaves\n"
     "                     empty (default on)\n"
     "  --queue-depth N    tasks each worker's buffer holds, 1..1024 (default 4, the paper's)\n"
+    "  --self-produce on|off  a worker with an empty buffer produces its next tile itself\n"
+    "                     instead of waiting for the producer thread (default on)\n"
     "  --distance F       eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)\n"
     "  --tf NAME|FILE     default | ml | a TF file of the peer's format (default: default, or the\n"
     "                     scene's transfer function)\n"
@@ -51,7 +53,7 @@ static const char USAGE[] =
 
 typedef struct {
     const char *input, *out, *tf, *save_raw;
-    int views, size, threads, shading, k, prefetch, sub_bricks, queue_depth, repeats, json;
+    int views, size, threads, shading, k, prefetch, sub_bricks, self_produce, queue_depth, repeats, json;
     c5_cast_mode mode;
     double distance, step;
     long seed;
@@ -84,7 +86,7 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1, .queue_depth = 4, .repeats = 1,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1, .self_produce = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX_REFINE, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
     for (int i = 1; i < argc; i++) {
@@ -135,6 +137,9 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
             if (c5_cli_int(o, v, 1, 1024, &n, err))
                 return -1;
             a->queue_depth = (int)n;
+        } else if (!strcmp(o, "--self-produce")) {
+            if (on_off(o, v, &a->self_produce, err))
+                return -1;
         } else if (!strcmp(o, "--sub-bricks")) {
             if (on_off(o, v, &a->sub_bricks, err))
                 return -1;
@@ -354,7 +359,7 @@ int c5_cmd_cast(int argc, char **argv)
     c5_cast_opts o;
     c5_cast_opts_default(&o);
     o.mode = a.mode, o.k = a.k, o.workers = a.threads, o.shading = a.shading, o.prefetch = a.prefetch;
-    o.sub_bricks = a.sub_bricks, o.queue_depth = a.queue_depth;
+    o.sub_bricks = a.sub_bricks, o.queue_depth = a.queue_depth, o.self_produce = a.self_produce;
     o.step = a.step * ms_sp;
     for (int p = 0; p < a.repeats; p++) {
         for (int i = 0; i < a.views; i++) {
@@ -385,21 +390,22 @@ int c5_cmd_cast(int argc, char **argv)
         for (int i = 0; i < a.views; i++) {
             const c5_cast_stats *s = &fig[i].st;
             json_array_append_new(
-                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "ms", fig[i].ms, "producer_ms",
+                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "ms", fig[i].ms, "producer_ms",
                                fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct",
                                fig[i].imbalance, "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
                                (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
                                (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
                                "samples_sub", (json_int_t)s->samples_sub,
-                               "rays_terminated", (json_int_t)s->rays_terminated));
+                               "rays_terminated", (json_int_t)s->rays_terminated, "tiles_self_produced",
+                               (json_int_t)s->tiles_self));
         }
         json_object_set_new(j, "dataset",
                             json_pack("{s:s,s:[I,I,I],s:[f,f,f]}", "name", in.name, "dims", (json_int_t)in.dims[0],
                                       (json_int_t)in.dims[1], (json_int_t)in.dims[2], "spacing", in.spacing[0],
                                       in.spacing[1], in.spacing[2]));
         json_object_update_new(
-            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode), "threads",
-                         a.threads, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks, "size", a.size, "views", a.views,
+            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode), "threads",
+                         a.threads, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks, "self_produce", a.self_produce, "size", a.size, "views", a.views,
                          "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
                          (json_int_t)a.seed));
         json_object_update_new(

@@ -140,11 +140,14 @@ TEST(cast_modes_draw_the_bits_of_plain)
                 for (int k = 0; k <= 16; k = k ? 2 * k : 1) {
                     o.mode = (c5_cast_mode)mode, o.k = k;
                     o.workers = 1 + (k % 3), o.prefetch = k & 1, o.queue_depth = 1 + k % 5;
-                    o.sub_bricks = !(k & 2);
+                    o.sub_bricks = !(k & 2), o.self_produce = !(k & 4);
                     if (render(&fx, &cam, 53, 37, &o, &img, &st))
                         return;
                     n_cases++;
                     n_sub += st.samples_sub > 0;
+                    /* every tile produced exactly once (53x37: 4x3 tiles), by the workers only when allowed */
+                    CHECK_INT((int)st.tiles, 12);
+                    CHECK(o.self_produce || st.tiles_self == 0);
                     if (differ(&ref, &img)) {
                         n_diff++;
                         c5t_failf(__FILE__, __LINE__, "view %d shading %d mode %s k %d: image differs from plain", vi,

@@ -92,6 +92,7 @@ typedef struct {
     int shading;       /* headlight Blinn-Phong, two-sided (peer README) */
     int prefetch;      /* prefetch the next brick along the ray on entering a brick */
     int sub_bricks;    /* skipping modes: drop samples in sub-bricks the TF leaves empty */
+    int self_produce;  /* a worker whose buffer is empty produces its next tile itself */
     int early_termination;
     double step;       /* sample distance in world units; 0: the smallest spacing */
     int queue_depth;   /* bounded buffer entries per worker (the paper's 4-entry mailbox); 0: 4 */
@@ -101,12 +102,14 @@ void c5_cast_opts_default(c5_cast_opts *o);
 
 typedef struct {
     double frame_s;                              /* wall time of the frame */
-    double producer_s;                           /* producer busy time (waits for buffer space excluded) */
+    double producer_s;                           /* production time: the producer's busy time (waits for
+                                                    buffer space excluded) plus the workers' own */
     double producer_wait_s;                      /* producer blocked on a full buffer */
-    double worker_s[C5_CAST_MAX_WORKERS];        /* each worker's busy time (waits excluded) */
+    double worker_s[C5_CAST_MAX_WORKERS];        /* each worker's rendering time (waits, own production excluded) */
     double worker_wait_s[C5_CAST_MAX_WORKERS];   /* each worker blocked on an empty buffer */
     int workers, k;
     uint64_t tiles;
+    uint64_t tiles_self;      /* of `tiles`, those the workers produced themselves */
     uint64_t producer_rays;   /* rays the producer traversed */
     uint64_t segments;        /* segments emitted (per pixel or per subtile) */
     uint64_t samples;         /* samples reconstructed and classified */

@@ -30,7 +30,7 @@ int c5_cast_mode_parse(const char *s, c5_cast_mode *m)
 void c5_cast_opts_default(c5_cast_opts *o)
 {
     *o = (c5_cast_opts){.mode = C5_CAST_APPROX_REFINE, .k = 0, .workers = 2, .shading = 0, .prefetch = 1,
-                        .sub_bricks = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
+                        .sub_bricks = 1, .self_produce = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
 }
 
 static double min_spacing(const c5_cast_volume *v) { return fmin(v->spacing[0], fmin(v->spacing[1], v->spacing[2])); }
@@ -134,53 +134,98 @@ static int view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_t
 
 /* ---- the bounded buffers ---------------------------------------------------------------- */
 
+/* Worker w's buffer and its share of the tiles (global tiles w, w + W, w + 2W, ...): `next`
+ * counts those claimed for production, `pending` those the producer claimed but has not
+ * published yet. All under mu. */
 typedef struct {
     pthread_mutex_t mu;
     pthread_cond_t cv;
     c5_cast_task *slot;
     int depth, head, count;
+    int next, n, pending;
 } ring;
 
 typedef struct {
     const c5_cast_view *vw;
     ring *r;
+    int index, workers, self_produce;
+    const int *tiles;
     float *rgb;
     c5_cast_counts cnt;
-    double busy_s, wait_s;
+    c5_cast_task own;        /* a tile this worker produces itself */
+    c5_cast_scratch *rs;
+    uint64_t rays, segments, tiles_own;
+    double busy_s, wait_s, produce_s;
+    int failed;
 } worker;
 
+/* Production of one tile into t, counted into the given totals. */
+static int produce(const c5_cast_view *vw, c5_cast_scratch *rs, const int *tiles, int i, c5_cast_task *t,
+                   uint64_t *rays, uint64_t *segments)
+{
+    if (c5_cast_produce(vw, rs, tiles[2 * i], tiles[2 * i + 1], t))
+        return -1;
+    *rays += t->rays;
+    *segments += t->first[t->units_x * t->units_y];
+    return 0;
+}
+
+/* A worker renders the tasks of its buffer. When the buffer is empty and some of its tiles
+ * are still unclaimed, it produces the next one itself instead of waiting (self_produce):
+ * with more threads than cores the producer thread often sits in the run queue while the
+ * workers starve. Tiles stay statically assigned, so the image is the same either way. */
 static void *worker_main(void *arg)
 {
     worker *wk = arg;
     ring *r = wk->r;
     double t0 = c5_now_s();
+    pthread_mutex_lock(&r->mu);
     for (;;) {
-        pthread_mutex_lock(&r->mu);
-        double w0 = c5_now_s();
-        while (!r->count)
+        if (!r->count) {
+            if (wk->self_produce && r->next < r->n && !wk->failed) {
+                int i = wk->index + r->next++ * wk->workers;
+                pthread_mutex_unlock(&r->mu);
+                double p0 = c5_now_s();
+                wk->failed = produce(wk->vw, wk->rs, wk->tiles, i, &wk->own, &wk->rays, &wk->segments);
+                wk->produce_s += c5_now_s() - p0;
+                if (!wk->failed) {
+                    c5_cast_work(wk->vw, &wk->own, wk->rgb, &wk->cnt);
+                    wk->tiles_own++;
+                }
+                pthread_mutex_lock(&r->mu);
+                continue;
+            }
+            if (r->next == r->n && !r->pending)
+                break;
+            double w0 = c5_now_s();
             pthread_cond_wait(&r->cv, &r->mu);
-        wk->wait_s += c5_now_s() - w0;
+            wk->wait_s += c5_now_s() - w0;
+            continue;
+        }
         c5_cast_task *t = &r->slot[r->head];
         pthread_mutex_unlock(&r->mu);
-        int last = t->last;
-        if (!last)
-            c5_cast_work(wk->vw, t, wk->rgb, &wk->cnt);
+        c5_cast_work(wk->vw, t, wk->rgb, &wk->cnt);
         pthread_mutex_lock(&r->mu);
         r->head = (r->head + 1) % r->depth;
         r->count--;
         pthread_cond_broadcast(&r->cv);
-        pthread_mutex_unlock(&r->mu);
-        if (last)
-            break;
     }
-    wk->busy_s = c5_now_s() - t0 - wk->wait_s;
+    pthread_mutex_unlock(&r->mu);
+    wk->busy_s = c5_now_s() - t0 - wk->wait_s - wk->produce_s;
     return NULL;
 }
 
-/* The next free entry of r (blocking while full), to be filled and then published. */
-static c5_cast_task *ring_acquire(ring *r, double *wait_s)
+/* The producer's side: claims the worker's next tile (-1 when the worker claimed them all)
+ * and the free entry it goes to, blocking while the buffer is full. */
+static c5_cast_task *ring_claim(ring *r, int *k, double *wait_s)
 {
     pthread_mutex_lock(&r->mu);
+    if (r->next == r->n) {
+        pthread_mutex_unlock(&r->mu);
+        return NULL;
+    }
+    *k = r->next++;
+    r->pending++;
     double w0 = c5_now_s();
     while (r->count == r->depth)
         pthread_cond_wait(&r->cv, &r->mu);
@@ -190,10 +235,12 @@ static c5_cast_task *ring_acquire(ring *r, double *wait_s)
     return t;
 }
 
-static void ring_publish(ring *r)
+/* Publishes the claimed entry (or, when production failed, just drops the claim). */
+static void ring_publish(ring *r, int filled)
 {
     pthread_mutex_lock(&r->mu);
-    r->count++;
+    r->count += filled;
+    r->pending--;
     pthread_cond_broadcast(&r->cv);
     pthread_mutex_unlock(&r->mu);
 }
@@ -268,8 +315,13 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
     int started = 0, failed = 0;
     if (!tiles || !rings || !wk || !th || !slots || !rs)
         goto oom;
-    for (int i = 0; i < nw * depth && o->mode == C5_CAST_APPROX_REFINE; i++)
+    int refine = o->mode == C5_CAST_APPROX_REFINE;
+    for (int i = 0; i < nw * depth && refine; i++)
         if (!(slots[i].hash = malloc(sizeof *slots[i].hash * C5_CAST_TILE * C5_CAST_TILE)))
+            goto oom;
+    for (int i = 0; i < nw && o->self_produce; i++)
+        if (!(wk[i].rs = c5_cast_scratch_new()) ||
+            (refine && !(wk[i].own.hash = malloc(sizeof *wk[i].own.hash * C5_CAST_TILE * C5_CAST_TILE))))
             goto oom;
     if (!out->rgb) {
         if (c5_image_alloc(out, w, h, err))
@@ -281,8 +333,11 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         pthread_mutex_init(&r->mu, NULL);
         pthread_cond_init(&r->cv, NULL);
         r->slot = slots + (size_t)started * depth, r->depth = depth;
-        wk[started] = (worker){.vw = &vw, .r = r, .rgb = out->rgb};
-        if (pthread_create(&th[started], NULL, worker_main, &wk[started])) {
+        r->n = (ntiles - started + nw - 1) / nw;
+        worker *k = &wk[started];
+        k->vw = &vw, k->r = r, k->index = started, k->workers = nw, k->self_produce = o->self_produce;
+        k->tiles = tiles, k->rgb = out->rgb;
+        if (pthread_create(&th[started], NULL, worker_main, k)) {
             pthread_mutex_destroy(&r->mu);
             pthread_cond_destroy(&r->cv);
             failed = 1;
@@ -291,20 +346,21 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
     }
     double t0 = c5_now_s();
     for (int i = 0; i < ntiles && !failed; i++) {
-        ring *r = &rings[i % started];
-        c5_cast_task *t = ring_acquire(r, &st->producer_wait_s);
-        if (c5_cast_produce(&vw, rs, tiles[2 * i], tiles[2 * i + 1], t)) {
-            failed = 1;
-            break;
-        }
-        st->producer_rays += t->rays;
-        st->segments += t->first[t->units_x * t->units_y];
-        st->tiles++;
-        ring_publish(r);
+        ring *r = &rings[i % nw];
+        int k;
+        c5_cast_task *t = ring_claim(r, &k, &st->producer_wait_s);
+        if (!t)
+            continue; /* the worker produced the rest of its tiles itself */
+        int bad = produce(&vw, rs, tiles, i % nw + k * nw, t, &st->producer_rays, &st->segments);
+        ring_publish(r, !bad);
+        failed |= bad;
+        st->tiles += !bad;
     }
-    for (int i = 0; i < started; i++) {
-        ring_acquire(&rings[i], &st->producer_wait_s)->last = 1;
-        ring_publish(&rings[i]);
+    for (int i = 0; i < started; i++) { /* nothing more will be claimed: lets the workers finish */
+        pthread_mutex_lock(&rings[i].mu);
+        rings[i].n = rings[i].next;
+        pthread_cond_broadcast(&rings[i].cv);
+        pthread_mutex_unlock(&rings[i].mu);
     }
     st->producer_s = c5_now_s() - t0 - st->producer_wait_s;
     for (int i = 0; i < started; i++) {
@@ -312,9 +368,12 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         pthread_mutex_destroy(&rings[i].mu);
         pthread_cond_destroy(&rings[i].cv);
         st->worker_s[i] = wk[i].busy_s, st->worker_wait_s[i] = wk[i].wait_s;
+        st->producer_s += wk[i].produce_s, st->producer_rays += wk[i].rays, st->segments += wk[i].segments;
+        st->tiles += wk[i].tiles_own, st->tiles_self += wk[i].tiles_own;
         st->samples += wk[i].cnt.samples, st->samples_zero += wk[i].cnt.zero;
         st->samples_hashed += wk[i].cnt.hashed, st->rays_terminated += wk[i].cnt.terminated;
         st->samples_sub += wk[i].cnt.sub;
+        failed |= wk[i].failed;
     }
     st->workers = started, st->k = vw.k;
     if (failed) {
@@ -332,6 +391,11 @@ done:
     for (int i = 0; slots && i < nw * depth; i++) {
         free(slots[i].seg);
         free(slots[i].hash);
+    }
+    for (int i = 0; wk && i < nw; i++) {
+        c5_cast_scratch_free(wk[i].rs);
+        free(wk[i].own.seg);
+        free(wk[i].own.hash);
     }
     c5_cast_scratch_free(rs);
     free(slots);

@@ -95,7 +95,6 @@ typedef struct {
     uint32_t seg_cap;
     uint64_t (*hash)[C5_CAST_HASH_WORDS]; /* per unit, refine mode only */
     uint64_t rays;          /* producer rays spent on this tile */
-    int last;               /* end of stream marker */
 } c5_cast_task;
 
 #define C5_CAST_J_MAX (INT32_MAX - 1)  /* last sample index a segment may name */

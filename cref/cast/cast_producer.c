@@ -361,7 +361,7 @@ static int produce_approx(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_t
 int c5_cast_produce(const c5_cast_view *vw, c5_cast_scratch *rs, int x0, int y0, c5_cast_task *t)
 {
     int unit = vw->mode == C5_CAST_APPROX || vw->mode == C5_CAST_APPROX_REFINE ? vw->k : 1;
-    t->x0 = x0, t->y0 = y0, t->unit = unit, t->rays = 0, t->last = 0;
+    t->x0 = x0, t->y0 = y0, t->unit = unit, t->rays = 0;
     int wpx = vw->w - x0 < C5_CAST_TILE ? vw->w - x0 : C5_CAST_TILE;
     int hpx = vw->h - y0 < C5_CAST_TILE ? vw->h - y0 : C5_CAST_TILE;
     t->units_x = (wpx + unit - 1) / unit, t->units_y = (hpx + unit - 1) / unit;
