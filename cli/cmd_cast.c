@@ -86,7 +86,8 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1, .self_produce = 1, .queue_depth = 4, .repeats = 1,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1,
+                .self_produce = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX_REFINE, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
     for (int i = 1; i < argc; i++) {
@@ -404,8 +405,9 @@ int c5_cmd_cast(int argc, char **argv)
                                       (json_int_t)in.dims[1], (json_int_t)in.dims[2], "spacing", in.spacing[0],
                                       in.spacing[1], in.spacing[2]));
         json_object_update_new(
-            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode), "threads",
-                         a.threads, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks, "self_produce", a.self_produce, "size", a.size, "views", a.views,
+            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
+                         "threads", a.threads, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks,
+                         "self_produce", a.self_produce, "size", a.size, "views", a.views,
                          "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
                          (json_int_t)a.seed));
         json_object_update_new(

@@ -57,13 +57,15 @@ static inline int cell(float o, float d, float hi, int last, float t, float *f)
 
 static inline size_t brick_of(const ray_f *r, int ix, int iy, int iz)
 {
-    return (size_t)((unsigned)iz / C5_CAST_BRICK) * r->nb01 + (size_t)((unsigned)iy / C5_CAST_BRICK) * r->nb0 + (size_t)((unsigned)ix / C5_CAST_BRICK);
+    return (size_t)((unsigned)iz / C5_CAST_BRICK) * r->nb01 + (size_t)((unsigned)iy / C5_CAST_BRICK) * r->nb0 +
+           (size_t)((unsigned)ix / C5_CAST_BRICK);
 }
 
 /* Brick coordinates packed into one word: a change of brick is one compare. */
 static inline uint64_t brick_key(int ix, int iy, int iz)
 {
-    return (uint64_t)((unsigned)ix / C5_CAST_BRICK) | (uint64_t)((unsigned)iy / C5_CAST_BRICK) << 21 | (uint64_t)((unsigned)iz / C5_CAST_BRICK) << 42;
+    return (uint64_t)((unsigned)ix / C5_CAST_BRICK) | (uint64_t)((unsigned)iy / C5_CAST_BRICK) << 21 |
+           (uint64_t)((unsigned)iz / C5_CAST_BRICK) << 42;
 }
 
 /* The brick holding sample j (for the prefetch). */
@@ -76,9 +78,7 @@ static size_t brick_at(const ray_f *r, int32_t j)
     return brick_of(r, ix, iy, iz);
 }
 
-/* Marches samples j0..j1 of one ray, compositing into acc (C0, C1, C2, A); *state carries the
- * current brick across segments. Returns 1 when the ray terminated early. Inlined with
- * constant `shading` and `hashed`, so each variant's loop has no test it does not need. */
+/* The brick a ray is in, carried across its segments. */
 typedef struct {
     uint64_t key;
     const uint8_t *b;
@@ -87,6 +87,9 @@ typedef struct {
     unsigned sub;           /* the brick's non-empty sub-bricks (all when not skipping) */
 } brick_state;
 
+/* Marches samples j0..j1 of one ray, compositing into acc (C0, C1, C2, A). Returns 1 when the
+ * ray terminated early. Inlined with constant `shading` and `hash` (NULL or not), so each
+ * variant's loop has no test it does not need. */
 static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0, int32_t j1, int32_t jout,
                              const uint64_t *hash, const int shading, float acc[4], brick_state *bs,
                              c5_cast_counts *cnt)
@@ -132,7 +135,8 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
             continue;
         }
         n_samples++;
-        int off = (int)((unsigned)ix % C5_CAST_BRICK + DY * ((unsigned)iy % C5_CAST_BRICK) + DZ * ((unsigned)iz % C5_CAST_BRICK));
+        int off = (int)((unsigned)ix % C5_CAST_BRICK + DY * ((unsigned)iy % C5_CAST_BRICK) +
+                        DZ * ((unsigned)iz % C5_CAST_BRICK));
         const uint8_t *b = bs->b + off;
         float x00 = lerp(b[0], b[DX], fx), x10 = lerp(b[DY], b[DY + DX], fx);
         float x01 = lerp(b[DZ], b[DZ + DX], fx), x11 = lerp(b[DZ + DY], b[DZ + DY + DX], fx);
