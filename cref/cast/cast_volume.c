@@ -58,10 +58,15 @@ static int build_octree(c5_cast_volume *v, c5_err *err)
             for (int bx = 0; bx < v->nb[0]; bx++) {
                 size_t b = c5_cast_brick_index(v, bx, by, bz), i0 = (size_t)bx * C5_CAST_BRICK;
                 size_t j0 = (size_t)by * C5_CAST_BRICK, k0 = (size_t)bz * C5_CAST_BRICK;
-                box_minmax(v, i0, j0, k0, C5_CAST_BRICK, v->minmax[0] + 2 * b);
-                for (int s = 0; s < C5_CAST_SUBS; s++)
+                uint8_t *sm = v->sub_minmax + 2 * C5_CAST_SUBS * b, *mm = v->minmax[0] + 2 * b;
+                mm[0] = 255, mm[1] = 0;
+                /* the octants' voxel ranges together are exactly the brick's */
+                for (int s = 0; s < C5_CAST_SUBS; s++, sm += 2) {
                     box_minmax(v, i0 + (s & 1) * C5_CAST_SUB, j0 + (s >> 1 & 1) * C5_CAST_SUB,
-                               k0 + (s >> 2) * C5_CAST_SUB, C5_CAST_SUB, v->sub_minmax + 2 * (C5_CAST_SUBS * b + s));
+                               k0 + (s >> 2) * C5_CAST_SUB, C5_CAST_SUB, sm);
+                    mm[0] = sm[0] < mm[0] ? sm[0] : mm[0];
+                    mm[1] = sm[1] > mm[1] ? sm[1] : mm[1];
+                }
             }
     int l = 0;
     while (v->ln[l][0] > 1 || v->ln[l][1] > 1 || v->ln[l][2] > 1) {
