@@ -17,6 +17,7 @@
 #include "scene.h"
 #include "supervol.h"
 #include "taps.h"
+#include "widths.h"
 
 /* Sort key of the active cell's ray queue (docs/board-model.md, "queue key"). */
 typedef enum {
@@ -58,6 +59,7 @@ typedef struct {
     const c5_taps *taps;     /* observers of the blocks for golden vectors, or NULL */
     const c5_board_host *host; /* NULL: the model reads the super volume itself */
     const c5_camera *camera; /* NULL: the scene's camera of the frame (the camera registers) */
+    const c5_widths *widths; /* datapath fraction widths, NULL: shipped (widths.h; issue 8 sweep) */
 } c5_board_opts;
 
 /* The stages the scene needs (docs/board-model.md, "what runs"). */
