@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cast_internal.h"
+#include "cast_pos.h"
 #include "harness.h"
 #include "rng.h"
 
@@ -401,4 +402,59 @@ TEST(cast_edges)
     size_t zero_dims[3] = {0, 4, 4};
     CHECK(c5_cast_volume_make(vox, zero_dims, sp, &bare, &err) == -1 && strstr(err.msg, "dims"));
     c5_cast_volume_free(fx.v);
+}
+
+/* The workers' sample positions (cast_pos.h): the SSE2 unit gives the scalar definition's
+ * cell and fraction bits, sub-brick, in-brick offset and brick change, for rays that start
+ * outside, run backwards, sit on cell faces and reach far indices (so both clamps act). */
+TEST(cast_positions_match_the_scalar_definition)
+{
+    uint64_t st = 77;
+    int cells[3] = {255, 37, 8}, bad = 0, clamped = 0, tested = 0;
+    c5_cast_ray r;
+    for (int a = 0; a < 3; a++)
+        r.hi[a] = c5_cast_clamp_hi(cells[a]);
+    r.o[3] = r.d[3] = r.hi[3] = 0;
+    for (int ray = 0; ray < 2000; ray++) {
+        for (int a = 0; a < 3; a++) {
+            double u = (double)(c5_splitmix64(&st) >> 11) / 9007199254740992.0;
+            r.o[a] = (float)((u * 1.4 - 0.2) * cells[a]);
+            if (ray % 7 == 0)
+                r.o[a] = (float)(c5_splitmix64(&st) % (uint64_t)(cells[a] + 1)); /* on a cell face */
+            r.d[a] = (float)((double)(c5_splitmix64(&st) >> 11) / 4503599627370496.0 - 1.0);
+            if (ray % 5 == a)
+                r.d[a] = 0; /* parallel to a face */
+        }
+        r.step = ray % 3 == 0 ? 1.0f : 0.37f;
+        int last[3] = {-1, -1, -1};
+        for (int32_t j = ray % 11 == 0 ? 100000 : 0, n = 0; n < 400; j++, n++) {
+            int i[3];
+            float f[3];
+            c5_cast_pos_ref(&r, j, i, f);
+            c5_cast_pos p = c5_cast_pos_at(&r, j);
+            unsigned sub = 0;
+            int off = 0;
+            for (int a = 0; a < 3; a++) {
+                float fa = c5_cast_pos_frac(p, a);
+                bad += c5_cast_pos_cell(p, a) != i[a] || memcmp(&fa, &f[a], sizeof fa) != 0;
+                bad += i[a] < 0 || i[a] >= cells[a] || !(f[a] >= 0 && f[a] < 1);
+                clamped += i[a] == cells[a] - 1 && f[a] > 0.999f;
+                sub |= (unsigned)(i[a] / C5_CAST_SUB & 1) << a;
+            }
+            off = i[0] % C5_CAST_BRICK + C5_CAST_BSIDE * (i[1] % C5_CAST_BRICK) +
+                  C5_CAST_BSIDE * C5_CAST_BSIDE * (i[2] % C5_CAST_BRICK);
+            bad += c5_cast_pos_sub(p) != sub || c5_cast_pos_off(p) != off;
+            int moved = 0;
+            for (int a = 0; a < 3; a++)
+                moved |= i[a] / C5_CAST_BRICK != last[a];
+            c5_cast_bkey prev = c5_cast_pos_bkey(c5_cast_pos_at(&r, j > 0 ? j - 1 : 0));
+            if (n > 0)
+                bad += c5_cast_bkey_eq(c5_cast_pos_bkey(p), prev) == moved;
+            for (int a = 0; a < 3; a++)
+                last[a] = i[a] / C5_CAST_BRICK;
+            tested++;
+        }
+    }
+    CHECK_INT(bad, 0);
+    CHECK(tested == 2000 * 400 && clamped > 0);
 }

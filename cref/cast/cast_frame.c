@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "cast_internal.h"
+#include "cast_pos.h"
 #include "rng.h"
 #include "clock.h"
 
@@ -106,6 +107,7 @@ static int view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_t
     for (int a = 0; a < 3; a++) {
         vw->eye_v[a] = cam->eye[a] / v->spacing[a];
         vw->box_hi[a] = v->cells[a];
+        vw->clamp_hi[a] = c5_cast_clamp_hi(v->cells[a]);
         vw->delta_v[a] = (theta * t_far + eps) / v->spacing[a];
     }
     vw->margin_t = eps;

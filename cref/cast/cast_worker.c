@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cast_internal.h"
+#include "cast_pos.h"
 
 static inline float lerp(float a, float b, float t) { return a + t * (b - a); }
 
@@ -35,91 +36,55 @@ static inline void prefetch_brick(const c5_cast_view *vw, size_t bi)
     }
 }
 
-/* One ray in the workers' float arithmetic: origin and direction in voxel units. */
-typedef struct {
-    float o[3], d[3], hi[3], step;
-    int last[3];            /* last cell index per axis */
-    size_t nb0, nb01;       /* brick strides */
-} ray_f;
-
-/* Sample position x = o + t d on one axis, clamped into [0, hi]: its cell (at most `last`)
- * and the fraction inside it. Every sample's position comes from this alone. */
-static inline int cell(float o, float d, float hi, int last, float t, float *f)
-{
-    float x = o + t * d;
-    x = x < 0 ? 0 : x;
-    x = x > hi ? hi : x;
-    int i = (int)x;
-    i = i > last ? last : i;
-    *f = x - (float)i;
-    return i;
-}
-
-static inline size_t brick_of(const ray_f *r, int ix, int iy, int iz)
-{
-    return (size_t)((unsigned)iz / C5_CAST_BRICK) * r->nb01 + (size_t)((unsigned)iy / C5_CAST_BRICK) * r->nb0 +
-           (size_t)((unsigned)ix / C5_CAST_BRICK);
-}
-
-/* Brick coordinates packed into one word: a change of brick is one compare. */
-static inline uint64_t brick_key(int ix, int iy, int iz)
-{
-    return (uint64_t)((unsigned)ix / C5_CAST_BRICK) | (uint64_t)((unsigned)iy / C5_CAST_BRICK) << 21 |
-           (uint64_t)((unsigned)iz / C5_CAST_BRICK) << 42;
-}
-
-/* The brick holding sample j (for the prefetch). */
-static size_t brick_at(const ray_f *r, int32_t j)
-{
-    float t = (float)j * r->step, f;
-    int ix = cell(r->o[0], r->d[0], r->hi[0], r->last[0], t, &f);
-    int iy = cell(r->o[1], r->d[1], r->hi[1], r->last[1], t, &f);
-    int iz = cell(r->o[2], r->d[2], r->hi[2], r->last[2], t, &f);
-    return brick_of(r, ix, iy, iz);
-}
-
 /* The brick a ray is in, carried across its segments. */
 typedef struct {
-    uint64_t key;
+    c5_cast_bkey key;
     const uint8_t *b;
     const uint16_t *n;
     int skip;
     unsigned sub;           /* the brick's non-empty sub-bricks (all when not skipping) */
 } brick_state;
 
+static inline size_t brick_index(const c5_cast_view *vw, c5_cast_pos p)
+{
+    return c5_cast_brick_index(vw->v, c5_cast_pos_cell(p, 0) >> C5_CAST_BRICK_LOG2,
+                               c5_cast_pos_cell(p, 1) >> C5_CAST_BRICK_LOG2,
+                               c5_cast_pos_cell(p, 2) >> C5_CAST_BRICK_LOG2);
+}
+
 /* Marches samples j0..j1 of one ray, compositing into acc (C0, C1, C2, A). Returns 1 when the
  * ray terminated early. Inlined with constant `shading` and `hash` (NULL or not), so each
  * variant's loop has no test it does not need. */
-static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0, int32_t j1, int32_t jout,
+static inline __attribute__((always_inline)) int march_span(const c5_cast_view *vw, const c5_cast_ray *r, int32_t j0, int32_t j1, int32_t jout,
                              const uint64_t *hash, const int shading, float acc[4], brick_state *bs,
                              c5_cast_counts *cnt)
 {
     const float(*rgba)[4] = vw->tf->rgba;
+    const uint32_t *nonzero = vw->tf->nonzero;
     const float(*shade)[2] = vw->shade;
     const int prefetch = vw->prefetch, early = vw->early, lookahead = vw->lookahead;
-    const float o0 = r->o[0], o1 = r->o[1], o2 = r->o[2], d0 = r->d[0], d1 = r->d[1], d2 = r->d[2];
-    const float h0 = r->hi[0], h1 = r->hi[1], h2 = r->hi[2], step = r->step;
-    const int l0 = r->last[0], l1 = r->last[1], l2 = r->last[2];
     float C0 = acc[0], C1 = acc[1], C2 = acc[2], A = acc[3];
-    uint64_t n_samples = 0, n_zero = 0, n_hashed = 0, n_sub = 0;
+    uint64_t n_samples = 0, n_nonzero = 0, n_hashed = 0, n_sub = 0;
+    c5_cast_bkey bkey = bs->key;
     int done = 0;
     for (int32_t j = j0; j <= j1; j++) {
-        float t = (float)j * step, fx, fy, fz;
-        int ix = cell(o0, d0, h0, l0, t, &fx), iy = cell(o1, d1, h1, l1, t, &fy), iz = cell(o2, d2, h2, l2, t, &fz);
-        uint64_t key = brick_key(ix, iy, iz);
-        if (key != bs->key) {
-            bs->key = key;
-            size_t bi = brick_of(r, ix, iy, iz);
+        c5_cast_pos p = c5_cast_pos_at(r, j);
+        c5_cast_bkey key = c5_cast_pos_bkey(p);
+        if (!c5_cast_bkey_eq(key, bkey)) {
+            bkey = key;
+            size_t bi = brick_index(vw, p);
             bs->b = vw->v->bricks + bi * C5_CAST_BSTRIDE;
             if (shading)
                 bs->n = vw->v->normals + bi * C5_CAST_BSTRIDE;
             bs->sub = vw->sub_skip ? vw->sub_mask[bi] : 0xffu;
             if (hash) {
-                uint32_t hk = c5_cast_hash_key(vw, ix / C5_CAST_BRICK, iy / C5_CAST_BRICK, iz / C5_CAST_BRICK);
+                uint32_t hk = c5_cast_hash_key(vw, c5_cast_pos_cell(p, 0) >> C5_CAST_BRICK_LOG2,
+                                               c5_cast_pos_cell(p, 1) >> C5_CAST_BRICK_LOG2,
+                                               c5_cast_pos_cell(p, 2) >> C5_CAST_BRICK_LOG2);
                 bs->skip = !(hash[hk / 64] >> (hk % 64) & 1);
             }
             if (prefetch) {
-                size_t nb = brick_at(r, j + lookahead < jout ? j + lookahead : jout);
+                size_t nb = brick_index(vw, c5_cast_pos_at(r, j + lookahead < jout ? j + lookahead : jout));
                 if (nb != bi)
                     prefetch_brick(vw, nb);
             }
@@ -128,23 +93,22 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
             n_hashed++;
             continue;
         }
-        unsigned sb = ((unsigned)ix / C5_CAST_SUB & 1) | ((unsigned)iy / C5_CAST_SUB & 1) << 1 |
-                      ((unsigned)iz / C5_CAST_SUB & 1) << 2;
-        if (!(bs->sub >> sb & 1)) { /* the TF is zero over the sub-brick's range: opacity 0 */
+        if (!(bs->sub >> c5_cast_pos_sub(p) & 1)) { /* the TF is zero over the sub-brick's range: opacity 0 */
             n_sub++;
             continue;
         }
         n_samples++;
-        int off = (int)((unsigned)ix % C5_CAST_BRICK + DY * ((unsigned)iy % C5_CAST_BRICK) +
-                        DZ * ((unsigned)iz % C5_CAST_BRICK));
+        int off = c5_cast_pos_off(p);
+        float fx = c5_cast_pos_frac(p, 0), fy = c5_cast_pos_frac(p, 1), fz = c5_cast_pos_frac(p, 2);
         const uint8_t *b = bs->b + off;
         float x00 = lerp(b[0], b[DX], fx), x10 = lerp(b[DY], b[DY + DX], fx);
         float x01 = lerp(b[DZ], b[DZ + DX], fx), x11 = lerp(b[DZ + DY], b[DZ + DY + DX], fx);
         float sv = lerp(lerp(x00, x10, fy), lerp(x01, x11, fy), fz);
-        const float *e = rgba[(int)(sv * C5_CAST_TF_SCALE + 0.5f)];
+        int ti = (int)(sv * C5_CAST_TF_SCALE + 0.5f);
+        const float *e = rgba[ti];
         float a = e[3];
         /* no branch on a == 0: it is unpredictable, and compositing a zero sample adds +0 */
-        n_zero += a == 0;
+        n_nonzero += nonzero[ti + 1] - nonzero[ti]; /* the table's running count: 1 when a != 0 */
         float c0 = e[0], c1 = e[1], c2 = e[2];
         if (shading && a != 0) {
             const uint16_t *n = bs->n + off;
@@ -165,8 +129,9 @@ static inline int march_span(const c5_cast_view *vw, const ray_f *r, int32_t j0,
             break;
         }
     }
+    bs->key = bkey;
     acc[0] = C0, acc[1] = C1, acc[2] = C2, acc[3] = A;
-    cnt->samples += n_samples, cnt->zero += n_zero, cnt->hashed += n_hashed, cnt->sub += n_sub;
+    cnt->samples += n_samples, cnt->zero += n_samples - n_nonzero, cnt->hashed += n_hashed, cnt->sub += n_sub;
     return done;
 }
 
@@ -203,15 +168,15 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
         return;
     double d[3], o[3], dv[3], inv[3], tin, tout, lo[3] = {0, 0, 0};
     c5_cast_ray_dir(vw, px + 0.5, py + 0.5, d);
-    ray_f r;
     for (int a = 0; a < 3; a++) {
         o[a] = vw->eye_v[a];
         dv[a] = d[a] / v->spacing[a];
         inv[a] = dv[a] != 0 ? 1 / dv[a] : 0;
-        r.o[a] = (float)o[a], r.d[a] = (float)dv[a], r.hi[a] = (float)vw->box_hi[a], r.last[a] = v->cells[a] - 1;
     }
-    r.step = (float)vw->step;
-    r.nb0 = (size_t)v->nb[0], r.nb01 = (size_t)v->nb[0] * (size_t)v->nb[1];
+    c5_cast_ray r = {.o = {(float)o[0], (float)o[1], (float)o[2], 0},
+                     .d = {(float)dv[0], (float)dv[1], (float)dv[2], 0},
+                     .hi = {vw->clamp_hi[0], vw->clamp_hi[1], vw->clamp_hi[2], 0},
+                     .step = (float)vw->step};
     if (!slab(o, dv, inv, lo, vw->box_hi, &tin, &tout))
         return;
     double jd_in = ceil(tin / vw->step), jd_out = floor(tout / vw->step);
@@ -221,7 +186,7 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
         return;
     int32_t jin = (int32_t)jd_in, jout = (int32_t)jd_out;
     float acc[4] = {0, 0, 0, 0};
-    brick_state bs = {UINT64_MAX, NULL, NULL, 0, 0xffu};
+    brick_state bs = {c5_cast_bkey_none(), NULL, NULL, 0, 0xffu};
     for (int s = 0; s < nseg; s++) {
         int32_t j0 = seg[s].j0 > jin ? seg[s].j0 : jin, j1 = seg[s].j1 < jout ? seg[s].j1 : jout;
         int stop;

@@ -1,0 +1,139 @@
+/* Where sample j of a ray lies, for the workers' inner loop. Per axis: x = o + t d with
+ * t = j * step (single precision), clamped into [0, hi] where hi is the largest float below
+ * the axis's cell count; its cell i = trunc(x) and the fraction x - i in [0, 1). The clamp
+ * keeps i at most cells - 1 without a second clamp on the integer. A function of j alone, so
+ * every skipping mode places a sample at the same bits (docs/caster.md, "exactness").
+ *
+ * Two implementations of one definition: SSE2 (x86-64's baseline), all three axes in one
+ * register, which is what makes a dropped sample cheap (position, brick change and sub-brick
+ * from a dozen instructions); and the scalar one, which is the definition, the fallback on
+ * other machines and what tests/test_cast.c checks the SSE2 one against, bit for bit.
+ * Lane 3 is padding: o = d = hi = 0 there, so it always reads cell 0. */
+#ifndef C5_CAST_POS_H
+#define C5_CAST_POS_H
+
+#include <math.h>
+#include <stdint.h>
+
+#include "cast_internal.h"
+
+#if defined(__SSE2__) && !defined(C5_CAST_NO_SIMD)
+#include <emmintrin.h>
+#define C5_CAST_SIMD 1
+#else
+#define C5_CAST_SIMD 0
+#endif
+
+/* A ray in the workers' arithmetic: voxel units, lanes x, y, z, padding. */
+typedef struct {
+    float o[4], d[4], hi[4];
+    float step;
+} c5_cast_ray;
+
+enum {
+    C5_CAST_BRICK_LOG2 = 3, /* C5_CAST_BRICK == 1 << 3 */
+    C5_CAST_SUB_LOG2 = 2,   /* C5_CAST_SUB == 1 << 2 */
+};
+_Static_assert(C5_CAST_BRICK == 1 << C5_CAST_BRICK_LOG2 && C5_CAST_SUB == 1 << C5_CAST_SUB_LOG2,
+               "cast_pos.h: brick and sub-brick sides must be these powers of two");
+
+/* The definition: cell i[a] and fraction f[a] of sample j on each axis. The comparisons are
+ * written as SSE's max/min define them (x > 0 ? x : 0, x < hi ? x : hi). */
+static inline void c5_cast_pos_ref(const c5_cast_ray *r, int32_t j, int i[3], float f[3])
+{
+    float t = (float)j * r->step;
+    for (int a = 0; a < 3; a++) {
+        float x = r->o[a] + t * r->d[a];
+        x = x > 0 ? x : 0;
+        x = x < r->hi[a] ? x : r->hi[a];
+        i[a] = (int)x;
+        f[a] = x - (float)i[a];
+    }
+}
+
+/* A position as the loop carries it: cells and fractions, per lane. */
+#if C5_CAST_SIMD
+typedef struct {
+    __m128i i;
+    __m128 f;
+} c5_cast_pos;
+
+static inline c5_cast_pos c5_cast_pos_at(const c5_cast_ray *r, int32_t j)
+{
+    __m128 t = _mm_set1_ps((float)j * r->step);
+    __m128 x = _mm_add_ps(_mm_loadu_ps(r->o), _mm_mul_ps(t, _mm_loadu_ps(r->d)));
+    x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_loadu_ps(r->hi));
+    c5_cast_pos p;
+    p.i = _mm_cvttps_epi32(x);
+    p.f = _mm_sub_ps(x, _mm_cvtepi32_ps(p.i));
+    return p;
+}
+static inline int c5_cast_pos_cell(c5_cast_pos p, int a)
+{
+    return _mm_cvtsi128_si32(a == 0 ? p.i : a == 1 ? _mm_shuffle_epi32(p.i, 1) : _mm_shuffle_epi32(p.i, 2));
+}
+static inline float c5_cast_pos_frac(c5_cast_pos p, int a)
+{
+    return _mm_cvtss_f32(a == 0 ? p.f : a == 1 ? _mm_shuffle_ps(p.f, p.f, 1) : _mm_shuffle_ps(p.f, p.f, 2));
+}
+/* The brick coordinates (cells >> 3) as one comparable word per lane. */
+typedef __m128i c5_cast_bkey;
+static inline c5_cast_bkey c5_cast_pos_bkey(c5_cast_pos p) { return _mm_srli_epi32(p.i, C5_CAST_BRICK_LOG2); }
+static inline int c5_cast_bkey_eq(c5_cast_bkey a, c5_cast_bkey b)
+{
+    return _mm_movemask_epi8(_mm_cmpeq_epi32(a, b)) == 0xffff;
+}
+static inline c5_cast_bkey c5_cast_bkey_none(void) { return _mm_set1_epi32(-1); }
+/* Sub-brick s = sx + 2 sy + 4 sz: bit 2 of each cell index, moved to the sign and gathered. */
+static inline unsigned c5_cast_pos_sub(c5_cast_pos p)
+{
+    return (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_slli_epi32(p.i, 31 - C5_CAST_SUB_LOG2)));
+}
+/* Offset of the cell's first corner inside its brick: (i mod 8) . (1, 9, 81). The products
+ * come from one 16-bit multiply-add (every factor fits in 16 bits), then a lane sum. */
+static inline int c5_cast_pos_off(c5_cast_pos p)
+{
+    __m128i m = _mm_madd_epi16(_mm_and_si128(p.i, _mm_set1_epi32(C5_CAST_BRICK - 1)),
+                               _mm_set_epi32(0, C5_CAST_BSIDE * C5_CAST_BSIDE, C5_CAST_BSIDE, 1));
+    m = _mm_add_epi32(m, _mm_shuffle_epi32(m, 0x4e));
+    m = _mm_add_epi32(m, _mm_shuffle_epi32(m, 0xb1));
+    return _mm_cvtsi128_si32(m);
+}
+#else
+typedef struct {
+    int i[3];
+    float f[3];
+} c5_cast_pos;
+
+static inline c5_cast_pos c5_cast_pos_at(const c5_cast_ray *r, int32_t j)
+{
+    c5_cast_pos p;
+    c5_cast_pos_ref(r, j, p.i, p.f);
+    return p;
+}
+static inline int c5_cast_pos_cell(c5_cast_pos p, int a) { return p.i[a]; }
+static inline float c5_cast_pos_frac(c5_cast_pos p, int a) { return p.f[a]; }
+typedef uint64_t c5_cast_bkey;
+static inline c5_cast_bkey c5_cast_pos_bkey(c5_cast_pos p)
+{
+    return (uint64_t)(p.i[0] >> C5_CAST_BRICK_LOG2) | (uint64_t)(p.i[1] >> C5_CAST_BRICK_LOG2) << 21 |
+           (uint64_t)(p.i[2] >> C5_CAST_BRICK_LOG2) << 42;
+}
+static inline int c5_cast_bkey_eq(c5_cast_bkey a, c5_cast_bkey b) { return a == b; }
+static inline c5_cast_bkey c5_cast_bkey_none(void) { return UINT64_MAX; }
+static inline unsigned c5_cast_pos_sub(c5_cast_pos p)
+{
+    return (unsigned)((p.i[0] >> C5_CAST_SUB_LOG2 & 1) | (p.i[1] >> C5_CAST_SUB_LOG2 & 1) << 1 |
+                      (p.i[2] >> C5_CAST_SUB_LOG2 & 1) << 2);
+}
+static inline int c5_cast_pos_off(c5_cast_pos p)
+{
+    return (p.i[0] & (C5_CAST_BRICK - 1)) + C5_CAST_BSIDE * (p.i[1] & (C5_CAST_BRICK - 1)) +
+           C5_CAST_BSIDE * C5_CAST_BSIDE * (p.i[2] & (C5_CAST_BRICK - 1));
+}
+#endif
+
+/* The largest float below `cells` (>= 1): an axis's clamp bound, hi[a] of c5_cast_ray. */
+static inline float c5_cast_clamp_hi(int cells) { return nextafterf((float)cells, 0); }
+
+#endif
