@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "cast_internal.h"
-#include "cast_pos.h"
+#include "cast_sample.h"
 #include "harness.h"
 #include "rng.h"
 
@@ -404,12 +404,16 @@ TEST(cast_edges)
     c5_cast_volume_free(fx.v);
 }
 
-/* The workers' sample positions (cast_pos.h): the SSE2 unit gives the scalar definition's
- * cell and fraction bits, sub-brick, in-brick offset and brick change, for rays that start
- * outside, run backwards, sit on cell faces and reach far indices (so both clamps act). */
-TEST(cast_positions_match_the_scalar_definition)
+/* The workers' samples (cast_sample.h): the SSE2 units give the scalar definition's cell and
+ * fraction bits, sub-brick, in-brick offset, brick change and trilinear value, for rays that
+ * start outside, run backwards, sit on cell faces and reach far indices (so both clamps act). */
+TEST(cast_samples_match_the_scalar_definition)
 {
     uint64_t st = 77;
+    static uint8_t brick[C5_CAST_BSTRIDE];
+    for (int i = 0; i < C5_CAST_BVOX; i++)
+        brick[i] = (uint8_t)(c5_splitmix64(&st) >> 56);
+    memset(brick + C5_CAST_BVOX, 0xee, C5_CAST_BSTRIDE - C5_CAST_BVOX); /* padding: must not matter */
     int cells[3] = {255, 37, 8}, bad = 0, clamped = 0, tested = 0;
     c5_cast_ray r;
     for (int a = 0; a < 3; a++)
@@ -444,6 +448,8 @@ TEST(cast_positions_match_the_scalar_definition)
             off = i[0] % C5_CAST_BRICK + C5_CAST_BSIDE * (i[1] % C5_CAST_BRICK) +
                   C5_CAST_BSIDE * C5_CAST_BSIDE * (i[2] % C5_CAST_BRICK);
             bad += c5_cast_pos_sub(p) != sub || c5_cast_pos_off(p) != off;
+            float v = c5_cast_tri(brick + off, p), vr = c5_cast_tri_ref(brick + off, f);
+            bad += memcmp(&v, &vr, sizeof v) != 0;
             int moved = 0;
             for (int a = 0; a < 3; a++)
                 moved |= i[a] / C5_CAST_BRICK != last[a];

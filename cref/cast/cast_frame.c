@@ -10,7 +10,7 @@
 #include <time.h>
 
 #include "cast_internal.h"
-#include "cast_pos.h"
+#include "cast_sample.h"
 #include "rng.h"
 #include "clock.h"
 

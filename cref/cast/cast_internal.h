@@ -58,7 +58,7 @@ typedef struct {
     double step;
     double eye_v[3];        /* eye in voxel units */
     double box_hi[3];       /* cells per axis */
-    float clamp_hi[3];      /* the workers' position clamp per axis (cast_pos.h) */
+    float clamp_hi[3];      /* the workers' position clamp per axis (cast_sample.h) */
     double delta_v[3];      /* dilation of every box for the producer's rays, voxel units */
     double margin_t;        /* added to both ends of each segment, world units */
     int lookahead;          /* samples ahead of the current one that the prefetch looks at */

@@ -9,19 +9,17 @@
 #include <string.h>
 
 #include "cast_internal.h"
-#include "cast_pos.h"
+#include "cast_sample.h"
 
-static inline float lerp(float a, float b, float t) { return a + t * (b - a); }
-
-static inline float tri(const float c[8], float fx, float fy, float fz)
+/* Trilinear blend of per-corner floats (the shading factors), the order of c5_cast_tri_ref. */
+static inline float tri(const float c[8], const float f[3])
 {
-    float x00 = lerp(c[0], c[1], fx), x10 = lerp(c[2], c[3], fx);
-    float x01 = lerp(c[4], c[5], fx), x11 = lerp(c[6], c[7], fx);
-    return lerp(lerp(x00, x10, fy), lerp(x01, x11, fy), fz);
+    float x00 = c5_cast_lerp(c[0], c[1], f[0]), x10 = c5_cast_lerp(c[2], c[3], f[0]);
+    float x01 = c5_cast_lerp(c[4], c[5], f[0]), x11 = c5_cast_lerp(c[6], c[7], f[0]);
+    return c5_cast_lerp(c5_cast_lerp(x00, x10, f[1]), c5_cast_lerp(x01, x11, f[1]), f[2]);
 }
 
-/* Offsets of a cell's 8 corners inside a brick: x, then y, then z. */
-enum { DX = 1, DY = C5_CAST_BSIDE, DZ = C5_CAST_BSIDE * C5_CAST_BSIDE };
+enum { DX = C5_CAST_DX, DY = C5_CAST_DY, DZ = C5_CAST_DZ };
 static const int CORNER[8] = {0, DX, DY, DX + DY, DZ, DZ + DX, DZ + DY, DZ + DX + DY};
 
 static inline void prefetch_brick(const c5_cast_view *vw, size_t bi)
@@ -99,11 +97,7 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
         }
         n_samples++;
         int off = c5_cast_pos_off(p);
-        float fx = c5_cast_pos_frac(p, 0), fy = c5_cast_pos_frac(p, 1), fz = c5_cast_pos_frac(p, 2);
-        const uint8_t *b = bs->b + off;
-        float x00 = lerp(b[0], b[DX], fx), x10 = lerp(b[DY], b[DY + DX], fx);
-        float x01 = lerp(b[DZ], b[DZ + DX], fx), x11 = lerp(b[DZ + DY], b[DZ + DY + DX], fx);
-        float sv = lerp(lerp(x00, x10, fy), lerp(x01, x11, fy), fz);
+        float sv = c5_cast_tri(bs->b + off, p);
         int ti = (int)(sv * C5_CAST_TF_SCALE + 0.5f);
         const float *e = rgba[ti];
         float a = e[3];
@@ -111,13 +105,14 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
         n_nonzero += nonzero[ti + 1] - nonzero[ti]; /* the table's running count: 1 when a != 0 */
         float c0 = e[0], c1 = e[1], c2 = e[2];
         if (shading && a != 0) {
+            float f[3] = {c5_cast_pos_frac(p, 0), c5_cast_pos_frac(p, 1), c5_cast_pos_frac(p, 2)};
             const uint16_t *n = bs->n + off;
             float df[8], sp[8];
             for (int i = 0; i < 8; i++) {
                 df[i] = shade[n[CORNER[i]]][0];
                 sp[i] = shade[n[CORNER[i]]][1];
             }
-            float kd = tri(df, fx, fy, fz), ks = a * tri(sp, fx, fy, fz);
+            float kd = tri(df, f), ks = a * tri(sp, f);
             c0 = c0 * kd + ks, c1 = c1 * kd + ks, c2 = c2 * kd + ks;
         }
         float T = 1 - A;

@@ -1,16 +1,20 @@
-/* Where sample j of a ray lies, for the workers' inner loop. Per axis: x = o + t d with
- * t = j * step (single precision), clamped into [0, hi] where hi is the largest float below
- * the axis's cell count; its cell i = trunc(x) and the fraction x - i in [0, 1). The clamp
- * keeps i at most cells - 1 without a second clamp on the integer. A function of j alone, so
- * every skipping mode places a sample at the same bits (docs/caster.md, "exactness").
+/* A sample of the workers' inner loop: where it lies and its reconstructed value.
  *
- * Two implementations of one definition: SSE2 (x86-64's baseline), all three axes in one
- * register, which is what makes a dropped sample cheap (position, brick change and sub-brick
- * from a dozen instructions); and the scalar one, which is the definition, the fallback on
- * other machines and what tests/test_cast.c checks the SSE2 one against, bit for bit.
- * Lane 3 is padding: o = d = hi = 0 there, so it always reads cell 0. */
-#ifndef C5_CAST_POS_H
-#define C5_CAST_POS_H
+ * Position of sample j, per axis: x = o + t d with t = j * step (single precision), clamped
+ * into [0, hi] where hi is the largest float below the axis's cell count; its cell
+ * i = trunc(x) and the fraction x - i in [0, 1). The clamp keeps i at most cells - 1 without
+ * a second clamp on the integer. A function of j alone, so every skipping mode places a
+ * sample at the same bits (docs/caster.md, "exactness").
+ * Value: trilinear, as three rounds of lerp(a, b, t) = a + t (b - a): x first, then y, then z.
+ *
+ * Two implementations of one definition: SSE2 (x86-64's baseline), all three axes or four
+ * lerps in one register, which is what makes a dropped sample cheap (position, brick change
+ * and sub-brick from a dozen instructions); and the scalar one, which is the definition, the
+ * fallback on other machines (or with -DC5_CAST_NO_SIMD) and what tests/test_cast.c checks
+ * the SSE2 one against, bit for bit. Lane 3 of a ray is padding: o = d = hi = 0 there, so it
+ * always reads cell 0. */
+#ifndef C5_CAST_SAMPLE_H
+#define C5_CAST_SAMPLE_H
 
 #include <math.h>
 #include <stdint.h>
@@ -35,7 +39,7 @@ enum {
     C5_CAST_SUB_LOG2 = 2,   /* C5_CAST_SUB == 1 << 2 */
 };
 _Static_assert(C5_CAST_BRICK == 1 << C5_CAST_BRICK_LOG2 && C5_CAST_SUB == 1 << C5_CAST_SUB_LOG2,
-               "cast_pos.h: brick and sub-brick sides must be these powers of two");
+               "cast_sample.h: brick and sub-brick sides must be these powers of two");
 
 /* The definition: cell i[a] and fraction f[a] of sample j on each axis. The comparisons are
  * written as SSE's max/min define them (x > 0 ? x : 0, x < hi ? x : hi). */
@@ -49,6 +53,20 @@ static inline void c5_cast_pos_ref(const c5_cast_ray *r, int32_t j, int i[3], fl
         i[a] = (int)x;
         f[a] = x - (float)i[a];
     }
+}
+
+/* Offsets of a cell's 8 corners inside a brick: x, then y, then z. */
+enum { C5_CAST_DX = 1, C5_CAST_DY = C5_CAST_BSIDE, C5_CAST_DZ = C5_CAST_BSIDE * C5_CAST_BSIDE };
+
+static inline float c5_cast_lerp(float a, float b, float t) { return a + t * (b - a); }
+
+/* The definition: the trilinear value of the cell whose first corner is b, at fractions f. */
+static inline float c5_cast_tri_ref(const uint8_t *b, const float f[3])
+{
+    enum { X = C5_CAST_DX, Y = C5_CAST_DY, Z = C5_CAST_DZ };
+    float x00 = c5_cast_lerp(b[0], b[X], f[0]), x10 = c5_cast_lerp(b[Y], b[Y + X], f[0]);
+    float x01 = c5_cast_lerp(b[Z], b[Z + X], f[0]), x11 = c5_cast_lerp(b[Z + Y], b[Z + Y + X], f[0]);
+    return c5_cast_lerp(c5_cast_lerp(x00, x10, f[1]), c5_cast_lerp(x01, x11, f[1]), f[2]);
 }
 
 /* A position as the loop carries it: cells and fractions, per lane. */
@@ -99,6 +117,28 @@ static inline int c5_cast_pos_off(c5_cast_pos p)
     m = _mm_add_epi32(m, _mm_shuffle_epi32(m, 0xb1));
     return _mm_cvtsi128_si32(m);
 }
+/* The trilinear value at p of the cell whose first corner is b: two 16-byte loads (the brick
+ * stride's padding keeps them inside the brick: 637 + 81 + 16 <= 768) bring the 8 corners
+ * into one register; the four x lerps, then two y lerps, run lane-parallel. */
+_Static_assert((C5_CAST_BRICK - 1) * (1 + C5_CAST_DY + C5_CAST_DZ) + C5_CAST_DZ + 16 <= C5_CAST_BSTRIDE,
+               "cast_sample.h: the trilinear unit's 16-byte loads must stay inside a brick");
+static inline float c5_cast_tri(const uint8_t *b, c5_cast_pos p)
+{
+    const __m128i zero = _mm_setzero_si128();
+    __m128i v0 = _mm_loadu_si128((const __m128i *)b), v1 = _mm_loadu_si128((const __m128i *)(b + C5_CAST_DZ));
+    /* bytes b0 b1 b9 b10 | b81 b82 b90 b91: each load's first pair beside its pair one row up */
+    __m128i w0 = _mm_unpacklo_epi16(v0, _mm_srli_si128(v0, C5_CAST_DY));
+    __m128i w1 = _mm_unpacklo_epi16(v1, _mm_srli_si128(v1, C5_CAST_DY));
+    __m128i q = _mm_unpacklo_epi8(_mm_unpacklo_epi32(w0, w1), zero);
+    __m128 lo = _mm_cvtepi32_ps(_mm_unpacklo_epi16(q, zero)), hi = _mm_cvtepi32_ps(_mm_unpackhi_epi16(q, zero));
+    __m128 e = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); /* corners 0 2 4 6 */
+    __m128 o = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); /* corners 1 3 5 7 */
+    __m128 x = _mm_add_ps(e, _mm_mul_ps(_mm_shuffle_ps(p.f, p.f, 0), _mm_sub_ps(o, e))); /* x00 x10 x01 x11 */
+    __m128 ye = _mm_shuffle_ps(x, x, _MM_SHUFFLE(2, 0, 2, 0)), yo = _mm_shuffle_ps(x, x, _MM_SHUFFLE(3, 1, 3, 1));
+    __m128 y = _mm_add_ps(ye, _mm_mul_ps(_mm_shuffle_ps(p.f, p.f, _MM_SHUFFLE(1, 1, 1, 1)), _mm_sub_ps(yo, ye)));
+    __m128 y1 = _mm_shuffle_ps(y, y, 1), fz = _mm_shuffle_ps(p.f, p.f, 2);
+    return _mm_cvtss_f32(_mm_add_ss(y, _mm_mul_ss(fz, _mm_sub_ss(y1, y))));
+}
 #else
 typedef struct {
     int i[3];
@@ -131,6 +171,7 @@ static inline int c5_cast_pos_off(c5_cast_pos p)
     return (p.i[0] & (C5_CAST_BRICK - 1)) + C5_CAST_BSIDE * (p.i[1] & (C5_CAST_BRICK - 1)) +
            C5_CAST_BSIDE * C5_CAST_BSIDE * (p.i[2] & (C5_CAST_BRICK - 1));
 }
+static inline float c5_cast_tri(const uint8_t *b, c5_cast_pos p) { return c5_cast_tri_ref(b, p.f); }
 #endif
 
 /* The largest float below `cells` (>= 1): an axis's clamp bound, hi[a] of c5_cast_ray. */
