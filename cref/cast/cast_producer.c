@@ -67,22 +67,42 @@ static void visit(walk *w, int l, int x, int y, int z, const double en[3], const
             far_en[a] = w->o[a] >= m - w->sg_delta[a] ? -INFINITY : INFINITY;
         }
     }
-    unsigned kids = w->vw->kids[l][node];
-    for (int i = 0; i < 8 && !w->overflow; i++) {
+    /* Children in the ray's front-to-back order i (child o = i ^ mask): the non-empty ones,
+     * less those whose near or far slab on some axis misses [tn, tf] (a cheap pre-test that
+     * leaves about half; the full test below decides). */
+    unsigned cand = w->vw->kids[l][node];
+    if (w->mask & 1)
+        cand = (cand & 0x55u) << 1 | (cand >> 1 & 0x55u);
+    if (w->mask & 2)
+        cand = (cand & 0x33u) << 2 | (cand >> 2 & 0x33u);
+    if (w->mask & 4)
+        cand = (cand & 0x0fu) << 4 | cand >> 4;
+    static const unsigned near_kids[3] = {0x55, 0x33, 0x0f};
+    double sel_en[3][2], sel_ex[3][2];
+    for (int a = 0; a < 3; a++) {
+        sel_en[a][0] = en[a], sel_ex[a][0] = near_ex[a];
+        sel_en[a][1] = far_en[a], sel_ex[a][1] = ex[a];
+        unsigned keep = 0;
+        if ((en[a] > tn ? en[a] : tn) <= (near_ex[a] < tf ? near_ex[a] : tf))
+            keep |= near_kids[a];
+        if ((far_en[a] > tn ? far_en[a] : tn) <= (ex[a] < tf ? ex[a] : tf))
+            keep |= ~near_kids[a] & 0xffu;
+        cand &= keep;
+    }
+    while (cand && !w->overflow) {
+        int i = __builtin_ctz(cand);
+        cand &= cand - 1;
         int o = i ^ w->mask;
-        if (!(kids >> o & 1))
-            continue;
-        int cx = 2 * x + (o & 1), cy = 2 * y + (o >> 1 & 1), cz = 2 * z + (o >> 2 & 1);
         double cen[3], cex[3], a0 = tn, b0 = tf;
         for (int a = 0; a < 3; a++) {
             int far = i >> a & 1;
-            cen[a] = far ? far_en[a] : en[a];
-            cex[a] = far ? ex[a] : near_ex[a];
+            cen[a] = sel_en[a][far];
+            cex[a] = sel_ex[a][far];
             a0 = cen[a] > a0 ? cen[a] : a0;
             b0 = cex[a] < b0 ? cex[a] : b0;
         }
         if (a0 <= b0)
-            visit(w, l - 1, cx, cy, cz, cen, cex, a0, b0);
+            visit(w, l - 1, 2 * x + (o & 1), 2 * y + (o >> 1 & 1), 2 * z + (o >> 2 & 1), cen, cex, a0, b0);
     }
 }
 
