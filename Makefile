@@ -44,7 +44,7 @@ GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
 .PHONY: all demo test asan bench bench-peer tb results deps docs golden fpga-report clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
-all: $(BUILD)/cube5 $(BUILD)/tests/unit $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
+all: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
 
 deps: $(DEPS_OK)
 $(DEPS_OK): scripts/setup-deps.sh
@@ -121,11 +121,22 @@ $(BUILD)/tests/unit: $(TEST_OBJ) $(BUILD)/libcube5.a
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
+# The caster's scalar definition of a sample (cref/cast/cast_sample.h), which machines without
+# SSE2 run: the caster and its tests built once more without the SIMD twin.
+NOSIMD_OBJ := $(patsubst %.c,$(BUILD)/nosimd/%.o,$(wildcard cref/cast/*.c) tests/test_cast.c)
+$(BUILD)/nosimd/%.o: %.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) -DC5_CAST_NO_SIMD $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/tests/cast-nosimd: $(NOSIMD_OBJ) $(BUILD)/tests/harness.o $(BUILD)/libcube5.a
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
 demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
+test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
 	bash tests/run.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.

@@ -21,6 +21,7 @@ run_suite() {
     passed=$((passed + p)) failed=$((failed + f))
 }
 run_suite "$build/tests/unit"
+run_suite "$build/tests/cast-nosimd" cast   # the caster on its scalar definition (no SSE2)
 run_suite bash tests/cli_test.sh "$build"
 run_suite bash tests/layouts_test.sh
 run_suite bash tests/regmap_test.sh

@@ -405,8 +405,9 @@ TEST(cast_edges)
 }
 
 /* The workers' samples (cast_sample.h): the SSE2 units give the scalar definition's cell and
- * fraction bits, sub-brick, in-brick offset, brick change and trilinear value, for rays that
- * start outside, run backwards, sit on cell faces and reach far indices (so both clamps act). */
+ * fraction bits, sub-brick, in-brick offset, brick change, trilinear value and shading
+ * factors, for rays that start outside, run backwards, sit on cell faces and reach far
+ * indices (so both clamps act). */
 TEST(cast_samples_match_the_scalar_definition)
 {
     uint64_t st = 77;
@@ -414,6 +415,13 @@ TEST(cast_samples_match_the_scalar_definition)
     for (int i = 0; i < C5_CAST_BVOX; i++)
         brick[i] = (uint8_t)(c5_splitmix64(&st) >> 56);
     memset(brick + C5_CAST_BVOX, 0xee, C5_CAST_BSTRIDE - C5_CAST_BVOX); /* padding: must not matter */
+    static uint16_t normals[C5_CAST_BSTRIDE];
+    static float tab[C5_CAST_NCODES][2];
+    for (int i = 0; i < C5_CAST_BVOX; i++)
+        normals[i] = (uint16_t)(c5_splitmix64(&st) % C5_CAST_NCODES);
+    for (int i = 0; i < C5_CAST_NCODES; i++)
+        for (int c = 0; c < 2; c++)
+            tab[i][c] = (float)((double)(c5_splitmix64(&st) >> 11) / 9007199254740992.0 * 1.5);
     int cells[3] = {255, 37, 8}, bad = 0, clamped = 0, tested = 0;
     c5_cast_ray r;
     for (int a = 0; a < 3; a++)
@@ -450,6 +458,10 @@ TEST(cast_samples_match_the_scalar_definition)
             bad += c5_cast_pos_sub(p) != sub || c5_cast_pos_off(p) != off;
             float v = c5_cast_tri(brick + off, p), vr = c5_cast_tri_ref(brick + off, f);
             bad += memcmp(&v, &vr, sizeof v) != 0;
+            float k[2], kr[2];
+            c5_cast_shade(tab, normals + off, p, k);
+            c5_cast_shade_ref(tab, normals + off, f, kr);
+            bad += memcmp(k, kr, sizeof k) != 0;
             int moved = 0;
             for (int a = 0; a < 3; a++)
                 moved |= i[a] / C5_CAST_BRICK != last[a];

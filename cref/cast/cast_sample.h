@@ -69,6 +69,22 @@ static inline float c5_cast_tri_ref(const uint8_t *b, const float f[3])
     return c5_cast_lerp(c5_cast_lerp(x00, x10, f[1]), c5_cast_lerp(x01, x11, f[1]), f[2]);
 }
 
+/* The definition of the shading blend: per corner k of the cell (normal codes n[corner k]),
+ * the table's pair (diffuse, specular), both blended in the order of c5_cast_tri_ref. */
+static inline void c5_cast_shade_ref(const float (*tab)[2], const uint16_t *n, const float f[3], float out[2])
+{
+    static const int corner[8] = {0, C5_CAST_DX, C5_CAST_DY, C5_CAST_DY + C5_CAST_DX, C5_CAST_DZ,
+                                  C5_CAST_DZ + C5_CAST_DX, C5_CAST_DZ + C5_CAST_DY, C5_CAST_DZ + C5_CAST_DY + C5_CAST_DX};
+    for (int c = 0; c < 2; c++) {
+        float v[8];
+        for (int k = 0; k < 8; k++)
+            v[k] = tab[n[corner[k]]][c];
+        float x00 = c5_cast_lerp(v[0], v[1], f[0]), x10 = c5_cast_lerp(v[2], v[3], f[0]);
+        float x01 = c5_cast_lerp(v[4], v[5], f[0]), x11 = c5_cast_lerp(v[6], v[7], f[0]);
+        out[c] = c5_cast_lerp(c5_cast_lerp(x00, x10, f[1]), c5_cast_lerp(x01, x11, f[1]), f[2]);
+    }
+}
+
 /* A position as the loop carries it: cells and fractions, per lane. */
 #if C5_CAST_SIMD
 typedef struct {
@@ -139,6 +155,23 @@ static inline float c5_cast_tri(const uint8_t *b, c5_cast_pos p)
     __m128 y1 = _mm_shuffle_ps(y, y, 1), fz = _mm_shuffle_ps(p.f, p.f, 2);
     return _mm_cvtss_f32(_mm_add_ss(y, _mm_mul_ss(fz, _mm_sub_ss(y1, y))));
 }
+/* The shading blend with both channels side by side: lanes (diffuse, specular) of two
+ * corners at a time, then the same x, y, z rounds as the definition. */
+static inline void c5_cast_shade(const float (*tab)[2], const uint16_t *n, c5_cast_pos p, float out[2])
+{
+    enum { X = C5_CAST_DX, Y = C5_CAST_DY, Z = C5_CAST_DZ };
+#define C5_PAIRS(a, b) _mm_loadh_pi(_mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)tab[n[a]]), (const __m64 *)tab[n[b]])
+    __m128 a0 = C5_PAIRS(0, Y), b0 = C5_PAIRS(X, Y + X), a1 = C5_PAIRS(Z, Z + Y), b1 = C5_PAIRS(Z + X, Z + Y + X);
+#undef C5_PAIRS
+    __m128 fx = _mm_shuffle_ps(p.f, p.f, 0);
+    __m128 x0 = _mm_add_ps(a0, _mm_mul_ps(fx, _mm_sub_ps(b0, a0))); /* x00, x10 (pairs) */
+    __m128 x1 = _mm_add_ps(a1, _mm_mul_ps(fx, _mm_sub_ps(b1, a1))); /* x01, x11 */
+    __m128 c = _mm_movelh_ps(x0, x1), d = _mm_movehl_ps(x1, x0);   /* x00 x01 | x10 x11 */
+    __m128 y = _mm_add_ps(c, _mm_mul_ps(_mm_shuffle_ps(p.f, p.f, _MM_SHUFFLE(1, 1, 1, 1)), _mm_sub_ps(d, c)));
+    __m128 y1 = _mm_movehl_ps(y, y);
+    __m128 z = _mm_add_ps(y, _mm_mul_ps(_mm_shuffle_ps(p.f, p.f, _MM_SHUFFLE(2, 2, 2, 2)), _mm_sub_ps(y1, y)));
+    _mm_storel_pi((__m64 *)out, z);
+}
 #else
 typedef struct {
     int i[3];
@@ -172,6 +205,10 @@ static inline int c5_cast_pos_off(c5_cast_pos p)
            C5_CAST_BSIDE * C5_CAST_BSIDE * (p.i[2] & (C5_CAST_BRICK - 1));
 }
 static inline float c5_cast_tri(const uint8_t *b, c5_cast_pos p) { return c5_cast_tri_ref(b, p.f); }
+static inline void c5_cast_shade(const float (*tab)[2], const uint16_t *n, c5_cast_pos p, float out[2])
+{
+    c5_cast_shade_ref(tab, n, p.f, out);
+}
 #endif
 
 /* The largest float below `cells` (>= 1): an axis's clamp bound, hi[a] of c5_cast_ray. */

@@ -11,17 +11,6 @@
 #include "cast_internal.h"
 #include "cast_sample.h"
 
-/* Trilinear blend of per-corner floats (the shading factors), the order of c5_cast_tri_ref. */
-static inline float tri(const float c[8], const float f[3])
-{
-    float x00 = c5_cast_lerp(c[0], c[1], f[0]), x10 = c5_cast_lerp(c[2], c[3], f[0]);
-    float x01 = c5_cast_lerp(c[4], c[5], f[0]), x11 = c5_cast_lerp(c[6], c[7], f[0]);
-    return c5_cast_lerp(c5_cast_lerp(x00, x10, f[1]), c5_cast_lerp(x01, x11, f[1]), f[2]);
-}
-
-enum { DX = C5_CAST_DX, DY = C5_CAST_DY, DZ = C5_CAST_DZ };
-static const int CORNER[8] = {0, DX, DY, DX + DY, DZ, DZ + DX, DZ + DY, DZ + DX + DY};
-
 static inline void prefetch_brick(const c5_cast_view *vw, size_t bi)
 {
     const char *b = (const char *)(vw->v->bricks + bi * C5_CAST_BSTRIDE);
@@ -105,15 +94,10 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
         n_nonzero += nonzero[ti + 1] - nonzero[ti]; /* the table's running count: 1 when a != 0 */
         float c0 = e[0], c1 = e[1], c2 = e[2];
         if (shading && a != 0) {
-            float f[3] = {c5_cast_pos_frac(p, 0), c5_cast_pos_frac(p, 1), c5_cast_pos_frac(p, 2)};
-            const uint16_t *n = bs->n + off;
-            float df[8], sp[8];
-            for (int i = 0; i < 8; i++) {
-                df[i] = shade[n[CORNER[i]]][0];
-                sp[i] = shade[n[CORNER[i]]][1];
-            }
-            float kd = tri(df, f), ks = a * tri(sp, f);
-            c0 = c0 * kd + ks, c1 = c1 * kd + ks, c2 = c2 * kd + ks;
+            float k[2]; /* diffuse and specular factors of the headlight */
+            c5_cast_shade(shade, bs->n + off, p, k);
+            float ks = a * k[1];
+            c0 = c0 * k[0] + ks, c1 = c1 * k[0] + ks, c2 = c2 * k[0] + ks;
         }
         float T = 1 - A;
         C0 += T * c0, C1 += T * c1, C2 += T * c2;
