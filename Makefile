@@ -6,13 +6,13 @@ CC       ?= gcc
 CXX      ?= g++
 OPT      ?= -O2
 SAN      ?=
-CPPFLAGS += -D_DEFAULT_SOURCE -Itests -Icommon -Icref -Icref/cast -Irtl_model -Ivectors/gen -I$(BUILD)/gen
+CPPFLAGS += -D_DEFAULT_SOURCE -Itests -Icommon -Icref -Icref/cast -Irtl_model -Ivectors/gen -Isweep -I$(BUILD)/gen
 CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror -pthread $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror $(SAN)
 LDFLAGS  += -pthread $(SAN)
 LDLIBS   += $(shell pkg-config --libs OpenImageIO jansson 2>/dev/null) -lteem -lz -lm
 
-LIB_SRC  := $(wildcard common/*.c cref/*.c cref/cast/*.c rtl_model/*.c vectors/gen/*.c)
+LIB_SRC  := $(wildcard common/*.c cref/*.c cref/cast/*.c rtl_model/*.c vectors/gen/*.c sweep/*.c)
 # The host link (docs/host-protocol.md): the driver library on libusb and the emulated board
 # on umockdev, each its own library so that a driver user never links umockdev. The pkg-config
 # calls are deferred (=, +=) to when a rule runs: on a fresh machine the packages arrive with

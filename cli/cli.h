@@ -47,6 +47,8 @@ int c5_cli_scene_arg(const char *cmd, const char *arg, const char **scene_arg, i
 /* Collects "--volume [I=]FILE" (at most C5_MAX_VOLUMES) for c5_cli_replace_volume. */
 int c5_cli_add_volume(const char *v, const char **volumes, int *n, c5_err *err);
 
+/* Refuses an output path that names an input (the scene file, a volume file). */
+int c5_cli_check_not_input(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err);
 /* Refuses, before any work, an output path with an extension other than .png/.exr or one
  * that names an input (the scene file, a volume file). */
 int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err);
@@ -62,6 +64,7 @@ int c5_cmd_compare(int argc, char **argv);
 int c5_cmd_render(int argc, char **argv);
 int c5_cmd_schedule(int argc, char **argv);
 int c5_cmd_scenes(int argc, char **argv);
+int c5_cmd_sweep(int argc, char **argv);
 int c5_cmd_vectors(int argc, char **argv);
 
 #endif

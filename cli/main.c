@@ -14,6 +14,7 @@ static const struct {
     {"render", c5_cmd_render, "render a scene with cref or the board model (--model rtl)"},
     {"schedule", c5_cmd_schedule, "the Cell Tree scheduler against Max Work over a scene's frames"},
     {"scenes", c5_cmd_scenes, "list the built-in scenes"},
+    {"sweep", c5_cmd_sweep, "error against time over step, early termination, bounces, widths, the caster's k"},
     {"vectors", c5_cmd_vectors, "golden vectors of every block for the VHDL testbenches"},
 };
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian/Ubuntu packages cube5 needs, only those missing. Called by the
 # Makefile before the first build; safe to run again. Uses sudo when not root.
-# With arguments, installs those packages instead (e.g. gnuplot-nox for `make results`).
+# With arguments, installs those packages instead (e.g. python3-vtk9 for `make bench-peer`).
 set -euo pipefail
 pkgs=(build-essential g++ pkg-config zlib1g-dev
       python3               # test and bench scripts read JSON with it
@@ -10,6 +10,7 @@ pkgs=(build-essential g++ pkg-config zlib1g-dev
       libopenimageio-dev    # PNG / EXR output (OpenImageIO)
       libusb-1.0-0-dev      # the host driver's USB transport (host_driver/)
       umockdev libumockdev-dev # the emulated board as a USB device (board_emu/, tests/link_test.sh)
+      gnuplot-nox           # cube5 sweep draws sweep.png with it (pngcairo; tests/cli_test.sh), make results
       ghdl ghdl-mcode       # VHDL-2008 simulation and --synth of fpga/ (mcode: the backend
                             # that runs in place, no compiler needed; tests/fpga_test.sh)
       yosys                 # synthesis for iCE40 (make fpga-report)

@@ -271,5 +271,75 @@ if cmp -s "$tmp/vol_10x10x10_uint8.raw" "$tmp/keep_10x10x10_uint8.raw"; then ok 
 scene "$tmp/novol.json" ''
 expect cast_no_volume_scene 2 "has no volume to cast" -- "$cube5" cast "$tmp/novol.json"
 
+# cube5 sweep (docs/sweep.md): the CSV, the PNG, the JSON, progress on stderr only, the
+# refusal to overwrite, the analytic reference of a Marschner-Lobb scene, and bad input.
+expect sweep_help 0 "" -- "$cube5" sweep --help
+if "$cube5" sweep default --size 16 --knob step=1,2 --knob k=1,4 --out "$tmp/sw" --json \
+    >"$tmp/sw.json" 2>"$tmp/sw.err"; then ok sweep_runs; else bad sweep_runs "exit $?" "$(cat "$tmp/sw.err")"; fi
+# header + step x {cref, model} x 2 values + k x {cast} x 2 values
+if [ "$(wc -l <"$tmp/sw/sweep.csv")" = 7 ] && head -n 1 "$tmp/sw/sweep.csv" | grep -q \
+    '^knob,value,default,renderer,status,psnr_db,rmse,max_abs_err,host_s,board_s,samples,'; then
+    ok sweep_csv_rows
+else bad sweep_csv_rows "$(cat "$tmp/sw/sweep.csv" 2>&1)"; fi
+if [ "$(head -c 8 "$tmp/sw/sweep.png" 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]; then
+    ok sweep_png_is_png
+else bad sweep_png_is_png "$(ls -l "$tmp/sw" 2>&1)"; fi
+if python3 - "$tmp/sw.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+rows = d["rows"]
+assert len(rows) == 6, len(rows)
+assert [(r["knob"], r["value"], r["renderer"]) for r in rows] == [
+    ("step", 1, "cref"), ("step", 1, "model"), ("step", 2, "cref"), ("step", 2, "model"),
+    ("k", 1, "cast"), ("k", 4, "cast")]
+assert all(r["status"] == "ok" and r["rmse"] > 0 and r["host_s"] >= 0 and r["samples"] > 0 for r in rows)
+assert rows[0]["default"] and rows[1]["default"] and not rows[2]["default"]
+assert all((r["board_s"] is not None) == (r["renderer"] == "model") for r in rows)
+ref = d["reference"]
+assert ref["field"] == "voxels" and ref["step"] == 1 / 8 and ref["et"] == 1 and ref["bounces"] == 15
+assert ref["convergence"]["coarse_step"] == 1 / 4 and ref["convergence"]["diff"]["rmse"] >= 0
+assert ref["cast"]["mode"] == "plain" and ref["cast"]["rows_identical_to_plain"] is True
+assert d["pareto_host"] and d["pareto_board"]
+assert all(rows[i]["pareto_host"] for i in d["pareto_host"])
+assert all(rows[i]["renderer"] == "model" for i in d["pareto_board"])
+PY
+then ok sweep_json; else bad sweep_json "$(head -c 600 "$tmp/sw.json")"; fi
+if grep -q '^\[1/6\] step=1 cref \.\.\. ' "$tmp/sw.err" && grep -q '^\[6/6\] k=4 cast' "$tmp/sw.err" &&
+    ! grep -q '^\[' "$tmp/sw.json"; then ok sweep_progress_on_stderr; else bad sweep_progress_on_stderr "$(cat "$tmp/sw.err")"; fi
+cp "$tmp/sw/sweep.csv" "$tmp/sw_keep.csv"
+expect sweep_refuses_overwrite 2 "sweep.csv: exists; refusing to overwrite" -- \
+    "$cube5" sweep default --size 16 --knob et=1 --out "$tmp/sw"
+if cmp -s "$tmp/sw/sweep.csv" "$tmp/sw_keep.csv"; then ok sweep_csv_kept; else bad sweep_csv_kept; fi
+mkdir -p "$tmp/sw2"; cp "$tmp/sw/sweep.png" "$tmp/sw2/sweep.png"
+expect sweep_refuses_overwrite_png 2 "sweep.png: exists" -- "$cube5" sweep default --size 16 --knob et=1 --out "$tmp/sw2"
+expect sweep_force 0 "" -- "$cube5" sweep default --size 16 --knob et=0.9,1 --out "$tmp/sw" --force
+if [ "$(wc -l <"$tmp/sw/sweep.csv")" = 5 ]; then ok sweep_force_rewrote; else bad sweep_force_rewrote; fi
+expect sweep_text 0 "" -- bash -c "\"$cube5\" sweep default --size 8 --knob bounces=0,3 --out \"$tmp/sw3\" 2>/dev/null | grep -q '^  reference  cref'"
+printf '{"volumes": [{"generator": "marschner_lobb", "dims": [16, 16, 16]}],
+  "transfer_function": {"opacity": [[0,0],[104,0],[128,0.3],[152,0],[255,0]], "color": [[0,1,1,1]]},
+  "camera": {"eye": [40,-25,30], "target": [8,8,8], "width": 12, "height": 12}}' >"$tmp/ml.json"
+json=$("$cube5" sweep "$tmp/ml.json" --knob step=1,2 --knob width.rgb=12,8 --out "$tmp/swml" --json 2>/dev/null)
+if python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+assert d["reference"]["field"] == "analytic Marschner-Lobb" and d["reference"]["cast"] is None
+assert len(d["rows"]) == 6 and d["rows"][4]["renderer"] == "model" and d["rows"][4]["default"] is True and d["rows"][5]["default"] is False
+assert d["rows"][0]["rmse"] < d["rows"][2]["rmse"]' "$json"; then ok sweep_marschner_lobb; else bad sweep_marschner_lobb "$json"; fi
+for c in "speed=1|unknown knob 'speed'" "step=|step: no values" "step=1,,2|empty value" "et=abc|expected an opacity" \
+    "et=0|expected an opacity in \(0, 1\]" "et=1.5|expected an opacity in \(0, 1\]" "bounces=16|0\.\.15" \
+    "step=0|expected a step in voxels" "step=-2|expected a step in voxels" "width.pos=16|must be 1 \.\. 15" \
+    "width.foo=3|unknown datapath width 'foo'" "k=3|expected 1, 2, 4, 8 or 16" "step|expected NAME=V1,V2"; do
+    expect "sweep_bad_knob_'${c%%|*}'" 2 "${c#*|}" -- "$cube5" sweep default --size 8 --knob "${c%%|*}" --out "$tmp/swbad"
+done
+expect sweep_knob_twice 2 "--knob et: given twice" -- "$cube5" sweep default --knob et=1 --knob et=0.9 --out "$tmp/swbad"
+expect sweep_knob_missing 2 "--knob: missing value" -- "$cube5" sweep default --knob
+expect sweep_bad_size 2 "--size: expected" -- "$cube5" sweep default --size 0 --out "$tmp/swbad"
+expect sweep_unknown_option 2 "unknown option '--bogus'" -- "$cube5" sweep default --bogus
+expect sweep_k_without_volume 2 "has no volume to cast" -- "$cube5" sweep "$tmp/novol.json" --knob k=1 --out "$tmp/swbad"
+if [ ! -e "$tmp/swbad" ]; then ok sweep_bad_input_writes_nothing; else bad sweep_bad_input_writes_nothing; fi
+mkdir -p "$tmp/nobin"
+expect sweep_without_gnuplot 1 "gnuplot with the pngcairo terminal is needed" -- \
+    env PATH="$tmp/nobin" "$cube5" sweep default --size 8 --knob et=1 --out "$tmp/swnp"
+
 summary
 [ "$failed" -eq 0 ]
