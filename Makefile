@@ -29,7 +29,11 @@ CLI_SRC  := $(wildcard cli/*.c)
 TEST_SRC := $(wildcard tests/*.c)
 SCENES   := $(sort $(wildcard scenes/*.json))
 
-LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o) $(BUILD)/gen/builtin_scenes.o
+# cref a second time, in long double (cref/real.h): the same sources with -DC5_CREF_LONG,
+# whose symbols are c5l_* and c5_cref_render_long (docs/stability.md, "Is cref itself stable?").
+CREFL_SRC := cref/render.c cref/trace.c cref/sample.c cref/geometry.c
+CREFL_OBJ := $(CREFL_SRC:cref/%.c=$(BUILD)/cref-long/%.o)
+LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o) $(BUILD)/gen/builtin_scenes.o $(CREFL_OBJ)
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 DEPS_OK  := build/.deps-ok
@@ -57,6 +61,10 @@ $(DEPS_OK): scripts/setup-deps.sh
 $(BUILD)/%.o: %.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/cref-long/%.o: cref/%.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) -DC5_CREF_LONG $(CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/%.o: %.cpp | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)

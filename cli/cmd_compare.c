@@ -16,7 +16,7 @@
 static const char usage_text[] =
     "usage: cube5 compare [SCENE|FILE.json] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
     "                     [--size WxH] [--frame I] [--diff OUT.png] [--gain G] [--json]\n"
-    "                     [--volume [I=]FILE] [--threads N]\n\n"
+    "                     [--volume [I=]FILE] [--threads N] [--ref-precision double|long]\n\n"
     "Renders one frame of a scene (default: 'default') with cref, the reference, and with the\n"
     "bit-accurate board model, then prints how far the model's image is from cref's (PSNR,\n"
     "RMSE, largest error, overall and per channel, and a histogram of the errors in 8-bit\n"
@@ -29,12 +29,13 @@ static const char usage_text[] =
     "  --gain G          G for --diff (default 16: one 8-bit step shows as 16)\n"
     "  --json            print one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
-    "  --threads N       cref's worker threads (default: one per CPU); the model uses one\n";
+    "  --threads N       cref's worker threads (default: one per CPU); the model uses one\n"
+    "  --ref-precision P cref in double (default) or long (long double; docs/stability.md)\n";
 
 typedef struct {
     const char *scene_arg, *diff;
     long threads, frame;
-    int w, h, json;
+    int w, h, json, ref_long;
     double gain;
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
@@ -53,7 +54,8 @@ static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         if (!strcmp(o, "--cells") || !strcmp(o, "--queue-key") || !strcmp(o, "--size") || !strcmp(o, "--frame") ||
-            !strcmp(o, "--diff") || !strcmp(o, "--gain") || !strcmp(o, "--volume") || !strcmp(o, "--threads")) {
+            !strcmp(o, "--diff") || !strcmp(o, "--gain") || !strcmp(o, "--volume") || !strcmp(o, "--threads") ||
+            !strcmp(o, "--ref-precision")) {
             if (i + 1 >= argc)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -72,6 +74,11 @@ static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
                 return -1;
             else if (!strcmp(o, "--diff"))
                 a->diff = v;
+            else if (!strcmp(o, "--ref-precision")) {
+                if (strcmp(v, "double") && strcmp(v, "long"))
+                    return c5_fail(err, "%s: '%s' is not double or long", o, v);
+                a->ref_long = !strcmp(v, "long");
+            }
             else if (!strcmp(o, "--volume")) {
                 if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
                     return -1;
@@ -115,6 +122,7 @@ static void print_json(const compare_args *a, const c5_scene *s, int threads, co
     json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a->cells[0], a->cells[1], a->cells[2]));
     json_object_set_new(o, "queue_key", json_string(c5_cli_queue_key_name(a->key)));
     json_object_set_new(o, "threads", json_integer(threads));
+    json_object_set_new(o, "ref_precision", json_string(a->ref_long ? "long" : "double"));
     json_object_set_new(o, "identical", json_boolean(d->rmse == 0.0));
     json_object_set_new(o, "psnr_db", json_real(d->psnr_db));
     json_object_set_new(o, "rmse", json_real(d->rmse));
@@ -159,8 +167,8 @@ static void print_text(const char *label, const compare_args *a, const c5_scene 
     const c5_board_stats *b = &r->board;
     char p[4][32], stages[128];
     printf("cube5 compare: %s, %dx%d, frame %ld of %d\n", label, s->render.width, s->render.height, a->frame, frames);
-    printf("  models    cref (double, %d thread(s)) vs rtl (board model, cells %dx%dx%d, %s key)\n", threads,
-           a->cells[0], a->cells[1], a->cells[2], c5_cli_queue_key_name(a->key));
+    printf("  models    cref (%s, %d thread(s)) vs rtl (board model, cells %dx%dx%d, %s key)\n",
+           a->ref_long ? "long double" : "double", threads, a->cells[0], a->cells[1], a->cells[2], c5_cli_queue_key_name(a->key));
     printf("  error     e = rtl - cref on the linear frame-buffer values; PSNR peak 1.0\n");
     printf("            %-12s %-12s %-12s %-12s\n", "all", "red", "green", "blue");
     printf("  PSNR dB   %-12s %-12s %-12s %-12s\n", psnr_text(d->psnr_db, d->rmse, p[0], sizeof p[0]),
@@ -225,7 +233,8 @@ int c5_cmd_compare(int argc, char **argv)
     c5_board_opts bopts = {.key = a.key};
     memcpy(bopts.cells, a.cells, sizeof bopts.cells);
     double t0 = c5_now_s();
-    if (c5_cref_render(&s, &sv, (int)a.frame, &copts, &r.ref, &r.cref, &err) != 0)
+    if ((a.ref_long ? c5_cref_render_long : c5_cref_render)(&s, &sv, (int)a.frame, &copts, &r.ref, &r.cref, &err) !=
+        0)
         goto fail;
     double t1 = c5_now_s();
     if (c5_board_render(&s, &sv, (int)a.frame, &bopts, &r.test, &r.board, &err) != 0)

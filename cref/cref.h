@@ -1,5 +1,6 @@
 /* cref: the floating-point (double) reference renderer. It implements
- * docs/rendering-spec.md literally; the bit-accurate board model is judged against it. */
+ * docs/rendering-spec.md literally; the bit-accurate board model is judged against it.
+ * c5_cref_render_long renders the same in long double, to check cref itself. */
 #ifndef C5_CREF_H
 #define C5_CREF_H
 
@@ -45,6 +46,23 @@ typedef struct {
 /* Renders frame `frame` of the scene into out (allocated here; free with c5_image_free). */
 int c5_cref_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_cref_opts *opts, c5_image *out,
                    c5_cref_stats *stats, c5_err *err);
+
+/* The same frame with cref computed in long double (x87 extended, 64-bit mantissa): cref's
+ * sources compiled a second time with c5_real = long double (cref/real.h), same arguments,
+ * same statistics, the image rounded to float at the end as always. What stays double:
+ * the scene's and the volume's values as given, the transfer function's control points
+ * interpolated at the 256 table entries (c5_tf_eval), and an analytic opts->field, called
+ * at the sample point rounded to double. It measures cref's own rounding (docs/stability.md,
+ * "Is cref itself stable?"); x87 arithmetic makes it several times slower. */
+int c5_cref_render_long(const c5_scene *s, const c5_supervol *sv, int frame, const c5_cref_opts *opts, c5_image *out,
+                        c5_cref_stats *stats, c5_err *err);
+
+/* c5_cref_render (long_double 0) or c5_cref_render_long (1), and also each pixel's sum
+ * before it is rounded to float: raw[3 * (y * w + x) + c], w * h * 3 doubles allocated by the
+ * caller (the long double sums rounded to double). For measuring cref against itself below
+ * the float's resolution (tests/test_cref_precision.c). */
+int c5_cref_render_raw(const c5_scene *s, const c5_supervol *sv, int frame, const c5_cref_opts *opts, int long_double,
+                       c5_image *out, double *raw, c5_cref_stats *stats, c5_err *err);
 
 /* Threads a render uses for a request (<= 0: one per online CPU), within 1..256. */
 int c5_cref_thread_count(int requested);

@@ -1,19 +1,22 @@
+/* Ray-surface geometry (geometry.h), in c5_real. */
 #include "geometry.h"
 
-int c5_ray_box(c5_vec3 o, c5_vec3 d, c5_vec3 lo, c5_vec3 hi, double *t0, double *t1)
+#include <tgmath.h>
+
+int C5R(ray_box)(c5_rvec3 o, c5_rvec3 d, c5_rvec3 lo, c5_rvec3 hi, c5_real *t0, c5_real *t1)
 {
-    double a = -INFINITY, b = INFINITY;
+    c5_real a = -INFINITY, b = INFINITY;
     for (int i = 0; i < 3; i++) {
-        double oi = v3_comp(o, i), di = v3_comp(d, i), l = v3_comp(lo, i), h = v3_comp(hi, i);
+        c5_real oi = rv3_comp(o, i), di = rv3_comp(d, i), l = rv3_comp(lo, i), h = rv3_comp(hi, i);
         if (di == 0) {
             /* Parallel to this slab: inside it for every t, or never. */
             if (oi < l || oi > h)
                 return 0;
             continue;
         }
-        double ta = (l - oi) / di, tb = (h - oi) / di;
+        c5_real ta = (l - oi) / di, tb = (h - oi) / di;
         if (ta > tb) {
-            double t = ta;
+            c5_real t = ta;
             ta = tb;
             tb = t;
         }
@@ -27,39 +30,41 @@ int c5_ray_box(c5_vec3 o, c5_vec3 d, c5_vec3 lo, c5_vec3 hi, double *t0, double 
     return 1;
 }
 
-static int ray_plane(c5_vec3 p, c5_vec3 n, c5_vec3 o, c5_vec3 d, double *t)
+static int ray_plane(c5_rvec3 p, c5_rvec3 n, c5_rvec3 o, c5_rvec3 d, c5_real *t)
 {
-    double den = v3_dot(d, n);
+    c5_real den = rv3_dot(d, n);
     if (den == 0)
         return 0; /* exactly parallel: a grazing ray never hits */
-    *t = v3_dot(v3_sub(p, o), n) / den;
+    *t = rv3_dot(rv3_sub(p, o), n) / den;
     return 1;
 }
 
-int c5_ray_surface(const c5_surface *s, c5_vec3 o, c5_vec3 d, double tmin, double tmax, double *t)
+int C5R(ray_surface)(const c5_surface *s, c5_rvec3 o, c5_rvec3 d, c5_real tmin, c5_real tmax, c5_real *t)
 {
-    double th;
+    c5_real th;
     switch (s->kind) {
     case C5_SURF_PLANE:
-        if (!ray_plane(s->point, s->normal, o, d, &th))
+        if (!ray_plane(rv3_of(s->point), rv3_of(s->normal), o, d, &th))
             return 0;
         break;
     case C5_SURF_RECT: {
-        if (!ray_plane(s->point, s->normal, o, d, &th))
+        if (!ray_plane(rv3_of(s->point), rv3_of(s->normal), o, d, &th))
             return 0;
-        c5_vec3 q = v3_sub(v3_madd(o, d, th), s->point);
-        double a = v3_dot(q, s->u) / v3_dot(s->u, s->u), b = v3_dot(q, s->v) / v3_dot(s->v, s->v);
+        c5_rvec3 q = rv3_sub(rv3_madd(o, d, th), rv3_of(s->point));
+        c5_rvec3 u = rv3_of(s->u), v = rv3_of(s->v);
+        c5_real a = rv3_dot(q, u) / rv3_dot(u, u), b = rv3_dot(q, v) / rv3_dot(v, v);
         if (a < 0 || a > 1 || b < 0 || b > 1)
             return 0;
         break;
     }
     case C5_SURF_SPHERE: {
-        c5_vec3 oc = v3_sub(o, s->point);
-        double b = v3_dot(oc, d), c = v3_dot(oc, oc) - s->radius * s->radius;
-        double disc = b * b - c;
+        c5_rvec3 oc = rv3_sub(o, rv3_of(s->point));
+        c5_real r = s->radius;
+        c5_real b = rv3_dot(oc, d), c = rv3_dot(oc, oc) - r * r;
+        c5_real disc = b * b - c;
         if (disc < 0)
             return 0;
-        double sq = sqrt(disc);
+        c5_real sq = sqrt(disc);
         th = -b - sq;
         if (th <= tmin)
             th = -b + sq;
@@ -74,19 +79,19 @@ int c5_ray_surface(const c5_surface *s, c5_vec3 o, c5_vec3 d, double tmin, doubl
     return 1;
 }
 
-c5_vec3 c5_surface_normal(const c5_surface *s, c5_vec3 p)
+c5_rvec3 C5R(surface_normal)(const c5_surface *s, c5_rvec3 p)
 {
     if (s->kind == C5_SURF_SPHERE)
-        return v3_scale(v3_sub(p, s->point), 1 / s->radius);
-    return s->normal;
+        return rv3_scale(rv3_sub(p, rv3_of(s->point)), 1 / (c5_real)s->radius);
+    return rv3_of(s->normal);
 }
 
-int c5_refract(c5_vec3 d, c5_vec3 n, double eta, c5_vec3 *out)
+int C5R(refract)(c5_rvec3 d, c5_rvec3 n, c5_real eta, c5_rvec3 *out)
 {
-    double cos_i = -v3_dot(d, n);
-    double k = 1 - eta * eta * (1 - cos_i * cos_i);
+    c5_real cos_i = -rv3_dot(d, n);
+    c5_real k = 1 - eta * eta * (1 - cos_i * cos_i);
     if (k < 0)
         return 0;
-    *out = v3_norm(v3_add(v3_scale(d, eta), v3_scale(n, eta * cos_i - sqrt(k))));
+    *out = rv3_norm(rv3_add(rv3_scale(d, eta), rv3_scale(n, eta * cos_i - sqrt(k))));
     return 1;
 }

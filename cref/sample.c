@@ -1,35 +1,37 @@
 /* Trilinear reconstruction of the super volume and of its central-difference gradient
  * (docs/rendering-spec.md, sec. 3). */
-#include <math.h>
-
 #include "cref.h"
+#include "trace.h"
+
+#include <tgmath.h>
 
 static long clampl(long i, size_t n) { return i < 0 ? 0 : i >= (long)n ? (long)n - 1 : i; }
 
-void c5_supervol_sample(const c5_supervol *sv, c5_vec3 p, double *value, c5_vec3 *grad)
+void C5R(supervol_sample)(const c5_supervol *sv, c5_rvec3 p, c5_real *value, c5_rvec3 *grad)
 {
     /* Continuous voxel coordinates, voxel centres at integers. */
-    double x = (p.x - sv->origin.x) / sv->spacing.x - 0.5;
-    double y = (p.y - sv->origin.y) / sv->spacing.y - 0.5;
-    double z = (p.z - sv->origin.z) / sv->spacing.z - 0.5;
-    double fx = floor(x), fy = floor(y), fz = floor(z);
+    c5_real x = (p.x - sv->origin.x) / sv->spacing.x - 0.5;
+    c5_real y = (p.y - sv->origin.y) / sv->spacing.y - 0.5;
+    c5_real z = (p.z - sv->origin.z) / sv->spacing.z - 0.5;
+    c5_real fx = floor(x), fy = floor(y), fz = floor(z);
     long i = (long)fx, j = (long)fy, k = (long)fz;
-    double tx = x - fx, ty = y - fy, tz = z - fz;
-    double v = 0, g[3] = {0, 0, 0};
+    c5_real tx = x - fx, ty = y - fy, tz = z - fz;
+    c5_real v = 0, g[3] = {0, 0, 0};
     for (int c = 0; c < 8; c++) {
         int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
-        double w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
+        c5_real w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
         /* Corners are clamped first: outside the outer voxel centres the field (value and
          * gradient) extends the edge voxel's, as if ghost voxels copied the edge. */
         long a = clampl(i + dx, sv->dims[0]), b = clampl(j + dy, sv->dims[1]), e = clampl(k + dz, sv->dims[2]);
         v += w * c5_supervol_at(sv, a, b, e);
         if (grad) {
-            g[0] += w * ((double)c5_supervol_at(sv, a + 1, b, e) - c5_supervol_at(sv, a - 1, b, e));
-            g[1] += w * ((double)c5_supervol_at(sv, a, b + 1, e) - c5_supervol_at(sv, a, b - 1, e));
-            g[2] += w * ((double)c5_supervol_at(sv, a, b, e + 1) - c5_supervol_at(sv, a, b, e - 1));
+            g[0] += w * ((c5_real)c5_supervol_at(sv, a + 1, b, e) - c5_supervol_at(sv, a - 1, b, e));
+            g[1] += w * ((c5_real)c5_supervol_at(sv, a, b + 1, e) - c5_supervol_at(sv, a, b - 1, e));
+            g[2] += w * ((c5_real)c5_supervol_at(sv, a, b, e + 1) - c5_supervol_at(sv, a, b, e - 1));
         }
     }
     *value = v;
     if (grad)
-        *grad = v3(g[0] / (2 * sv->spacing.x), g[1] / (2 * sv->spacing.y), g[2] / (2 * sv->spacing.z));
+        *grad = rv3(g[0] / (2 * (c5_real)sv->spacing.x), g[1] / (2 * (c5_real)sv->spacing.y),
+                    g[2] / (2 * (c5_real)sv->spacing.z));
 }

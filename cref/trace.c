@@ -5,7 +5,9 @@
 #include "geometry.h"
 #include "trace.h"
 
-static void add_rgb(double rgb[3], c5_vec3 c)
+#include <tgmath.h>
+
+static void add_rgb(c5_real rgb[3], c5_rvec3 c)
 {
     rgb[0] += c.x;
     rgb[1] += c.y;
@@ -26,101 +28,130 @@ static void push(c5_ray_stack *stk, const c5_ray *r, c5_cref_stats *st)
     st->rays[r->type]++;
 }
 
-static void field_sample(const c5_trace_ctx *c, c5_vec3 p, double *value, c5_vec3 *grad)
+static void field_sample(const c5_trace_ctx *c, c5_rvec3 p, c5_real *value, c5_rvec3 *grad)
 {
-    if (c->field)
+#ifdef C5_CREF_LONG
+    if (c->field) { /* an analytic field is evaluated in double (cref.h), at p rounded to double */
+        double v;
+        c5_vec3 g;
+        c->field->sample(c->field, rv3_to_double(p), &v, grad ? &g : NULL);
+        *value = v;
+        if (grad)
+            *grad = rv3_of(g);
+        return;
+    }
+#else
+    if (c->field) {
         c->field->sample(c->field, p, value, grad);
-    else
-        c5_supervol_sample(c->sv, p, value, grad);
+        return;
+    }
+#endif
+    C5R(supervol_sample)(c->sv, p, value, grad);
 }
 
+#ifdef C5_CREF_LONG
+/* tf.h's c5_tf_lookup in long double (keep them in step). */
+static void tf_lookup(const c5_rtf_table *t, c5_real s, c5_real rgba[4])
+{
+    s = s < 0 ? 0 : s > 255 ? 255 : s;
+    int i = (int)s;
+    if (i > 254)
+        i = 254;
+    c5_real f = s - i;
+    for (int c = 0; c < 4; c++)
+        rgba[c] = t->rgba[i][c] + f * (t->rgba[i + 1][c] - t->rgba[i][c]);
+}
+#else
+#define tf_lookup c5_tf_lookup
+#endif
+
 /* A sample belongs to the volume when its position lies in the half-open grid box. */
-static int inside_grid(const c5_trace_ctx *c, c5_vec3 p)
+static int inside_grid(const c5_trace_ctx *c, c5_rvec3 p)
 {
     const c5_supervol *sv = c->sv;
-    double u[3] = {(p.x - sv->origin.x) / sv->spacing.x, (p.y - sv->origin.y) / sv->spacing.y,
-                   (p.z - sv->origin.z) / sv->spacing.z};
+    c5_real u[3] = {(p.x - sv->origin.x) / sv->spacing.x, (p.y - sv->origin.y) / sv->spacing.y,
+                    (p.z - sv->origin.z) / sv->spacing.z};
     for (int a = 0; a < 3; a++)
-        if (!(u[a] >= 0 && u[a] < (double)sv->dims[a]))
+        if (!(u[a] >= 0 && u[a] < (c5_real)sv->dims[a]))
             return 0;
     return 1;
 }
 
-static c5_vec3 light_dir(const c5_light *l, c5_vec3 p, double *dist)
+static c5_rvec3 light_dir(const c5_light *l, c5_rvec3 p, c5_real *dist)
 {
     if (l->kind == C5_LIGHT_DIRECTIONAL) {
         *dist = INFINITY;
-        return v3_scale(l->direction, -1);
+        return rv3_scale(rv3_of(l->direction), -1);
     }
-    c5_vec3 to = v3_sub(l->position, p);
-    *dist = v3_len(to);
-    return v3_norm(to);
+    c5_rvec3 to = rv3_sub(rv3_of(l->position), p);
+    *dist = rv3_len(to);
+    return rv3_norm(to);
 }
 
 /* Phong shading of a volume sample's colour (spec sec. 4.3). */
-static c5_vec3 shade_sample(const c5_trace_ctx *c, c5_vec3 p, c5_vec3 view, c5_vec3 grad, const double rgba[4])
+static c5_rvec3 shade_sample(const c5_trace_ctx *c, c5_rvec3 p, c5_rvec3 view, c5_rvec3 grad, const c5_real rgba[4])
 {
     const c5_tf_desc *tf = &c->s->tf;
-    c5_vec3 col = v3(rgba[0], rgba[1], rgba[2]);
-    double g = v3_len(grad);
+    c5_rvec3 col = rv3(rgba[0], rgba[1], rgba[2]);
+    c5_real g = rv3_len(grad);
     if (g < c->grad_eps)
-        return v3_scale(col, tf->ambient);
-    c5_vec3 n = v3_scale(grad, -1 / g);
-    if (v3_dot(n, view) < 0)
-        n = v3_scale(n, -1); /* two-sided: the normal faces the viewer */
-    double diff = 0, spec = 0;
+        return rv3_scale(col, tf->ambient);
+    c5_rvec3 n = rv3_scale(grad, -1 / g);
+    if (rv3_dot(n, view) < 0)
+        n = rv3_scale(n, -1); /* two-sided: the normal faces the viewer */
+    c5_real diff = 0, spec = 0;
     for (int i = 0; i < c->s->n_lights; i++) {
         const c5_light *l = &c->s->lights[i];
-        double dist;
-        c5_vec3 L = light_dir(l, p, &dist);
-        double ndl = v3_dot(n, L);
+        c5_real dist;
+        c5_rvec3 L = light_dir(l, p, &dist);
+        c5_real ndl = rv3_dot(n, L);
         if (ndl <= 0)
             continue;
         diff += l->intensity * ndl;
-        double ndh = v3_dot(n, v3_norm(v3_add(L, view)));
+        c5_real ndh = rv3_dot(n, rv3_norm(rv3_add(L, view)));
         if (ndh > 0)
             spec += l->intensity * pow(ndh, tf->specular_power);
     }
-    double k = tf->ambient + tf->diffuse * diff, ks = tf->specular * spec;
-    return v3(col.x * k + ks, col.y * k + ks, col.z * k + ks);
+    c5_real k = tf->ambient + tf->diffuse * diff, ks = tf->specular * spec;
+    return rv3(col.x * k + ks, col.y * k + ks, col.z * k + ks);
 }
 
 /* Marches the volume part of [0, tend) along r, front to back. Shadow rays only
  * attenuate. Returns 1 when the ray terminated early (opacity reached max_opacity). */
-static int march(const c5_trace_ctx *c, const c5_ray *r, double tend, double *T, c5_vec3 *col, c5_cref_stats *st)
+static int march(const c5_trace_ctx *c, const c5_ray *r, c5_real tend, c5_real *T, c5_rvec3 *col, c5_cref_stats *st)
 {
-    double t0, t1;
-    if (!c->has_volume || !c5_ray_box(r->o, r->d, c->box_lo, c->box_hi, &t0, &t1))
+    c5_real t0, t1;
+    if (!c->has_volume || !C5R(ray_box)(r->o, r->d, c->box_lo, c->box_hi, &t0, &t1))
         return 0;
     if (t1 > tend)
         t1 = tend;
     if (t1 < 0)
         return 0;
     /* Candidate indices with one step of margin; the position test decides membership. */
-    double kfirst = t0 > 0 ? ceil(t0 / c->step) - 1 : 0;
-    double klast = floor(t1 / c->step) + 1;
+    c5_real kfirst = t0 > 0 ? ceil(t0 / c->step) - 1 : 0;
+    c5_real klast = floor(t1 / c->step) + 1;
     int is_shadow = r->type == C5_RAY_SHADOW;
     double max_opacity = c->s->render.max_opacity;
-    c5_vec3 view = v3_scale(r->d, -1);
-    for (double k = kfirst < 0 ? 0 : kfirst; k <= klast; k++) {
-        double t = k * c->step;
+    c5_rvec3 view = rv3_scale(r->d, -1);
+    for (c5_real k = kfirst < 0 ? 0 : kfirst; k <= klast; k++) {
+        c5_real t = k * c->step;
         if (t >= tend)
             break;
-        c5_vec3 p = v3_madd(r->o, r->d, t);
+        c5_rvec3 p = rv3_madd(r->o, r->d, t);
         if (!inside_grid(c, p))
             continue;
-        double value, rgba[4];
-        c5_vec3 grad;
+        c5_real value, rgba[4];
+        c5_rvec3 grad;
         int need_grad = !is_shadow && c->shade;
         field_sample(c, p, &value, need_grad ? &grad : NULL);
         st->samples++;
-        c5_tf_lookup(&c->tf, value, rgba);
-        double a = rgba[3];
+        tf_lookup(&c->tf, value, rgba);
+        c5_real a = rgba[3];
         if (a <= 0)
             continue;
         if (!is_shadow) {
-            c5_vec3 sc = need_grad ? shade_sample(c, p, view, grad, rgba) : v3(rgba[0], rgba[1], rgba[2]);
-            *col = v3_add(*col, v3_scale(v3_mul(r->w, sc), *T * a));
+            c5_rvec3 sc = need_grad ? shade_sample(c, p, view, grad, rgba) : rv3(rgba[0], rgba[1], rgba[2]);
+            *col = rv3_add(*col, rv3_scale(rv3_mul(r->w, sc), *T * a));
         }
         *T *= 1 - a;
         if (1 - *T >= max_opacity)
@@ -129,13 +160,13 @@ static int march(const c5_trace_ctx *c, const c5_ray *r, double tend, double *T,
     return 0;
 }
 
-static int nearest_surface(const c5_trace_ctx *c, const c5_ray *r, double *t)
+static int nearest_surface(const c5_trace_ctx *c, const c5_ray *r, c5_real *t)
 {
     int hit = -1;
-    double best = r->tmax;
+    c5_real best = r->tmax;
     for (int i = 0; i < c->s->n_surfaces; i++) {
-        double th;
-        if (c5_ray_surface(&c->s->surfaces[i], r->o, r->d, c->eps, best, &th)) {
+        c5_real th;
+        if (C5R(ray_surface)(&c->s->surfaces[i], r->o, r->d, c->eps, best, &th)) {
             best = th;
             hit = i;
         }
@@ -147,7 +178,7 @@ static int nearest_surface(const c5_trace_ctx *c, const c5_ray *r, double *t)
 /* Spawns a ray unless it is too light or too deep; counts what was cut. */
 static void spawn(const c5_trace_ctx *c, c5_ray *child, c5_cref_stats *st, c5_ray_stack *stk)
 {
-    if (v3_maxc(child->w) < c->s->render.min_weight || v3_maxc(child->w) <= 0) {
+    if (rv3_maxc(child->w) < c->s->render.min_weight || rv3_maxc(child->w) <= 0) {
         st->ends[C5_CUT_WEIGHT]++;
         return;
     }
@@ -160,89 +191,89 @@ static void spawn(const c5_trace_ctx *c, c5_ray *child, c5_cref_stats *st, c5_ra
 
 /* A ray ends on surface i at distance t with weight W (already times the volume's
  * transmittance): local shading now, shadow, reflected and refracted rays later. */
-static void hit_surface(const c5_trace_ctx *c, const c5_ray *r, int i, double t, c5_vec3 W, double rgb[3],
+static void hit_surface(const c5_trace_ctx *c, const c5_ray *r, int i, c5_real t, c5_rvec3 W, c5_real rgb[3],
                         c5_cref_stats *st, c5_ray_stack *stk)
 {
     const c5_surface *s = &c->s->surfaces[i];
     const c5_material *m = &s->mat;
-    c5_vec3 p = v3_madd(r->o, r->d, t);
-    c5_vec3 n = c5_surface_normal(s, p);
-    int entering = v3_dot(n, r->d) < 0;
+    c5_rvec3 p = rv3_madd(r->o, r->d, t);
+    c5_rvec3 n = C5R(surface_normal)(s, p);
+    int entering = rv3_dot(n, r->d) < 0;
     if (!entering)
-        n = v3_scale(n, -1);
-    double kd = 1 - m->reflectivity - m->transparency;
+        n = rv3_scale(n, -1);
+    c5_real kd = 1 - (c5_real)m->reflectivity - m->transparency;
     if (kd > 0) {
-        c5_vec3 base = v3_scale(v3_mul(W, m->color), kd);
-        double local = m->ambient;
+        c5_rvec3 base = rv3_scale(rv3_mul(W, rv3_of(m->color)), kd);
+        c5_real local = m->ambient;
         for (int li = 0; li < c->s->n_lights; li++) {
             const c5_light *l = &c->s->lights[li];
-            double dist;
-            c5_vec3 L = light_dir(l, p, &dist);
-            double ndl = v3_dot(n, L);
+            c5_real dist;
+            c5_rvec3 L = light_dir(l, p, &dist);
+            c5_real ndl = rv3_dot(n, L);
             if (ndl <= 0)
                 continue;
             if (!l->shadows) {
-                local += m->diffuse * l->intensity * ndl;
+                local += (c5_real)m->diffuse * l->intensity * ndl;
                 continue;
             }
-            c5_ray sh = {p, L, v3_scale(base, m->diffuse * l->intensity * ndl), dist, C5_RAY_SHADOW, r->gen};
+            c5_ray sh = {p, L, rv3_scale(base, (c5_real)m->diffuse * l->intensity * ndl), dist, C5_RAY_SHADOW, r->gen};
             spawn(c, &sh, st, stk);
         }
-        add_rgb(rgb, v3_scale(base, local));
+        add_rgb(rgb, rv3_scale(base, local));
     }
-    c5_vec3 wr = v3_scale(W, m->reflectivity), wt = v3_scale(W, m->transparency);
-    c5_vec3 dt = r->d; /* planes and rectangles are thin sheets: light passes unbent */
+    c5_rvec3 wr = rv3_scale(W, m->reflectivity), wt = rv3_scale(W, m->transparency);
+    c5_rvec3 dt = r->d; /* planes and rectangles are thin sheets: light passes unbent */
     if (m->transparency > 0 && s->kind == C5_SURF_SPHERE &&
-        !c5_refract(r->d, n, entering ? 1 / m->ior : m->ior, &dt)) {
-        wr = v3_add(wr, wt); /* total internal reflection */
-        wt = v3(0, 0, 0);
+        !C5R(refract)(r->d, n, entering ? 1 / (c5_real)m->ior : m->ior, &dt)) {
+        wr = rv3_add(wr, wt); /* total internal reflection */
+        wt = rv3(0, 0, 0);
     }
-    if (v3_maxc(wr) > 0) {
+    if (rv3_maxc(wr) > 0) {
         c5_ray rr = {p, c5_reflect(r->d, n), wr, INFINITY, C5_RAY_REFLECT, r->gen + 1};
         spawn(c, &rr, st, stk);
     }
-    if (v3_maxc(wt) > 0) {
+    if (rv3_maxc(wt) > 0) {
         c5_ray rt = {p, dt, wt, INFINITY, C5_RAY_REFRACT, r->gen + 1};
         spawn(c, &rt, st, stk);
     }
 }
 
-static void trace_shadow(const c5_trace_ctx *c, const c5_ray *r, double rgb[3], c5_cref_stats *st)
+static void trace_shadow(const c5_trace_ctx *c, const c5_ray *r, c5_real rgb[3], c5_cref_stats *st)
 {
-    double T = 1;
+    c5_real T = 1;
     for (int i = 0; i < c->s->n_surfaces && T > 0; i++) {
         const c5_surface *s = &c->s->surfaces[i];
-        double t, tmin = c->eps;
+        c5_real t, tmin = c->eps;
         /* Each crossing of a surface on the way to the light passes its transparency. */
-        while (T > 0 && c5_ray_surface(s, r->o, r->d, tmin, r->tmax, &t)) {
+        while (T > 0 && C5R(ray_surface)(s, r->o, r->d, tmin, r->tmax, &t)) {
             T *= s->mat.transparency;
             tmin = t;
         }
     }
-    c5_vec3 unused = v3(0, 0, 0);
+    c5_rvec3 unused = rv3(0, 0, 0);
     if (T <= 0 || march(c, r, r->tmax, &T, &unused, st)) {
         st->ends[C5_END_BLOCKED]++;
         return;
     }
-    add_rgb(rgb, v3_scale(r->w, T));
+    add_rgb(rgb, rv3_scale(r->w, T));
     st->ends[C5_END_LIGHT]++;
 }
 
-static void trace_ray(const c5_trace_ctx *c, const c5_ray *r, double rgb[3], c5_cref_stats *st, c5_ray_stack *stk)
+static void trace_ray(const c5_trace_ctx *c, const c5_ray *r, c5_real rgb[3], c5_cref_stats *st, c5_ray_stack *stk)
 {
-    double ts;
+    c5_real ts;
     int hit = nearest_surface(c, r, &ts);
-    double T = 1;
-    c5_vec3 col = v3(0, 0, 0);
+    c5_real T = 1;
+    c5_rvec3 col = rv3(0, 0, 0);
     int stopped = march(c, r, hit >= 0 ? ts : INFINITY, &T, &col, st);
     add_rgb(rgb, col);
     if (stopped) {
         st->ends[C5_END_OPACITY]++;
         return;
     }
-    c5_vec3 W = v3_scale(r->w, T);
+    c5_rvec3 W = rv3_scale(r->w, T);
     if (hit < 0) {
-        add_rgb(rgb, v3_mul(W, c->s->render.background));
+        add_rgb(rgb, rv3_mul(W, rv3_of(c->s->render.background)));
         st->ends[C5_END_LEFT]++;
         return;
     }
@@ -250,7 +281,7 @@ static void trace_ray(const c5_trace_ctx *c, const c5_ray *r, double rgb[3], c5_
     hit_surface(c, r, hit, ts, W, rgb, st, stk);
 }
 
-void c5_trace_pixel(const c5_trace_ctx *c, const c5_ray *eye, double rgb[3], c5_cref_stats *st, c5_ray_stack *stk)
+void C5R(trace_pixel)(const c5_trace_ctx *c, const c5_ray *eye, c5_real rgb[3], c5_cref_stats *st, c5_ray_stack *stk)
 {
     stk->n = 0;
     push(stk, eye, st);

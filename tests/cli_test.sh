@@ -193,6 +193,18 @@ expect compare_cells_beyond_grid 2 "--cells: .*grid has only 10 voxels" -- "$cub
 expect compare_cells_missing 2 "--cells: missing value" -- "$cube5" compare default --cells
 expect compare_bad_frame 2 "--frame: the scene has 1 frame" -- "$cube5" compare default --frame 1
 expect compare_bad_gain 2 "--gain: expected a number" -- "$cube5" compare default --gain 0
+# cref in long double as the reference: the same scene, the same PSNR to 9 digits (cref's
+# own rounding is ~1e-12, docs/stability.md); a bad precision is refused.
+psnr_of() { python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["ref_precision"], "%.9g" % d["psnr_db"])'; }
+pd=$("$cube5" compare default --size 24x24 --json | psnr_of)
+pl=$("$cube5" compare default --size 24x24 --ref-precision long --json | psnr_of)
+if [ "${pd#double }" = "${pl#long }" ] && [ "${pd%% *}" = double ] && [ "${pl%% *}" = long ]; then
+    ok compare_ref_precision_long
+else
+    bad compare_ref_precision_long "double: $pd, long: $pl"
+fi
+expect compare_bad_ref_precision 2 "--ref-precision: 'quad' is not double or long" -- \
+    "$cube5" compare default --size 8x8 --ref-precision quad
 expect compare_unknown_option 2 "unknown option '--model'" -- "$cube5" compare default --model rtl
 cp "$tmp/ok.json" "$tmp/keep.json"
 expect compare_refuse_diff_over_scene 2 "refusing to overwrite an input" -- \

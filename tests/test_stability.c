@@ -25,6 +25,7 @@
 #include "metrics.h"
 #include "regs.h"
 #include "sample_pipe.h"
+#include "stab_scenes.h"
 
 /* ---- the harness of the suite ----------------------------------------------------------- */
 
@@ -48,55 +49,6 @@ typedef struct {
     c5_image_diff d;
     c5_image ref, img; /* kept only when stab_run is asked to (keep) */
 } stab_out;
-
-typedef struct {
-    c5_scene s;
-    c5_supervol sv;
-} stab_scene;
-
-static char stab_msg[1024];
-
-static int stab_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int stab_fail(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(stab_msg, sizeof stab_msg, fmt, ap);
-    va_end(ap);
-    return -1;
-}
-
-/* Parses a scene written with ' for " (printf format) and builds its super volume. */
-static int stab_load(stab_scene *sc, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static int stab_load(stab_scene *sc, const char *fmt, ...)
-{
-    char text[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
-    va_end(ap);
-    c5_err err;
-    if (c5_scene_parse(c5t_json(text), NULL, "stability", &sc->s, &err) != 0 ||
-        c5_supervol_build(&sc->s, &sc->sv, &err) != 0)
-        return stab_fail("scene: %s", err.msg);
-    return 0;
-}
-
-/* The scene's first light, a point light, goes to the eye (HEADLIGHT below). */
-static void stab_headlight(stab_scene *sc)
-{
-    if (sc->s.n_lights > 0 && sc->s.lights[0].kind == C5_LIGHT_POINT)
-        sc->s.lights[0].position = sc->s.camera.eye;
-}
-
-/* Moves the camera, and the headlight with it. */
-static void stab_camera(stab_scene *sc, c5_vec3 eye, c5_vec3 target, c5_vec3 up)
-{
-    sc->s.camera.eye = eye;
-    sc->s.camera.target = target;
-    sc->s.camera.up = up;
-    stab_headlight(sc);
-}
 
 static int finite_image(const c5_image *im, const char *who)
 {
@@ -234,25 +186,13 @@ static int stab_refused(const char *label, const stab_scene *sc, const int cells
 
 #define STAB(label, sc, c, out, keep) CHECK_MSG(stab_run(label, sc, c, out, keep) == 0, "%s", stab_msg)
 #define STAB_LOAD(sc, ...) CHECK_MSG(stab_load(sc, __VA_ARGS__) == 0, "%s", stab_msg)
+/* A scene of tests/stab_scenes.c. */
+#define STAB_BUILD(call) CHECK_MSG((call) == 0, "%s", stab_msg)
 #define STAB_REFUSED(label, sc, cells, needle) \
     CHECK_MSG(stab_refused(label, sc, cells, needle) == 0, "%s", stab_msg)
 
 /* A float image value in the model's UQ2.12 colour: the float is the exact raw / 4096. */
 #define RGB_MAX_F ((double)C5_RGB_MAX / (1 << C5_RGB_F))
-
-/* Pieces of scenes (written with ' for "). */
-#define TF_SOFT "'transfer_function': {'opacity': [[0, 0], [40, 0], [200, 0.5], [255, 0.8]]," \
-                " 'color': [[0, 0.9, 0.4, 0.1], [128, 0.5, 0.8, 0.3], [255, 0.2, 0.4, 1]]}"
-/* A point light that stab_headlight moves to the eye: two-sided shading flips the normal where N.V changes sign, and
- * with the light beside the eye N.L is then ~0 on both sides, so the flip is continuous.
- * With the light elsewhere a sample whose N.V is within rounding of 0 is lit from the
- * other side in one renderer: an honest but discontinuous error that would hide the
- * geometry these cases are about. */
-#define HEADLIGHT "'lights': [{'type': 'point', 'position': [0, 0, 0]}]"
-#define CAM(w, fov) "'camera': {'eye': [-30, -20, 25], 'target': [8, 8, 8], 'fov': " #fov \
-                    ", 'width': " #w ", 'height': " #w "}"
-
-static const c5_vec3 UP_Z = {0, 0, 1}, UP_Y = {0, 1, 0};
 
 /* ---- stiff transfer functions ----------------------------------------------------------- */
 
@@ -275,10 +215,7 @@ static const stab_bound STIFF_EDGE = {0.08, 0.003, 0.003};
 TEST(stability_stiff_opacity_jump)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'ramp', 'dims': [16, 16, 16], 'axis': 0}],"
-                   " 'transfer_function': {'opacity': [[0, 0], [127, 0], [128, 1], [255, 1]],"
-                   "   'color': [[0, 1, 0.5, 0.2], [255, 0.2, 0.5, 1]]}, " HEADLIGHT ", " CAM(32, 30) "}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_stiff_jump(&sc));
     stab_out o;
     stab_case c = {STIFF_JUMP, {2, 2, 2}, 0, 0};
     STAB("stiff opacity jump", &sc, &c, &o, 0);
@@ -289,11 +226,7 @@ TEST(stability_stiff_opacity_jump)
 TEST(stability_stiff_extinction)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [16, 16, 16], 'seed': 3}],"
-                   " 'transfer_function': {'opacity': [[0, 0], [60, 0], [61, 0.5], [255, 0.9]],"
-                   "   'color': [[0, 1, 0.5, 0.2], [255, 0.2, 0.5, 1]], 'unit_distance': 0.02},"
-                   " " HEADLIGHT ", " CAM(32, 30) "}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_stiff_extinction(&sc));
     stab_out o;
     stab_case c = {STIFF_EXTINCTION, {2, 2, 2}, 0, 0};
     STAB("stiff extinction", &sc, &c, &o, 0);
@@ -303,14 +236,7 @@ TEST(stability_stiff_extinction)
 TEST(stability_step_edge_max_gradient)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'constant', 'dims': [16, 16, 16]}],"
-                   " 'transfer_function': {'opacity': [[0, 0], [127, 0], [128, 0.6], [255, 0.6]],"
-                   "   'color': [[0, 1, 1, 1], [255, 1, 0.8, 0.6]]}, " HEADLIGHT ", " CAM(32, 30) "}");
-    stab_headlight(&sc);
-    for (size_t k = 0; k < 16; k++) /* 0 below x = 8, 255 from there, in a slab |z - 8| < 5 */
-        for (size_t j = 0; j < 16; j++)
-            for (size_t i = 8; i < 16; i++)
-                sc.sv.v[(k * 16 + j) * 16 + i] = k > 3 && k < 13 ? 255 : 0;
+    STAB_BUILD(stab_scene_step_edge(&sc));
     stab_out o;
     stab_case c = {STIFF_EDGE, {2, 2, 2}, 0, 0};
     STAB("step edge 0|255", &sc, &c, &o, 0);
@@ -328,13 +254,7 @@ static const stab_bound MARSCHNER_LOBB = {0.008, 0.0006, 0};
 TEST(stability_marschner_lobb)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'marschner_lobb', 'dims': [41, 41, 41], 'f_m': 6, 'alpha': 0.25}],"
-                   " 'transfer_function': {'opacity': [[0, 0], [104, 0], [128, 0.3], [152, 0], [255, 0]],"
-                   "   'color': [[0, 0.2, 0.3, 0.9], [128, 0.95, 0.95, 0.95], [255, 1, 0.3, 0.1]]},"
-                   " " HEADLIGHT ","
-                   " 'camera': {'eye': [100, -55, 75], 'target': [20.5, 20.5, 20.5], 'fov': 34, 'width': 40,"
-                   "   'height': 40}, 'render': {'step': 0.5, 'max_opacity': 1}}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_marschner_lobb(&sc));
     stab_out o;
     stab_case c = {MARSCHNER_LOBB, {2, 2, 2}, 0, 0};
     STAB("marschner-lobb 41^3", &sc, &c, &o, 0);
@@ -353,22 +273,9 @@ static const stab_bound AXIS_RAYS = {0.012, 0.0012, 0};
 TEST(stability_axis_rays_on_cell_faces_edges_corners)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [16, 16, 16], 'seed': 5}], " TF_SOFT ", " HEADLIGHT
-                   ", " CAM(17, 20) "}");
-    stab_headlight(&sc);
-    const struct {
-        const char *label;
-        c5_vec3 eye, target, up;
-    } cams[] = {
-        {"+x along the cell edge y=z=8", {-20, 8, 8}, {0, 8, 8}, UP_Z},
-        {"+y in the cell face x=8", {8, -20, 5.25}, {8, 0, 5.25}, UP_Z},
-        {"-z along the cell edge x=y=8", {8, 8, 40}, {8, 8, 0}, UP_Y},
-        {"+x along voxel faces y=3 z=11", {-20, 3, 11}, {0, 3, 11}, UP_Z},
-        {"diagonal through the cell corner", {-12, -12, -12}, {8, 8, 8}, UP_Z},
-        {"diagonal into the grid's edge", {-10, -10, 8}, {0, 0, 8}, UP_Z},
-        {"-x along the grid's high face", {40, 8, 16}, {16, 8, 16}, UP_Y},
-    };
-    for (size_t i = 0; i < sizeof cams / sizeof cams[0]; i++) {
+    STAB_BUILD(stab_scene_axis_rays(&sc));
+    const stab_cam *cams = stab_axis_cams;
+    for (size_t i = 0; i < STAB_N_AXIS_CAMS; i++) {
         stab_camera(&sc, cams[i].eye, cams[i].target, cams[i].up);
         stab_out o;
         stab_case c = {AXIS_RAYS, {2, 2, 2}, 0, 0};
@@ -388,23 +295,11 @@ static const stab_bound GRAZING = {0.05, 0.002, 0.002};
 TEST(stability_grazing_plane)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [16, 16, 16], 'seed': 2}], " TF_SOFT ","
-                   " 'lights': [{'type': 'point', 'position': [8, 8, 30], 'shadows': true}],"
-                   " 'surfaces': [{'type': 'plane', 'point': [0, 0, 0], 'normal': [0, 0, 1],"
-                   "   'material': {'color': [0.9, 0.8, 0.6], 'reflectivity': 0.3}}],"
-                   " 'camera': {'eye': [-40, 8, 0.05], 'target': [40, 8, 0], 'fov': 30, 'width': 32, 'height': 32},"
-                   " 'render': {'background': [0.1, 0.2, 0.3]}}");
-    /* DISABLED: the eye 1e-4 above the floor. The model gives eye rays the spawned rays'
-     * epsilon, max(1e-6 diagonal, 1/64 min spacing) (rtl_model/processor.c c5_proc_new_ray,
-     * r->eps_g), where docs/board-model.md allows it for spawned rays only and cref uses
-     * 1e-6 diagonal for every ray: floor hits closer than 1/64 voxel to the eye are missed
-     * and 45 % of the values are off by more than 4 display steps (rmse 0.071). Add 1e-4 back
-     * here once eye rays use cref's epsilon. */
-    const double heights[] = {0.05, 0, -0.02};
-    for (int i = 0; i < 3; i++) {
+    STAB_BUILD(stab_scene_grazing(&sc)); /* the eye 1e-4 above the floor is disabled: stab_scenes.c */
+    for (int i = 0; i < STAB_N_GRAZING; i++) {
         char label[64];
-        snprintf(label, sizeof label, "grazing, eye at z = %g", heights[i]);
-        stab_camera(&sc, v3(-40, 8, heights[i]), v3(40, 8, heights[i] > 0 ? 0 : heights[i]), UP_Z);
+        snprintf(label, sizeof label, "grazing, eye at z = %g", stab_grazing_heights[i]);
+        stab_grazing_camera(&sc, i);
         stab_out o;
         stab_case c = {GRAZING, {2, 2, 2}, 0, 0};
         STAB(label, &sc, &c, &o, 0);
@@ -423,15 +318,7 @@ static const stab_bound TIR = {0.04, 0.0015, 0.001};
 TEST(stability_total_internal_reflection)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [16, 16, 16], 'seed': 4}], " TF_SOFT ", " HEADLIGHT
-                   ", 'surfaces': ["
-                   "  {'type': 'sphere', 'center': [4, -8, 8], 'radius': 4,"
-                   "   'material': {'transparency': 1, 'reflectivity': 0, 'ior': 0.6}},"
-                   "  {'type': 'sphere', 'center': [12.5, -8, 8], 'radius': 3.5,"
-                   "   'material': {'transparency': 1, 'reflectivity': 0, 'ior': 1.5}}],"
-                   " 'camera': {'eye': [8, -40, 8], 'target': [8, 8, 8], 'fov': 30, 'width': 40, 'height': 40},"
-                   " 'render': {'max_bounces': 6, 'background': [0.3, 0.3, 0.35]}}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_tir(&sc));
     stab_out o;
     stab_case c = {TIR, {2, 2, 2}, 0, 0};
     STAB("total internal reflection", &sc, &c, &o, 0);
@@ -455,12 +342,7 @@ static const stab_bound MIRRORS = {0.002, 0.0004, 0};
 TEST(stability_parallel_mirrors)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [16, 16, 16], 'seed': 6}], " TF_SOFT ","
-                   " 'surfaces': ["
-                   "  {'type': 'plane', 'point': [0, 0, -1], 'normal': [0, 0, 1], 'material': {'reflectivity': 1}},"
-                   "  {'type': 'plane', 'point': [0, 0, 17], 'normal': [0, 0, -1], 'material': {'reflectivity': 1}}],"
-                   " 'camera': {'eye': [-20, 8, 8], 'target': [8, 8, 5], 'fov': 50, 'width': 24, 'height': 24},"
-                   " 'render': {'max_bounces': 15, 'min_weight': 0, 'background': [0.2, 0.3, 0.4]}}");
+    STAB_BUILD(stab_scene_mirrors(&sc));
     const uint32_t trees[] = {C5_TREE_MAX_SLOTS, 2};
     for (int i = 0; i < 2; i++) {
         stab_out o;
@@ -490,22 +372,10 @@ static const stab_bound CAMERA_INSIDE = {0.005, 0.0005, 0};
 TEST(stability_camera_inside_and_on_cell_boundaries)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [16, 16, 16], 'seed': 7}], " TF_SOFT ", " HEADLIGHT
-                   ", " CAM(24, 70) "}");
-    stab_headlight(&sc);
-    const struct {
-        const char *label;
-        c5_vec3 eye, target;
-    } cams[] = {
-        {"eye inside a cell", {6.3, 7.1, 9.4}, {16, 12, 3}},
-        {"eye on the corner of 8 cells", {8, 8, 8}, {16, 12, 3}},
-        {"eye on the cell face x=8", {8, 4.5, 4.5}, {0, 9, 12}},
-        {"eye on the grid's low face", {0, 8, 8}, {16, 8, 8}},
-        {"eye on the grid's high face", {16, 8, 8}, {0, 8, 8}},
-        {"eye on the grid's corner", {0, 0, 0}, {16, 16, 16}},
-    };
-    for (size_t i = 0; i < sizeof cams / sizeof cams[0]; i++) {
-        stab_camera(&sc, cams[i].eye, cams[i].target, UP_Z);
+    STAB_BUILD(stab_scene_camera_inside(&sc));
+    const stab_cam *cams = stab_inside_cams;
+    for (size_t i = 0; i < STAB_N_INSIDE_CAMS; i++) {
+        stab_camera(&sc, cams[i].eye, cams[i].target, cams[i].up);
         stab_out o;
         stab_case c = {CAMERA_INSIDE, {2, 2, 2}, 0, 0};
         STAB(cams[i].label, &sc, &c, &o, 0);
@@ -526,10 +396,7 @@ static const stab_bound FOV_WIDE = {0.0015, 0.0001, 0};
 TEST(stability_fov_half_degree)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [24, 24, 24], 'seed': 8}], " TF_SOFT ", " HEADLIGHT
-                   ", 'camera': {'eye': [-3988, 12, 12], 'target': [12, 12, 12], 'fov': 0.5, 'width': 32,"
-                   "   'height': 32}}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_fov_narrow(&sc));
     stab_out o;
     stab_case c = {FOV_NARROW, {2, 2, 2}, 0, 0};
     STAB("fov 0.5 from 4000 voxels", &sc, &c, &o, 0);
@@ -542,10 +409,7 @@ TEST(stability_fov_half_degree)
 TEST(stability_fov_170_degrees)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [24, 24, 24], 'seed': 8}], " TF_SOFT ", " HEADLIGHT
-                   ", 'camera': {'eye': [12, -2, 12], 'target': [12, 12, 12], 'fov': 170, 'width': 32,"
-                   "   'height': 32}}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_fov_wide(&sc));
     stab_out o;
     stab_case c = {FOV_WIDE, {2, 2, 2}, 0, 0};
     STAB("fov 170", &sc, &c, &o, 0);
@@ -565,10 +429,7 @@ static const stab_bound VOL_SLAB = {0.3, 0.01, 0.01};
 TEST(stability_volume_1x1x1)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'constant', 'dims': [1, 1, 1], 'value': 200}], " TF_SOFT ", " HEADLIGHT
-                   ", 'camera': {'eye': [3, -4, 2.5], 'target': [0.5, 0.5, 0.5], 'width': 24, 'height': 24},"
-                   " 'render': {'step': 0.25}}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_volume_1(&sc));
     stab_out o;
     stab_case c = {VOL_1, {1, 1, 1}, 0, 0};
     STAB("1^3 volume", &sc, &c, &o, 0);
@@ -579,10 +440,7 @@ TEST(stability_volume_1x1x1)
 TEST(stability_volume_1x1xN)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'ramp', 'dims': [1, 1, 64], 'axis': 2}], " TF_SOFT ", " HEADLIGHT
-                   ", 'camera': {'eye': [30, -40, 32], 'target': [0.5, 0.5, 32], 'fov': 20, 'width': 25,"
-                   "   'height': 25}, 'render': {'step': 0.25}}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_volume_rod(&sc));
     stab_out o;
     stab_case c = {VOL_1x1xN, {1, 1, 4}, 0, 0};
     STAB("1x1x64 volume", &sc, &c, &o, 0);
@@ -603,10 +461,7 @@ TEST(stability_volume_1x1xN)
 TEST(stability_volume_512x512x1)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'blobs', 'dims': [512, 512, 1], 'seed': 9}], " TF_SOFT ", " HEADLIGHT
-                   ", 'camera': {'eye': [256, -300, 400], 'target': [256, 256, 0.5], 'fov': 60, 'width': 32,"
-                   "   'height': 32}}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_volume_slab(&sc));
     stab_out o;
     stab_case c = {VOL_SLAB, {4, 4, 1}, 0, 0};
     STAB("512x512x1 volume", &sc, &c, &o, 0);
@@ -626,26 +481,11 @@ static const stab_bound CONSTANT_FOG = {0.0016, 0.0006, 0};
 TEST(stability_all_zero_and_all_255_volumes)
 {
     static stab_scene sc;
-    const struct {
-        const char *label;
-        int value;
-        const char *opacity;
-        stab_bound bound;
-    } cases[] = {
-        {"all 0, alpha(0) = 0", 0, "[[0, 0], [1, 0], [255, 0.5]]", ZERO_EMPTY},
-        {"all 0, alpha(0) = 0.05", 0, "[[0, 0.05], [255, 0.5]]", CONSTANT_FOG},
-        {"all 255, alpha(255) = 0.1", 255, "[[0, 0], [255, 0.1]]", CONSTANT_FOG},
-        {"all 255, alpha(255) = 1", 255, "[[0, 0], [254, 0], [255, 1]]", CONSTANT_FOG},
-    };
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        STAB_LOAD(&sc, "{'volumes': [{'generator': 'constant', 'dims': [16, 16, 16], 'value': %d}],"
-                       " 'transfer_function': {'opacity': %s, 'color': [[0, 0.9, 0.5, 0.2], [255, 0.3, 0.6, 1]]},"
-                       " " HEADLIGHT ", " CAM(24, 30) ", 'render': {'background': [0.3, 0.3, 0.3]}}",
-                  cases[i].value, cases[i].opacity);
-        stab_headlight(&sc);
+    for (int i = 0; i < STAB_N_CONSTANT; i++) {
+        STAB_BUILD(stab_scene_constant(&sc, i));
         stab_out o;
-        stab_case c = {cases[i].bound, {2, 2, 2}, 0, 0};
-        STAB(cases[i].label, &sc, &c, &o, 0);
+        stab_case c = {i == 0 ? ZERO_EMPTY : CONSTANT_FOG, {2, 2, 2}, 0, 0};
+        STAB(stab_constant_cases[i].label, &sc, &c, &o, 0);
         if (i == 0)
             CHECK_INT(o.bs.samples, 0); /* nothing visible: everything leaped */
         c5_supervol_free(&sc.sv);
@@ -683,11 +523,7 @@ static const stab_bound SAT_FRAME_ACC = {0.25, 0.08, 1};
 TEST(stability_saturation_ray_colour)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'volumes': [{'generator': 'constant', 'dims': [16, 16, 16], 'value': 200}],"
-                   " 'transfer_function': {'opacity': [[0, 0.3], [255, 0.3]], 'color': [[0, 1, 0.9, 0.05], [255, 1, 0.9, 0.05]],"
-                   "   'shading': {'ambient': 15.9, 'diffuse': 15.9, 'specular': 15.9}}, " HEADLIGHT ", " CAM(24, 30)
-                   "}");
-    stab_headlight(&sc);
+    STAB_BUILD(stab_scene_sat_ray_colour(&sc));
     stab_out o;
     stab_case c = {SAT_RAY_RGB, {2, 2, 2}, RGB_MAX_F, 0};
     STAB("saturated ray colour", &sc, &c, &o, 1);
@@ -709,10 +545,7 @@ TEST(stability_saturation_ray_colour)
 TEST(stability_saturation_shadow_radiance)
 {
     static stab_scene sc;
-    STAB_LOAD(&sc, "{'lights': [{'type': 'point', 'position': [0, 0, 2], 'intensity': 15.9, 'shadows': true}],"
-                   " 'surfaces': [{'type': 'plane', 'point': [0, 0, 0], 'normal': [0, 0, 1],"
-                   "   'material': {'color': [1, 0.5, 0.1], 'ambient': 0, 'diffuse': 1}}],"
-                   " 'camera': {'eye': [0, -20, 14], 'target': [0, 0, 0], 'fov': 80, 'width': 32, 'height': 32}}");
+    STAB_BUILD(stab_scene_sat_shadow(&sc));
     stab_out o;
     stab_case c = {SAT_SHADOW_RGB, {1, 1, 1}, RGB_MAX_F, 0};
     STAB("saturated shadow-ray radiance", &sc, &c, &o, 1);
@@ -735,15 +568,7 @@ TEST(stability_saturation_shadow_radiance)
 TEST(stability_saturation_frame_acc_headroom)
 {
     static stab_scene sc;
-    char lights[1024] = "";
-    for (int i = 0; i < 8; i++) /* 8 lights (the maximum), intensity just below the format's 16 */
-        snprintf(lights + strlen(lights), sizeof lights - strlen(lights),
-                 "%s{'type': 'point', 'position': [%d, %d, 6], 'intensity': 15.9}", i ? ", " : "", 4 * (i % 4) - 6,
-                 8 * (i / 4) - 4);
-    STAB_LOAD(&sc, "{'lights': [%s], 'surfaces': [{'type': 'plane', 'point': [0, 0, 0], 'normal': [0, 0, 1],"
-                   "   'material': {'color': [1, 1, 1], 'ambient': 15.9, 'diffuse': 15.9}}],"
-                   " 'camera': {'eye': [0, -20, 14], 'target': [0, 0, 0], 'fov': 60, 'width': 24, 'height': 24}}",
-              lights);
+    STAB_BUILD(stab_scene_sat_frame_acc(&sc));
     stab_out o;
     stab_case c = {SAT_FRAME_ACC, {1, 1, 1}, 0, 0};
     STAB("frame_acc near 2000", &sc, &c, &o, 1);
