@@ -70,4 +70,17 @@ static inline int64_t c5_clamp64(int64_t v, int64_t lo, int64_t hi, uint64_t *sa
     return v;
 }
 
+/* A narrowed signal (widths.h): x rounded half to even to a multiple of 2^s, s the fraction
+ * bits dropped (shipped - width); s = 0, the shipped width, returns x untouched. */
+static inline int64_t c5_narrow(int64_t x, int s) { return s ? c5_shl(c5_rshift_he(x, s), s) : x; }
+
+/* The same, then clamped (and counted) to [lo, hi] with hi taken down to a multiple of 2^s:
+ * the range of the narrowed format in its container (lo is 0 or -2^n, already a multiple). */
+static inline int64_t c5_narrow_clamp(int64_t x, int s, int64_t lo, int64_t hi, uint64_t *sat)
+{
+    if (!s)
+        return x;
+    return c5_clamp64(c5_narrow(x, s), lo, hi & ~(((int64_t)1 << s) - 1), sat);
+}
+
 #endif

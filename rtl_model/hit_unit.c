@@ -73,6 +73,9 @@ void c5_proc_finish(c5_proc *p, c5_bray *ray, int64_t tmin)
         t = 0; /* grazing: rounding moved the position off the surface; end where it is */
     c5_geom_point(Q, ray->dir, t, H);
     c5_geom_normal(s, H, n);
+    if (r->nsh[C5_W_NORMAL])
+        for (int a = 0; a < 3; a++)
+            n[a] = c5_narrow(n[a], r->nsh[C5_W_NORMAL]); /* a unit vector: stays in SQ1.14 */
     int entering = c5_geom_dot14(n, ray->dir) < 0;
     if (!entering)
         for (int a = 0; a < 3; a++)
@@ -99,9 +102,11 @@ void c5_proc_finish(c5_proc *p, c5_bray *ray, int64_t tmin)
             child.type = C5_RAY_SHADOW;
             child.w = 0;
             for (int c = 0; c < 3; c++) /* radiance delivered if nothing is in the way, UQ2.12 */
-                child.rgb[c] = c5_clamp64(
-                    c5_rshift128_he((__int128)base[c] * s->diffuse * l->intensity * ndl, 15 + 12 + 12 + 14 - 12), 0,
-                    C5_RGB_MAX, &p->st.saturations);
+                child.rgb[c] = c5_narrow_clamp(
+                    c5_clamp64(c5_rshift128_he((__int128)base[c] * s->diffuse * l->intensity * ndl,
+                                               15 + 12 + 12 + 14 - 12),
+                               0, C5_RGB_MAX, &p->st.saturations),
+                    r->nsh[C5_W_RGB], 0, C5_RGB_MAX, &p->st.saturations);
             if (spawn_ok(p, &child))
                 c5_proc_new_ray(p, H, L, dist, plane, &child);
         }
@@ -116,6 +121,9 @@ void c5_proc_finish(c5_proc *p, c5_bray *ray, int64_t tmin)
         wr += wt; /* total internal reflection */
         wt = 0;
     }
+    /* The spawned rays' contributions (UQ1.15, narrowed with opacity: widths.h). */
+    wr = c5_narrow_clamp(wr, r->nsh[C5_W_OPACITY], 0, 65535, &p->st.saturations);
+    wt = c5_narrow_clamp(wt, r->nsh[C5_W_OPACITY], 0, 65535, &p->st.saturations);
     child.gen = ray->gen + 1;
     child.rgb[0] = child.rgb[1] = child.rgb[2] = 0;
     if (wr > 0) {

@@ -25,10 +25,21 @@ static int outside_grid(const c5_frame_regs *r, const int64_t pos[3])
     return 0;
 }
 
+/* The step vector, narrowed with pos (widths.h): a position on the narrowed grid stays on it. */
 static void step_vec(const c5_frame_regs *r, const int64_t d[3], int64_t S[3])
 {
     for (int a = 0; a < 3; a++)
-        S[a] = c5_rshift_he(d[a] * r->step_k[a], C5_DIR_F + 20 - C5_POS_F); /* step_vec SQ3.15 */
+        S[a] = c5_narrow(c5_rshift_he(d[a] * r->step_k[a], C5_DIR_F + 20 - C5_POS_F), r->nsh[C5_W_POS]); /* SQ3.15 */
+}
+
+/* A position or direction as the set-up unit produces it, narrowed (widths.h). Both are
+ * unbounded here (a position may lie outside the grid; a unit direction's rounding stays
+ * in [-1, 1]), so nothing is clamped. */
+static void narrow3(int64_t v[3], int s)
+{
+    if (s)
+        for (int a = 0; a < 3; a++)
+            v[a] = c5_narrow(v[a], s);
 }
 
 /* Samples until pos leaves the voxel box [lo, hi): the smallest n >= 1 with pos + n S
@@ -136,14 +147,17 @@ static void sample_pos(const c5_frame_regs *r, const int64_t O[3], const int64_t
     for (int a = 0; a < 3; a++)
         G[a] = O[a] + c5_rshift128_he((__int128)k * r->step_g * d[a], 20 + C5_DIR_F - 15);
     c5_geom_to_voxel(r, G, P);
+    narrow3(P, r->nsh[C5_W_POS]);
 }
 
-void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d[3], int64_t t_light, int skip,
+void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int64_t t_light, int skip,
                      const c5_bray *proto)
 {
     const c5_frame_regs *r = p->r;
     c5_bray ray = *proto;
-    memcpy(ray.dir, d, sizeof ray.dir);
+    memcpy(ray.dir, d_in, sizeof ray.dir);
+    narrow3(ray.dir, r->nsh[C5_W_DIR]); /* the direction the packet carries, used for everything below */
+    const int64_t *d = ray.dir;
     ray.opa = 0;
     ray.surf = C5_SURF_NONE;
     p->st.rays[ray.type]++;
@@ -165,7 +179,8 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d[3], int64_t
             return;
         }
         for (int c = 0; c < 3; c++)
-            ray.rgb[c] = c5_rshift_he(ray.rgb[c] * T, 15);
+            ray.rgb[c] = c5_narrow_clamp(c5_rshift_he(ray.rgb[c] * T, 15), r->nsh[C5_W_RGB], 0, C5_RGB_MAX,
+                                         &p->st.saturations);
         t_end = t_light;
     } else {
         for (int i = 0; i < r->n_surfaces; i++) {
@@ -198,6 +213,7 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d[3], int64_t
     }
     /* No sample in the volume: straight to the ray's end. */
     c5_geom_to_voxel(r, O, ray.pos);
+    narrow3(ray.pos, r->nsh[C5_W_POS]);
     ray.lifetime = 0;
     c5_proc_finish(p, &ray, r->eps_g);
 }
@@ -275,7 +291,7 @@ static void shade_tapped(const c5_taps *t, const c5_frame_regs *r, const c5_samp
                          const int64_t gpos[3], const int64_t d[3], int64_t c[3], uint64_t *sat)
 {
     uint64_t sat0 = *sat;
-    c5_shade(r, smp, rgba, gpos, d, c, sat);
+    c5_shade_w(r, smp, rgba, gpos, d, c, sat, r->nsh[C5_W_NORMAL]);
     if (!t->shade)
         return;
     c5_shade_io io;
@@ -310,6 +326,16 @@ static int composite_tapped(const c5_taps *t, const c5_frame_regs *r, c5_bray *r
         t->composite(t->ctx, &io);
     }
     return done;
+}
+
+/* The compositing results narrowed (widths.h), after c5_composite (the block at the shipped
+ * widths): opacity and colour, then early termination on the narrowed opacity. */
+static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat)
+{
+    ray->opa = c5_narrow_clamp(ray->opa, r->nsh[C5_W_OPACITY], 0, 65535, sat);
+    for (int ch = 0; ch < 3; ch++)
+        ray->rgb[ch] = c5_narrow_clamp(ray->rgb[ch], r->nsh[C5_W_RGB], 0, C5_RGB_MAX, sat);
+    return ray->opa >= r->a_max;
 }
 
 void c5_proc_run(c5_proc *p, c5_bray *ray)
@@ -356,7 +382,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         int64_t wt[8];
         c5_gather(r, m, ray->pos, grad, &k);
         c5_tri_weights(k.frac, wt);
-        smp.value = c5_interp_blend_w(wt, k.v);
+        smp.value = c5_narrow_clamp(c5_interp_blend_w(wt, k.v), r->nsh[C5_W_VALUE], 0, 65535, &p->st.saturations);
         if (grad)
             c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
         cache_access(p, ray->pos);
@@ -364,6 +390,9 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         p->st.cycles += grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
         int64_t rgba[4];
         c5_classify(r, smp.value, rgba);
+        if (r->nsh[C5_W_RGBA])
+            for (int ch = 0; ch < 4; ch++)
+                rgba[ch] = c5_narrow_clamp(rgba[ch], r->nsh[C5_W_RGBA], 0, 65535, &p->st.saturations);
         if (tp)
             tap_sample(tp, &k, &smp, grad, r->gs, rgba);
         int done = 0;
@@ -375,7 +404,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
                 if (tp)
                     shade_tapped(tp, r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations);
                 else
-                    c5_shade(r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations);
+                    c5_shade_w(r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations, r->nsh[C5_W_NORMAL]);
             } else {
                 for (int ch = 0; ch < 3; ch++)
                     c[ch] = c5_rshift_he(rgba[ch], 15 - C5_RGB_F); /* UQ1.15 -> shaded_rgb UQ4.12 */
@@ -384,6 +413,8 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
                 done = composite_tapped(tp, r, ray, rgba[3], c, shadow, &p->st.saturations);
             else
                 done = c5_composite(r, ray, rgba[3], shadow ? NULL : c, &p->st.saturations);
+            if (r->nsh[C5_W_OPACITY] || r->nsh[C5_W_RGB])
+                done = narrow_composited(r, ray, &p->st.saturations);
         }
         for (int a = 0; a < 3; a++)
             ray->pos[a] = to.pos[a];

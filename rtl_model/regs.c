@@ -93,6 +93,14 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
                        s->render.max_bounces, C5_MAX_GEN);
     if (cells > C5_MAX_CELLS)
         return c5_fail(err, "%d cells: the packet's cell id (6 bits) names up to %d", cells, C5_MAX_CELLS);
+    if (o->widths)
+        for (int i = 0; i < C5_W_COUNT; i++) {
+            int shipped = c5_width_shipped((c5_width_id)i), w = o->widths->frac[i];
+            if (w < 1 || w > shipped)
+                return c5_fail(err, "width %s=%d: must be 1 .. %d (its shipped fraction bits; the packet is fixed)",
+                               c5_width_name((c5_width_id)i), w, shipped);
+            r->nsh[i] = shipped - w;
+        }
 
     r->has_volume = !c5_supervol_empty(sv);
     double smin = r->has_volume ? c5_supervol_min_spacing(sv) : 1;

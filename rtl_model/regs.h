@@ -57,6 +57,9 @@ typedef struct {
     int64_t min_rgb;     /* min_weight, UQ2.12 (shadow rays' radiance) */
     int max_bounces;
     int64_t bg[3];       /* background UQ2.12 */
+    /* datapath widths (widths.h): per signal the fraction bits dropped where the datapath
+     * produces it, shipped - width; all 0 (a zeroed struct too) is the shipped board */
+    int nsh[C5_W_COUNT];
     c5_board_stages st;
 } c5_frame_regs;
 

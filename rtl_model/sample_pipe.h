@@ -145,9 +145,10 @@ static inline int64_t c5_spec_pow(const c5_frame_regs *r, int64_t ndh)
 }
 
 /* Phong shading of the table colour (UQ1.15) into shaded_rgb (UQ4.12). gpos: the sample
- * in geom coordinates (for point lights), d: the ray direction. */
-static inline void c5_shade(const c5_frame_regs *r, const c5_sample *s, const int64_t rgba[4], const int64_t gpos[3],
-                            const int64_t d[3], int64_t out[3], uint64_t *sat)
+ * in geom coordinates (for point lights), d: the ray direction. nsh_normal: fraction bits
+ * the gradient normal is narrowed by (widths.h; 0 shipped, see c5_shade). */
+static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const int64_t rgba[4], const int64_t gpos[3],
+                              const int64_t d[3], int64_t out[3], uint64_t *sat, int nsh_normal)
 {
     const int64_t *g = s->grad;
     int64_t m2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2]; /* 16 fraction bits */
@@ -157,6 +158,9 @@ static inline void c5_shade(const c5_frame_regs *r, const c5_sample *s, const in
     } else {
         int64_t mg[3] = {-g[0], -g[1], -g[2]}, n[3], v[3] = {-d[0], -d[1], -d[2]};
         c5_geom_normalize(mg, n);
+        if (nsh_normal)
+            for (int a = 0; a < 3; a++)
+                n[a] = c5_narrow(n[a], nsh_normal); /* a unit vector: stays in SQ1.14 */
         if (c5_geom_dot14(n, v) < 0)
             for (int a = 0; a < 3; a++)
                 n[a] = -n[a]; /* two-sided: the normal faces the viewer */
@@ -187,6 +191,13 @@ static inline void c5_shade(const c5_frame_regs *r, const c5_sample *s, const in
     }
     for (int ch = 0; ch < 3; ch++)
         out[ch] = c5_clamp64(c5_rshift_he(rgba[ch] * k, 15) + ks, 0, 65535, sat);
+}
+
+/* The block at the shipped widths (golden vectors, vectors/gen/vec_shade.c). */
+static inline void c5_shade(const c5_frame_regs *r, const c5_sample *s, const int64_t rgba[4], const int64_t gpos[3],
+                            const int64_t d[3], int64_t out[3], uint64_t *sat)
+{
+    c5_shade_w(r, s, rgba, gpos, d, out, sat, 0);
 }
 
 /* Front-to-back compositing of one sample into the ray (spec sec. 5). Returns 1 when the
