@@ -231,7 +231,8 @@ TEST(cast_figure7_missed_brick_is_still_drawn)
                 for (int x = 1; x < 8; x++)
                     vox[((size_t)(bz * 8 + z) * d[1] + (size_t)(by * 8 + y)) * d[0] + (size_t)(bx * 8 + x)] = 255;
         CHECK(!c5_cast_volume_make(vox, d, sp, &probe, &err));
-        c5_cast_view vw = {.v = probe, .tf = &tf, .cam = &cam, .w = w, .h = h, .k = k, .step = 1};
+        c5_cast_view vw = {.v = probe, .tf = &tf, .cam = &cam, .w = w, .h = h, .k = k, .step = 1,
+                           .two_over_w = 2.0 / w, .two_over_h = 2.0 / h};
         for (int a = 0; a < 3; a++)
             vw.eye_v[a] = eye[a];
         CHECK(!c5_cast_view_classify(&vw, 0));

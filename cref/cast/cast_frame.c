@@ -91,6 +91,7 @@ static int view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_t
 {
     memset(vw, 0, sizeof *vw);
     vw->v = v, vw->tf = tf, vw->cam = cam, vw->w = w, vw->h = h, vw->mode = o->mode;
+    vw->two_over_w = 2.0 / w, vw->two_over_h = 2.0 / h;
     vw->shading = o->shading, vw->prefetch = o->prefetch, vw->early = o->early_termination;
     vw->sub_skip = o->sub_bricks && o->mode != C5_CAST_PLAIN; /* plain marches every sample */
     double ms = min_spacing(v);

@@ -230,15 +230,16 @@ void c5_cast_view_release(c5_cast_view *vw)
 void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3])
 {
     const c5_cast_camera *c = vw->cam;
-    double su = (2 * u / vw->w - 1) * c->tan_half, sv = (1 - 2 * v / vw->h) * c->tan_half;
+    /* the peer's formula with its divisions hoisted: 2/w and 2/h per frame, one 1/len per ray */
+    double su = (u * vw->two_over_w - 1) * c->tan_half, sv = (1 - v * vw->two_over_h) * c->tan_half;
     double q[3], len = 0;
     for (int a = 0; a < 3; a++) {
         q[a] = c->f[a] + su * c->right[a] + sv * c->up[a];
         len += q[a] * q[a];
     }
-    len = sqrt(len);
+    double inv = 1 / sqrt(len);
     for (int a = 0; a < 3; a++)
-        d[a] = q[a] / len;
+        d[a] = q[a] * inv;
 }
 
 /* Room for n more segments in the task. */
