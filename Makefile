@@ -46,7 +46,7 @@ REGS_H      := $(BUILD)/gen/c5_regs_map.h
 REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
-.PHONY: all demo test asan bench bench-peer tb results deps docs golden fpga-report clean
+.PHONY: all demo test asan bench bench-peer tb results accuracy deps docs golden fpga-report clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
 
@@ -173,6 +173,10 @@ results: $(BUILD)/cube5
 GOLDEN_ARGS := --seed 1 --count 128 --size 64x64 --cells 2
 golden: $(BUILD)/cube5
 	$(BUILD)/cube5 vectors --out vectors/golden $(GOLDEN_ARGS)
+
+# The sweeps behind docs/accuracy.md into docs/accuracy/ (scripts/accuracy.sh, about 2 minutes).
+accuracy: $(BUILD)/cube5
+	bash scripts/accuracy.sh $(BUILD)
 
 # Synthesis estimate of fpga/rtl for an iCE40 (yosys, nextpnr) into docs/fpga-report.md,
 # a few minutes; work files in $(BUILD)/fpga. (`make test` simulates fpga/ in $(BUILD)/ghdl.)
