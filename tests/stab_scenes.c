@@ -295,7 +295,8 @@ int stab_scene_sat_shadow(stab_scene *sc)
                          " 'height': 32}}");
 }
 
-/* A floor under 8 non-shadow lights of intensity 15.9 with diffuse 15.9: pixels near 2000. */
+/* A floor under 8 non-shadow lights of intensity 15.9 with diffuse 15.9: near 2000 in cref; the
+ * model's light_term saturates at 16 - 2^-12 (UQ4.12). */
 int stab_scene_sat_frame_acc(stab_scene *sc)
 {
     char lights[1024] = "";
