@@ -123,7 +123,7 @@ typedef struct {
 typedef struct {
     int width, height;      /* pixels, 1..C5_MAX_IMAGE_DIM; default 256x256 (JSON: camera.width/height) */
     double step;            /* sample step, world units; 0 (default): the smallest spacing */
-    double max_opacity;     /* early termination, (0,1]; default 0.95 */
+    double max_opacity;     /* early termination, (0,1]; default 0.99 */
     int max_bounces;        /* reflect/refract generations, 0..C5_MAX_BOUNCES; default 3 */
     double min_weight;      /* rays lighter than this in every channel are not spawned; default 1/256 */
     c5_vec3 background;     /* default (0,0,0) */

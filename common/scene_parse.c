@@ -717,7 +717,7 @@ static int parse_render(ctx *c, json_t *root, c5_render_settings *r)
     /* An absent section reads as an empty one: json_object_get(NULL, key) is NULL. */
     if (get_obj(c, root, "", p, OPT, &o) || (o && check_keys(c, o, p, keys, NULL, NULL)) ||
         get_num(c, o, p, "step", POS, OPT, 0, &r->step) ||
-        get_num(c, o, p, "max_opacity", (range){0, 1, 1, 0}, OPT, 0.95, &r->max_opacity) ||
+        get_num(c, o, p, "max_opacity", (range){0, 1, 1, 0}, OPT, 0.99, &r->max_opacity) ||
         get_int(c, o, p, "max_bounces", 0, C5_MAX_BOUNCES, OPT, 3, &bounces) ||
         get_num(c, o, p, "min_weight", (range){0, 1, 0, 1}, OPT, 1.0 / 256, &r->min_weight) ||
         get_vec(c, o, p, "background", NONNEG, OPT, v3(0, 0, 0), &r->background) ||

@@ -110,6 +110,7 @@ void c5_proc_finish(c5_proc *p, c5_bray *ray, int64_t tmin)
             if (spawn_ok(p, &child))
                 c5_proc_new_ray(p, H, L, dist, plane, &child);
         }
+        local = c5_clamp64(local, 0, 65535, &p->st.saturations); /* UQ4.12, saturating */
         add_scaled(out, base, local, 15);
     }
     p->io.deliver(p->io.ctx, ray->u, ray->v, out);

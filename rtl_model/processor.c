@@ -164,11 +164,18 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int6
     p->st.setups++;
     p->st.cycles += (uint64_t)r->n_surfaces * C5_CYC_SURFACE_TEST;
     int64_t t_end = C5_T_INF;
+    /* The closest hit a ray takes (exclusive). Spawned rays leave a surface and skip
+     * max(1e-6 diagonal, 1/64 min spacing) so as not to hit it again (rounding puts their
+     * origin on either side of it). An eye ray starts on no surface: it takes every hit
+     * from 2 geom_t LSBs (2^-14 min spacing) on. One LSB, not 0: a surface through the eye
+     * gives t = 0 rounded to 0 or 1 LSB (c5_div_he rounds 0 / negative to 1), and cref
+     * skips it (t > 1e-6 diagonal, ~1 LSB for a 16^3 grid). docs/board-model.md. */
+    int64_t tmin0 = ray.type == C5_RAY_EYE ? 1 : r->eps_g;
     if (ray.type == C5_RAY_SHADOW) {
         /* Each crossing of a surface on the way to the light passes its transparency. */
         int64_t T = C5_ONE15;
         for (int i = 0; i < r->n_surfaces && T > 0; i++) {
-            int64_t t, tmin = r->eps_g;
+            int64_t t, tmin = tmin0;
             while (i != skip && T > 0 && c5_geom_hit(&r->surf[i], O, d, tmin, t_light, &t)) {
                 T = c5_rshift_he(T * r->surf[i].transp, 15);
                 tmin = t;
@@ -185,7 +192,7 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int6
     } else {
         for (int i = 0; i < r->n_surfaces; i++) {
             int64_t t;
-            if (i != skip && c5_geom_hit(&r->surf[i], O, d, r->eps_g, t_end, &t)) {
+            if (i != skip && c5_geom_hit(&r->surf[i], O, d, tmin0, t_end, &t)) {
                 t_end = t;
                 ray.surf = (uint32_t)i;
             }
@@ -215,7 +222,7 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int6
     c5_geom_to_voxel(r, O, ray.pos);
     narrow3(ray.pos, r->nsh[C5_W_POS]);
     ray.lifetime = 0;
-    c5_proc_finish(p, &ray, r->eps_g);
+    c5_proc_finish(p, &ray, tmin0);
 }
 
 static void cache_access(c5_proc *p, const int64_t pos[3])

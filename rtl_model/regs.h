@@ -40,7 +40,7 @@ typedef struct {
     int64_t gdims[3];    /* grid box in geom coordinates, SQ13.15 */
     int64_t step_k[3];   /* step / s_a, UQ4.20: step vector = dir * step_k */
     int64_t step_g;      /* step / s_min, UQ4.20: the step in geom coordinates */
-    int64_t eps_g;       /* hits closer than this to a ray's origin are ignored, SQ13.15 raw */
+    int64_t eps_g;       /* spawned rays ignore hits closer than this to their origin (eye rays: 0), SQ13.15 raw */
     int has_volume;
     /* classification and shading */
     int32_t tf[256][4];  /* tf_rgba UQ1.15, alpha step-corrected */

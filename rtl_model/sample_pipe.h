@@ -186,8 +186,10 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
             if (ndh > 0)
                 spec += l->intensity * c5_spec_pow(r, ndh);
         }
-        k = r->ka + c5_rshift_he(r->kd * diff, 26);
-        ks = c5_rshift_he(r->ks * spec, 27);
+        /* light_term is UQ4.12, saturating (spec/layouts.toml): 8 lights of intensity
+         * 15.9 would give ~2000. */
+        k = c5_clamp64(r->ka + c5_rshift_he(r->kd * diff, 26), 0, 65535, sat);
+        ks = c5_clamp64(c5_rshift_he(r->ks * spec, 27), 0, 65535, sat);
     }
     for (int ch = 0; ch < 3; ch++)
         out[ch] = c5_clamp64(c5_rshift_he(rgba[ch] * k, 15) + ks, 0, 65535, sat);

@@ -147,13 +147,10 @@ int stab_scene_grazing(stab_scene *sc)
                          " 'height': 32}, 'render': {'background': [0.1, 0.2, 0.3]}}");
 }
 
-/* DISABLED: the eye 1e-4 above the floor. The model gives eye rays the spawned rays'
- * epsilon, max(1e-6 diagonal, 1/64 min spacing) (rtl_model/processor.c c5_proc_new_ray,
- * r->eps_g), where docs/board-model.md allows it for spawned rays only and cref uses
- * 1e-6 diagonal for every ray: floor hits closer than 1/64 voxel to the eye are missed
- * and 45 % of the values are off by more than 4 display steps (rmse 0.071). Add 1e-4 back
- * here once eye rays use cref's epsilon. */
-const double stab_grazing_heights[STAB_N_GRAZING] = {0.05, 0, -0.02};
+/* The eye 1e-4 above the floor finds floor hits 1e-4 / sin(angle) ahead, many closer than the
+ * spawned rays' 1/64 voxel: eye rays take any hit at t > 0 (rtl_model/processor.c
+ * c5_proc_new_ray), as cref does. */
+const double stab_grazing_heights[STAB_N_GRAZING] = {0.05, 1e-4, 0, -0.02};
 
 void stab_grazing_camera(stab_scene *sc, int i)
 {
@@ -298,7 +295,8 @@ int stab_scene_sat_shadow(stab_scene *sc)
                          " 'height': 32}}");
 }
 
-/* A floor under 8 non-shadow lights of intensity 15.9 with diffuse 15.9: pixels near 2000. */
+/* A floor under 8 non-shadow lights of intensity 15.9 with diffuse 15.9: near 2000 in cref; the
+ * model's light_term saturates at 16 - 2^-12 (UQ4.12). */
 int stab_scene_sat_frame_acc(stab_scene *sc)
 {
     char lights[1024] = "";

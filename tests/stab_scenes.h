@@ -59,7 +59,7 @@ extern const stab_cam stab_axis_cams[STAB_N_AXIS_CAMS];
 /* A reflective floor z = 0 lit by a shadow light, seen from stab_grazing_heights[i]
  * (stab_grazing_camera). */
 int stab_scene_grazing(stab_scene *sc);
-#define STAB_N_GRAZING 3
+#define STAB_N_GRAZING 4
 extern const double stab_grazing_heights[STAB_N_GRAZING];
 void stab_grazing_camera(stab_scene *sc, int i);
 /* A transparent bubble of ior 0.6 and a glass ball of ior 1.5: every reflected ray is TIR. */

@@ -224,7 +224,7 @@ TEST(scene_minimal_defaults)
     CHECK_INT(s->path.n_keys, 0);
     CHECK_INT(c5_scene_frames(s), 1);
     CHECK_NEAR(s->render.step, 0, 0);
-    CHECK_NEAR(s->render.max_opacity, 0.95, 0);
+    CHECK_NEAR(s->render.max_opacity, 0.99, 0);
     CHECK_INT(s->render.max_bounces, 3);
     CHECK_NEAR(s->render.min_weight, 1.0 / 256, 0);
     CHECK_VEC(s->render.background, 0, 0, 0);
@@ -250,7 +250,7 @@ TEST(scene_minimal_defaults)
     CHECK_NEAR(s->volumes[3].value, 0, 0);
     CHECK_INT(s->volumes[4].axis, 0);
     CHECK_NEAR(s->tf.specular_power, 20, 0);
-    CHECK_NEAR(s->render.max_opacity, 0.95, 0);
+    CHECK_NEAR(s->render.max_opacity, 0.99, 0);
 }
 
 TEST(scene_error_leaves_output_unchanged)

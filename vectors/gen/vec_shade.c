@@ -20,13 +20,13 @@ static const c5_vfield fields[] = {
     {"gpos_x", 29, 0, "SQ13.15"}, {"gpos_y", 29, 0, "SQ13.15"}, {"gpos_z", 29, 0, "SQ13.15"},
     {"dir_x", 16, 0, "SQ1.14"},   {"dir_y", 16, 0, "SQ1.14"},   {"dir_z", 16, 0, "SQ1.14"},
     {"rgb_r", 16, 1, "UQ4.12"},   {"rgb_g", 16, 1, "UQ4.12"},   {"rgb_b", 16, 1, "UQ4.12"},
-    {"sat", 2, 1, "uint"},
+    {"sat", 3, 1, "uint"},
 };
 
 static const c5_vblock block = {
     "shade",
     "Phong shading of a sample: gradient, table colour, geom position and ray direction in; shaded_rgb "
-    "(clamped) and the number of clamped channels out; registers and power table are the images named in "
+    "(clamped) and the number of clamps out (light_term k and ks, then the channels: 0 to 5); registers and power table are the images named in "
     "config (rtl_model/sample_pipe.h c5_shade, docs/rendering-spec.md 4.3)",
     fields, (int)(sizeof fields / sizeof fields[0])};
 
