@@ -32,9 +32,13 @@ static inline int64_t c5_rshift128_he(__int128 x, int s)
     return (int64_t)q;
 }
 
-/* round(n / d) half to even, d > 0. */
+/* round(n / d) half to even, d != 0. A negative divisor is moved to the numerator first:
+ * the floor-and-remainder steps below need d > 0 (with d < 0 they gave 1 for 0 / d and
+ * -2 for 10 / -3, 1 LSB off in plane and grid-range t). */
 static inline int64_t c5_div_he(__int128 n, __int128 d)
 {
+    if (d < 0)
+        n = -n, d = -d;
     __int128 q = n / d, r = n % d;
     if (r < 0) { /* C truncates toward zero: make it floor */
         q--;

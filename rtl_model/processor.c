@@ -168,7 +168,7 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int6
      * max(1e-6 diagonal, 1/64 min spacing) so as not to hit it again (rounding puts their
      * origin on either side of it). An eye ray starts on no surface: it takes every hit
      * from 2 geom_t LSBs (2^-14 min spacing) on. One LSB, not 0: a surface through the eye
-     * gives t = 0 rounded to 0 or 1 LSB (c5_div_he rounds 0 / negative to 1), and cref
+     * gives a t within rounding of 0 (0 or 1 LSB), and cref
      * skips it (t > 1e-6 diagonal, ~1 LSB for a 16^3 grid). docs/board-model.md. */
     int64_t tmin0 = ray.type == C5_RAY_EYE ? 1 : r->eps_g;
     if (ray.type == C5_RAY_SHADOW) {
