@@ -34,10 +34,15 @@ TEST(fxops_div_matches_fx_div)
         int64_t d = (int64_t)(c5_splitmix64(&rng) >> 50) + 1;
         if (i % 5 == 0)
             d = 2; /* exact ties */
+        if (i % 2)
+            d = -d; /* plane and grid-range t divide by negative direction components */
         int64_t want = c5_fx_div(n, f, d, f, f, C5_RND_HALF_EVEN, NULL);
         CHECK_MSG(c5_div_he(n, d) == want, "%lld/%lld: %lld vs %lld", (long long)n, (long long)d,
                   (long long)c5_div_he(n, d), (long long)want);
     }
+    CHECK_INT(c5_div_he(0, -7), 0);
+    CHECK_INT(c5_div_he(10, -3), -3);
+    CHECK_INT(c5_div_he(-5, -2), 2); /* 2.5: the even neighbour */
 }
 
 TEST(fxops_isqrt_is_the_floor_of_the_root)
