@@ -73,8 +73,8 @@ static inline float c5_cast_tri_ref(const uint8_t *b, const float f[3])
  * the table's pair (diffuse, specular), both blended in the order of c5_cast_tri_ref. */
 static inline void c5_cast_shade_ref(const float (*tab)[2], const uint16_t *n, const float f[3], float out[2])
 {
-    static const int corner[8] = {0, C5_CAST_DX, C5_CAST_DY, C5_CAST_DY + C5_CAST_DX, C5_CAST_DZ,
-                                  C5_CAST_DZ + C5_CAST_DX, C5_CAST_DZ + C5_CAST_DY, C5_CAST_DZ + C5_CAST_DY + C5_CAST_DX};
+    enum { X = C5_CAST_DX, Y = C5_CAST_DY, Z = C5_CAST_DZ };
+    static const int corner[8] = {0, X, Y, Y + X, Z, Z + X, Z + Y, Z + Y + X};
     for (int c = 0; c < 2; c++) {
         float v[8];
         for (int k = 0; k < 8; k++)

@@ -32,19 +32,20 @@ typedef struct {
     unsigned sub;           /* the brick's non-empty sub-bricks (all when not skipping) */
 } brick_state;
 
-static inline size_t brick_index(const c5_cast_view *vw, c5_cast_pos p)
+/* The brick coordinates of a position. */
+static inline void brick_of(c5_cast_pos p, int b[3])
 {
-    return c5_cast_brick_index(vw->v, c5_cast_pos_cell(p, 0) >> C5_CAST_BRICK_LOG2,
-                               c5_cast_pos_cell(p, 1) >> C5_CAST_BRICK_LOG2,
-                               c5_cast_pos_cell(p, 2) >> C5_CAST_BRICK_LOG2);
+    for (int a = 0; a < 3; a++)
+        b[a] = c5_cast_pos_cell(p, a) >> C5_CAST_BRICK_LOG2;
 }
 
 /* Marches samples j0..j1 of one ray, compositing into acc (C0, C1, C2, A). Returns 1 when the
  * ray terminated early. Inlined with constant `shading` and `hash` (NULL or not), so each
  * variant's loop has no test it does not need. */
-static inline __attribute__((always_inline)) int march_span(const c5_cast_view *vw, const c5_cast_ray *r, int32_t j0, int32_t j1, int32_t jout,
-                             const uint64_t *hash, const int shading, float acc[4], brick_state *bs,
-                             c5_cast_counts *cnt)
+static inline __attribute__((always_inline)) int march_span(const c5_cast_view *vw, const c5_cast_ray *r, int32_t j0,
+                                                            int32_t j1, int32_t jout, const uint64_t *hash,
+                                                            const int shading, float acc[4], brick_state *bs,
+                                                            c5_cast_counts *cnt)
 {
     const float(*rgba)[4] = vw->tf->rgba;
     const uint32_t *nonzero = vw->tf->nonzero;
@@ -59,21 +60,22 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
         c5_cast_bkey key = c5_cast_pos_bkey(p);
         if (!c5_cast_bkey_eq(key, bkey)) {
             bkey = key;
-            size_t bi = brick_index(vw, p);
+            int bc[3];
+            brick_of(p, bc);
+            size_t bi = c5_cast_brick_index(vw->v, bc[0], bc[1], bc[2]);
             bs->b = vw->v->bricks + bi * C5_CAST_BSTRIDE;
             if (shading)
                 bs->n = vw->v->normals + bi * C5_CAST_BSTRIDE;
             bs->sub = vw->sub_skip ? vw->sub_mask[bi] : 0xffu;
             if (hash) {
-                uint32_t hk = c5_cast_hash_key(vw, c5_cast_pos_cell(p, 0) >> C5_CAST_BRICK_LOG2,
-                                               c5_cast_pos_cell(p, 1) >> C5_CAST_BRICK_LOG2,
-                                               c5_cast_pos_cell(p, 2) >> C5_CAST_BRICK_LOG2);
+                uint32_t hk = c5_cast_hash_key(vw, bc[0], bc[1], bc[2]);
                 bs->skip = !(hash[hk / 64] >> (hk % 64) & 1);
             }
             if (prefetch) {
-                size_t nb = brick_index(vw, c5_cast_pos_at(r, j + lookahead < jout ? j + lookahead : jout));
-                if (nb != bi)
-                    prefetch_brick(vw, nb);
+                int nc[3];
+                brick_of(c5_cast_pos_at(r, j + lookahead < jout ? j + lookahead : jout), nc);
+                if (nc[0] != bc[0] || nc[1] != bc[1] || nc[2] != bc[2])
+                    prefetch_brick(vw, c5_cast_brick_index(vw->v, nc[0], nc[1], nc[2]));
             }
         }
         if (hash && bs->skip) {
