@@ -148,3 +148,17 @@ void c5_supervol_free(c5_supervol *sv)
     free(sv->v);
     memset(sv, 0, sizeof *sv);
 }
+
+void c5_supervol_marschner_lobb(const c5_supervol *sv, double f_m, double alpha, c5_vec3 p, double *value,
+                                c5_vec3 *grad)
+{
+    double ext[3] = {sv->dims[0] * sv->spacing.x, sv->dims[1] * sv->spacing.y, sv->dims[2] * sv->spacing.z};
+    double q[3] = {2 * (p.x - sv->origin.x) / ext[0] - 1, 2 * (p.y - sv->origin.y) / ext[1] - 1,
+                   2 * (p.z - sv->origin.z) / ext[2] - 1};
+    *value = 255 * c5_marschner_lobb(q[0], q[1], q[2], f_m, alpha);
+    if (grad) {
+        double g[3];
+        c5_marschner_lobb_grad(q[0], q[1], q[2], f_m, alpha, g);
+        *grad = v3(255 * g[0] * 2 / ext[0], 255 * g[1] * 2 / ext[1], 255 * g[2] * 2 / ext[2]);
+    }
+}

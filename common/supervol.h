@@ -25,6 +25,13 @@ typedef struct {
 int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err);
 void c5_supervol_free(c5_supervol *sv);
 
+/* The analytic Marschner-Lobb signal (f_m, alpha) that the marschner_lobb generator samples
+ * when it fills this whole grid, at world point p: value in 0..255 and its gradient per world
+ * unit. The generator maps voxel centre (i + 0.5) / n onto [-1, 1] (generators.c), so the
+ * signal at p is rho(2 (p - origin) / extent - 1). The analytic reference of tests and sweeps. */
+void c5_supervol_marschner_lobb(const c5_supervol *sv, double f_m, double alpha, c5_vec3 p, double *value,
+                                c5_vec3 *grad);
+
 /* No volume: the scene is surfaces only. A grid with dims but v == NULL is a shell: its
  * geometry without its voxels, as the emulated board knows it (the voxels stay in the host's
  * memory and arrive cell by cell, c5_board_host). */

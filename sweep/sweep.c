@@ -251,21 +251,10 @@ int c5_sweep_is_marschner_lobb(const c5_scene *s, const c5_supervol *sv)
     return 1;
 }
 
-/* The generator maps voxel centre (i + 0.5) / n of the grid onto [-1, 1] (generators.c), so
- * the signal at world point p is rho(2 (p - origin) / extent - 1), in 0..255 like a voxel. */
 static void ml_sample(const c5_field *f, c5_vec3 p, double *value, c5_vec3 *grad)
 {
     const c5_sweep_ctx *c = f->ctx;
-    const c5_supervol *sv = c->sv;
-    double ext[3] = {sv->dims[0] * sv->spacing.x, sv->dims[1] * sv->spacing.y, sv->dims[2] * sv->spacing.z};
-    double q[3] = {2 * (p.x - sv->origin.x) / ext[0] - 1, 2 * (p.y - sv->origin.y) / ext[1] - 1,
-                   2 * (p.z - sv->origin.z) / ext[2] - 1};
-    *value = 255 * c5_marschner_lobb(q[0], q[1], q[2], c->ml_f_m, c->ml_alpha);
-    if (grad) {
-        double g[3];
-        c5_marschner_lobb_grad(q[0], q[1], q[2], c->ml_f_m, c->ml_alpha, g);
-        *grad = v3(255 * g[0] * 2 / ext[0], 255 * g[1] * 2 / ext[1], 255 * g[2] * 2 / ext[2]);
-    }
+    c5_supervol_marschner_lobb(c->sv, c->ml_f_m, c->ml_alpha, p, value, grad);
 }
 
 /* ---- context -------------------------------------------------------------------------- */

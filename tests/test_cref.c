@@ -341,16 +341,7 @@ typedef struct {
 static void ml_field(const c5_field *f, c5_vec3 p, double *value, c5_vec3 *grad)
 {
     const ml_ctx *m = f->ctx;
-    const c5_supervol *sv = m->sv;
-    double ext[3] = {sv->dims[0] * sv->spacing.x, sv->dims[1] * sv->spacing.y, sv->dims[2] * sv->spacing.z};
-    double q[3] = {2 * (p.x - sv->origin.x) / ext[0] - 1, 2 * (p.y - sv->origin.y) / ext[1] - 1,
-                   2 * (p.z - sv->origin.z) / ext[2] - 1};
-    *value = 255 * c5_marschner_lobb(q[0], q[1], q[2], m->f_m, m->alpha);
-    if (grad) {
-        double g[3];
-        c5_marschner_lobb_grad(q[0], q[1], q[2], m->f_m, m->alpha, g);
-        *grad = v3(255 * g[0] * 2 / ext[0], 255 * g[1] * 2 / ext[1], 255 * g[2] * 2 / ext[2]);
-    }
+    c5_supervol_marschner_lobb(m->sv, m->f_m, m->alpha, p, value, grad);
 }
 
 static const char *ml_scene =
