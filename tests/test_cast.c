@@ -149,6 +149,13 @@ TEST(cast_modes_draw_the_bits_of_plain)
                     /* every tile produced exactly once (53x37: 4x3 tiles), by the workers only when allowed */
                     CHECK_INT((int)st.tiles, 12);
                     CHECK(o.self_produce || st.tiles_self == 0);
+                    /* one producer ray per pixel (ess) or per corner of the frame's k-grid: the
+                     * corners on tile borders walked once, whichever tile got there first (this
+                     * fixture's lists all fit in a shared entry) */
+                    int kk = (int)st.k, cols = (53 + kk - 1) / kk + 1, rows = (37 + kk - 1) / kk + 1;
+                    CHECK_MSG(st.producer_rays == (mode == C5_CAST_ESS ? 53u * 37u : (uint64_t)cols * (uint64_t)rows),
+                              "mode %s k %d: %llu producer rays", c5_cast_mode_name(o.mode), kk,
+                              (unsigned long long)st.producer_rays);
                     if (differ(&ref, &img)) {
                         n_diff++;
                         c5t_failf(__FILE__, __LINE__, "view %d shading %d mode %s k %d: image differs from plain", vi,
@@ -274,6 +281,141 @@ TEST(cast_figure7_missed_brick_is_still_drawn)
         c5_image_free(&img);
     }
     c5_image_free(&ref);
+    c5_cast_volume_free(v);
+}
+
+/* Bricks that alternate along x: one of each three holds a stripe (voxels 2..5 of every 24), so
+ * a ray along x meets more separate segments than a shared corner entry keeps (cast_corners.c). */
+static c5_cast_volume *stripes(void)
+{
+    size_t d[3] = {449, 17, 17};
+    double sp[3] = {1, 1, 1};
+    uint8_t *vox = calloc(d[0] * d[1] * d[2], 1);
+    for (size_t z = 0; z < d[2]; z++)
+        for (size_t y = 0; y < d[1]; y++)
+            for (size_t x = 0; x < d[0]; x++)
+                if (x % 24 >= 2 && x % 24 <= 5)
+                    vox[(z * d[1] + y) * d[0] + x] = 200;
+    c5_cast_volume *v = NULL;
+    c5_err err;
+    if (c5_cast_volume_make(vox, d, sp, &v, &err))
+        c5t_failf(__FILE__, __LINE__, "stripes: %s", err.msg);
+    free(vox);
+    return v;
+}
+
+/* A corner ray whose list is too long for the shared entry is walked again by each tile that
+ * needs it, and the image is still plain's. */
+TEST(cast_long_corner_lists_are_walked_again)
+{
+    c5_cast_volume *v = stripes();
+    if (!v)
+        return;
+    c5_err err;
+    c5_tf_desc t;
+    tf_ramp(&t);
+    c5_cast_tf tf;
+    CHECK(!c5_cast_tf_build(&t, 1, 50, &tf, &err)); /* faint: every stripe shows through */
+    c5_cast_camera cam;
+    double eye[3] = {-300, 8.3, 8.6}, c[3] = {224, 8, 8};
+    look_at(&cam, eye, c, 1);
+    int w = 32, h = 32;
+    c5_cast_opts o;
+    c5_cast_opts_default(&o);
+    c5_image ref = {0}, img = {0};
+    c5_cast_stats st;
+    o.mode = C5_CAST_PLAIN;
+    CHECK(!c5_cast_render(v, &tf, &cam, w, h, &o, &ref, &st, &err));
+    CHECK_MSG(coverage(&ref) > 0.5, "coverage %.3f", coverage(&ref));
+    for (int mode = C5_CAST_APPROX; mode < C5_CAST_MODES; mode++) {
+        o.mode = (c5_cast_mode)mode, o.k = 16; /* 2 x 2 tiles of one subtile: all 9 corners shared */
+        CHECK(!c5_cast_render(v, &tf, &cam, w, h, &o, &img, &st, &err));
+        CHECK_MSG(!differ(&ref, &img), "mode %s", c5_cast_mode_name(o.mode));
+        /* the 4 corners of the image walked once, the 4 edge middles twice and the centre 4
+         * times (the dilation, 4.6 voxels, leaves the bricks apart) */
+        CHECK_MSG(st.producer_rays == 4 + 4 * 2 + 4, "mode %s: %llu rays", c5_cast_mode_name(o.mode),
+                  (unsigned long long)st.producer_rays);
+        c5_image_free(&img);
+    }
+    c5_image_free(&ref);
+    c5_cast_volume_free(v);
+}
+
+/* Tiles whose border corners come from the shared entries hold the bits of tiles that walked
+ * every corner themselves: lists, hash bits; and only the corners that did not fit were walked
+ * twice. Tiles produced backwards, so most take their corners from tiles produced earlier. */
+static void same_tasks_shared_or_not(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_camera *cam,
+                                     int k, int expect_all_kept)
+{
+    int w = 48, h = 40, ntx = 3; /* 3 x 3 tiles */
+    c5_cast_view vw = {.v = v, .tf = tf, .cam = cam, .w = w, .h = h, .k = k, .mode = C5_CAST_APPROX_REFINE,
+                       .step = 1, .margin_t = 0.01, .two_over_w = 2.0 / w, .two_over_h = 2.0 / h,
+                       .hash_r = {3, 517, 1000}};
+    for (int a = 0; a < 3; a++)
+        vw.eye_v[a] = cam->eye[a] / v->spacing[a], vw.delta_v[a] = 0.5;
+    if (c5_cast_view_classify(&vw, 1)) {
+        c5t_failf(__FILE__, __LINE__, "classify: out of memory");
+        return;
+    }
+    c5_cast_scratch *rs = c5_cast_scratch_new();
+    c5_cast_task own[9] = {0}, shared[9] = {0};
+    uint64_t rays_own = 0, rays_shared = 0;
+    for (int i = 0; i < 9; i++) {
+        own[i].hash = malloc(sizeof *own[i].hash * C5_CAST_TILE * C5_CAST_TILE);
+        shared[i].hash = malloc(sizeof *shared[i].hash * C5_CAST_TILE * C5_CAST_TILE);
+        CHECK(!c5_cast_produce(&vw, rs, i % ntx * C5_CAST_TILE, i / ntx * C5_CAST_TILE, &own[i]));
+        rays_own += own[i].rays;
+    }
+    vw.corners = c5_cast_corners_new(w, h, k);
+    for (int i = 8; i >= 0; i--) {
+        CHECK(!c5_cast_produce(&vw, rs, i % ntx * C5_CAST_TILE, i / ntx * C5_CAST_TILE, &shared[i]));
+        rays_shared += shared[i].rays;
+    }
+    int n_diff = 0;
+    for (int i = 0; i < 9; i++) {
+        int units = own[i].units_x * own[i].units_y;
+        CHECK_INT(shared[i].units_x * shared[i].units_y, units);
+        n_diff += memcmp(own[i].first, shared[i].first, sizeof own[i].first[0] * (size_t)(units + 1)) != 0;
+        n_diff += memcmp(own[i].seg, shared[i].seg, sizeof own[i].seg[0] * own[i].first[units]) != 0;
+        n_diff += memcmp(own[i].hash, shared[i].hash, sizeof own[i].hash[0] * (size_t)units) != 0;
+        free(own[i].seg), free(own[i].hash), free(shared[i].seg), free(shared[i].hash);
+    }
+    CHECK_MSG(n_diff == 0, "k %d: %d tasks differ", k, n_diff);
+    /* unshared, every tile walks its own corners (the last row of tiles is 8 pixels high);
+     * shared, each corner of the frame is walked once */
+    int per = C5_CAST_TILE / k + 1, last = (h - 2 * C5_CAST_TILE + k - 1) / k + 1;
+    int cols = (w + k - 1) / k + 1, rows = (h + k - 1) / k + 1;
+    CHECK_INT((int)rays_own, ntx * per * (2 * per + last));
+    if (expect_all_kept)
+        CHECK_MSG((int)rays_shared == cols * rows, "k %d: %d rays, %d corners", k, (int)rays_shared, cols * rows);
+    else
+        CHECK_MSG((int)rays_shared > cols * rows && rays_shared <= rays_own, "k %d: %d rays, %d corners, %d unshared",
+                  k, (int)rays_shared, cols * rows, (int)rays_own);
+    c5_cast_corners_free(vw.corners);
+    vw.corners = NULL;
+    c5_cast_view_release(&vw);
+    c5_cast_scratch_free(rs);
+}
+
+TEST(cast_shared_corners_give_the_tasks_of_walking_each)
+{
+    size_t d[3] = {64, 64, 64};
+    double sp[3] = {1, 1, 1};
+    fixture fx;
+    if (fixture_make(&fx, d, sp, 5))
+        return;
+    c5_cast_camera cam;
+    double eye[3] = {150, -90, 120}, c[3] = {31.5, 31.5, 31.5};
+    look_at(&cam, eye, c, 30);
+    for (int k = 1; k <= 16; k *= 2)
+        same_tasks_shared_or_not(fx.v, &fx.tf, &cam, k, 1);
+    c5_cast_volume_free(fx.v);
+    /* the stripes: lists too long to keep, walked again */
+    c5_cast_volume *v = stripes();
+    double se[3] = {-300, 8.3, 8.6}, scen[3] = {224, 8, 8};
+    look_at(&cam, se, scen, 1);
+    for (int k = 2; v && k <= 16; k *= 2)
+        same_tasks_shared_or_not(v, &fx.tf, &cam, k, 0);
     c5_cast_volume_free(v);
 }
 

@@ -118,6 +118,8 @@ static int view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_t
         vw->hash_r[a] = 1 + c5_splitmix64(&st) % (C5_CAST_HASH_PR - 1);
     if (c5_cast_view_classify(vw, o->mode == C5_CAST_APPROX_REFINE))
         return c5_fail(err, "cast: out of memory for the octree's classification");
+    if (approx && !(vw->corners = c5_cast_corners_new(w, h, vw->k)))
+        return c5_fail(err, "cast: out of memory for the corner rays");
     if (!o->shading)
         return 0;
     if (v->bricks && !v->normals)

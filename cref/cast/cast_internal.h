@@ -71,6 +71,7 @@ typedef struct {
     uint8_t *kids[C5_CAST_MAX_LEVELS];  /* levels >= 1: per node, bit o set when child o exists and is not empty */
     uint64_t (*node_hash[C5_CAST_MAX_LEVELS])[C5_CAST_HASH_WORDS]; /* refine: per node, its bricks' bits */
     uint8_t *sub_mask;      /* per brick: bit s set when sub-brick s is non-empty through the TF */
+    struct c5_cast_corners *corners; /* approximation: the frame's corner rays on tile borders */
 } c5_cast_view;
 
 enum { C5_CAST_EMPTY, C5_CAST_MIXED, C5_CAST_SOLID };
@@ -123,6 +124,20 @@ int c5_cast_produce(const c5_cast_view *vw, c5_cast_scratch *rs, int x0, int y0,
  * `hash`, ORs in the hash bits of those bricks (needs c5_cast_view_classify(vw, 1)). */
 int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double delta_v[3], double *t0, double *t1,
                          int cap, uint64_t *hash);
+
+/* The corner rays on tile borders, each walked once per frame by whichever producer gets to
+ * it first (cast_corners.c). Corner (a, b) is the ray through pixel (a k, b k). */
+typedef struct c5_cast_corners c5_cast_corners;
+typedef struct c5_cast_corner c5_cast_corner;
+c5_cast_corners *c5_cast_corners_new(int w, int h, int k); /* NULL when out of memory */
+void c5_cast_corners_free(c5_cast_corners *c);
+c5_cast_corner *c5_cast_corners_at(c5_cast_corners *c, int a, int b); /* NULL: not on a tile border */
+/* Takes corner e's list into out (and its hash bits, when hash): its length, or one of these:
+ * WALK: the caller has claimed the corner and must walk it and c5_cast_corner_put the result;
+ * WALK_AGAIN: the list did not fit in the entry, the caller walks it for itself. */
+enum { C5_CAST_CORNER_WALK = -1, C5_CAST_CORNER_WALK_AGAIN = -2 };
+int c5_cast_corner_take(c5_cast_corner *e, c5_cast_seg *out, uint64_t *hash);
+void c5_cast_corner_put(c5_cast_corner *e, const c5_cast_seg *seg, int n, const uint64_t *hash);
 
 /* Worker: renders the tile's pixels into img, adding to the counters. */
 typedef struct {

@@ -224,7 +224,8 @@ void c5_cast_view_release(c5_cast_view *vw)
     }
     free(vw->shade);
     free(vw->sub_mask);
-    vw->shade = NULL, vw->sub_mask = NULL;
+    c5_cast_corners_free(vw->corners);
+    vw->shade = NULL, vw->sub_mask = NULL, vw->corners = NULL;
 }
 
 void c5_cast_ray_dir(const c5_cast_view *vw, double u, double v, double d[3])
@@ -350,20 +351,34 @@ static int produce_ess(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_task
     return 0;
 }
 
+/* Corner (a, b) of the frame's grid (pixel (a k, b k)): its list into out and its hash bits,
+ * from the shared entry when the corner is on a tile border and another tile walked it. */
+static int corner_list(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_task *t, int a, int b, c5_cast_seg *out,
+                       uint64_t *hash)
+{
+    int k = t->unit;
+    c5_cast_corner *e = vw->corners ? c5_cast_corners_at(vw->corners, a, b) : NULL;
+    int got = e ? c5_cast_corner_take(e, out, hash) : C5_CAST_CORNER_WALK_AGAIN;
+    if (got >= 0)
+        return got;
+    int n = ray_list(vw, rs, a * k, b * k, out, hash);
+    t->rays++;
+    if (got == C5_CAST_CORNER_WALK)
+        c5_cast_corner_put(e, out, n, hash);
+    return n;
+}
+
 /* approx (+ refine): rays through the subtile grid's corners (pixel edges, not centres), one
  * row of corners at a time; each subtile the union of its 4 corners' lists and hashes. */
 static int produce_approx(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_task *t, int refine)
 {
-    int k = t->unit, cx = t->units_x + 1, cy = t->units_y + 1;
+    int k = t->unit, cx = t->units_x + 1, cy = t->units_y + 1, a0 = t->x0 / k, b0 = t->y0 / k;
     uint32_t used = 0;
     int u = 0;
     for (int b = 0; b < cy; b++) {
         int r = b & 1, p = r ^ 1;
-        for (int a = 0; a < cx; a++) {
-            uint64_t *h = refine ? rs->hash[r][a] : NULL;
-            rs->row_n[r][a] = ray_list(vw, rs, t->x0 + a * k, t->y0 + b * k, rs->row[r][a], h);
-            t->rays++;
-        }
+        for (int a = 0; a < cx; a++)
+            rs->row_n[r][a] = corner_list(vw, rs, t, a0 + a, b0 + b, rs->row[r][a], refine ? rs->hash[r][a] : NULL);
         for (int a = 0; b > 0 && a < cx - 1; a++, u++) {
             t->first[u] = used;
             if (reserve(t, used, 4 * C5_CAST_CORNER_MAX))
