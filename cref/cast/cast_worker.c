@@ -23,22 +23,6 @@ static inline void prefetch_brick(const c5_cast_view *vw, size_t bi)
     }
 }
 
-/* The bricks a tile's rays prefetched lately, direct-mapped on the brick index: a tile's rays
- * run side by side through the same bricks, and a brick prefetched for the ray before is
- * already on its way (callgrind, engine: 12 of 13 prefetches were such repeats). */
-enum { MEMO = 64 };
-typedef struct {
-    size_t brick[MEMO];
-} prefetch_memo;
-
-static inline void prefetch_once(const c5_cast_view *vw, prefetch_memo *m, size_t bi)
-{
-    if (m->brick[bi % MEMO] == bi)
-        return;
-    m->brick[bi % MEMO] = bi;
-    prefetch_brick(vw, bi);
-}
-
 /* The brick a ray is in, carried across its segments. */
 typedef struct {
     c5_cast_bkey key;
@@ -47,7 +31,6 @@ typedef struct {
     int hashed;             /* the refining hash drops the whole brick */
     unsigned sub;           /* the sub-bricks whose samples are marched: the non-empty ones (all
                                when not skipping), none when hashed */
-    prefetch_memo *memo;
 } brick_state;
 
 /* The brick coordinates of a position. */
@@ -94,7 +77,7 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
                 int nc[3];
                 brick_of(c5_cast_pos_at(r, j + lookahead < jout ? j + lookahead : jout), nc);
                 if (nc[0] != bc[0] || nc[1] != bc[1] || nc[2] != bc[2])
-                    prefetch_once(vw, bs->memo, c5_cast_brick_index(vw->v, nc[0], nc[1], nc[2]));
+                    prefetch_brick(vw, c5_cast_brick_index(vw->v, nc[0], nc[1], nc[2]));
             }
         }
         /* one test drops both: a hashed brick's samples and an empty sub-brick's (the TF is zero
@@ -158,7 +141,7 @@ static int slab(const double o[3], const double d[3], const double inv[3], const
 }
 
 static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg, int nseg, const uint64_t *hash,
-                  prefetch_memo *memo, float out[3], c5_cast_counts *cnt)
+                  float out[3], c5_cast_counts *cnt)
 {
     const c5_cast_volume *v = vw->v;
     out[0] = out[1] = out[2] = 0;
@@ -184,7 +167,7 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
         return;
     int32_t jin = (int32_t)jd_in, jout = (int32_t)jd_out;
     float acc[4] = {0, 0, 0, 0};
-    brick_state bs = {c5_cast_bkey_none(), NULL, NULL, 0, 0xffu, memo};
+    brick_state bs = {c5_cast_bkey_none(), NULL, NULL, 0, 0xffu};
     for (int s = 0; s < nseg; s++) {
         int32_t j0 = seg[s].j0 > jin ? seg[s].j0 : jin, j1 = seg[s].j1 < jout ? seg[s].j1 : jout;
         int stop;
@@ -202,8 +185,6 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
 
 void c5_cast_work(const c5_cast_view *vw, const c5_cast_task *t, float *rgb, c5_cast_counts *cnt)
 {
-    prefetch_memo memo;
-    memset(&memo, 0xff, sizeof memo); /* SIZE_MAX: no brick */
     int u = 0;
     for (int uy = 0; uy < t->units_y; uy++)
         for (int ux = 0; ux < t->units_x; ux++, u++) {
@@ -213,6 +194,6 @@ void c5_cast_work(const c5_cast_view *vw, const c5_cast_task *t, float *rgb, c5_
             int px0 = t->x0 + ux * t->unit, py0 = t->y0 + uy * t->unit;
             for (int py = py0; py < py0 + t->unit && py < vw->h; py++)
                 for (int px = px0; px < px0 + t->unit && px < vw->w && px < t->x0 + C5_CAST_TILE; px++)
-                    march(vw, px, py, seg, nseg, hash, &memo, rgb + 3 * ((size_t)py * vw->w + px), cnt);
+                    march(vw, px, py, seg, nseg, hash, rgb + 3 * ((size_t)py * vw->w + px), cnt);
         }
 }
