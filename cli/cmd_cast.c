@@ -31,7 +31,10 @@ static const char USAGE[] =
     "  --views N          views 1..1000 (default 24)\n"
     "  --size N           image N x N, 1..4096 (default 256)\n"
     "  --mode M           plain | ess | approx | approx+refine (default approx+refine)\n"
-    "  --threads N        worker threads 1..64 (default 2); the producer is one more thread\n"
+    "  --threads N        worker threads 1..64 (default 2)\n"
+    "  --producer on|off|auto  the calling thread produces tiles for the workers' buffers; off:\n"
+    "                     the workers produce all their tiles (default auto: on while there are\n"
+    "                     fewer workers than CPUs)\n"
     "  --shading on|off   headlight Blinn-Phong (default off)\n"
     "  --k N              approximation interval 1,2,4,8,16 (default: Proposition 1 per view)\n"
     "  --prefetch on|off  prefetch the next brick along each ray (default on)\n"
@@ -53,7 +56,7 @@ static const char USAGE[] =
 
 typedef struct {
     const char *input, *out, *tf, *save_raw;
-    int views, size, threads, shading, k, prefetch, sub_bricks, self_produce, queue_depth, repeats, json;
+    int views, size, threads, producer, shading, k, prefetch, sub_bricks, self_produce, queue_depth, repeats, json;
     c5_cast_mode mode;
     double distance, step;
     long seed;
@@ -86,7 +89,7 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .k = 0, .prefetch = 1, .sub_bricks = 1,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0, .prefetch = 1, .sub_bricks = 1,
                 .self_produce = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX_REFINE, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
@@ -138,6 +141,11 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
             if (c5_cli_int(o, v, 1, 1024, &n, err))
                 return -1;
             a->queue_depth = (int)n;
+        } else if (!strcmp(o, "--producer")) {
+            if (!strcmp(v, "auto"))
+                a->producer = -1;
+            else if (on_off(o, v, &a->producer, err))
+                return c5_fail(err, "--producer: expected on, off or auto, got '%s'", v);
         } else if (!strcmp(o, "--self-produce")) {
             if (on_off(o, v, &a->self_produce, err))
                 return -1;
@@ -180,6 +188,9 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
     }
     if (!a->input)
         return c5_fail(err, "cast needs a VOLUME or SCENE (see cube5 cast --help)");
+    if (a->producer == 0 && !a->self_produce)
+        return c5_fail(err, "--producer off needs --self-produce on: with no producer thread the workers "
+                            "produce their own tiles");
     return 0;
 }
 
@@ -361,6 +372,7 @@ int c5_cmd_cast(int argc, char **argv)
     c5_cast_opts_default(&o);
     o.mode = a.mode, o.k = a.k, o.workers = a.threads, o.shading = a.shading, o.prefetch = a.prefetch;
     o.sub_bricks = a.sub_bricks, o.queue_depth = a.queue_depth, o.self_produce = a.self_produce;
+    o.producer = a.producer;
     o.step = a.step * ms_sp;
     for (int p = 0; p < a.repeats; p++) {
         for (int i = 0; i < a.views; i++) {
@@ -391,22 +403,22 @@ int c5_cmd_cast(int argc, char **argv)
         for (int i = 0; i < a.views; i++) {
             const c5_cast_stats *s = &fig[i].st;
             json_array_append_new(
-                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "ms", fig[i].ms, "producer_ms",
+                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:b}", "ms", fig[i].ms, "producer_ms",
                                fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct",
                                fig[i].imbalance, "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
                                (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
                                (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
                                "samples_sub", (json_int_t)s->samples_sub,
                                "rays_terminated", (json_int_t)s->rays_terminated, "tiles_self_produced",
-                               (json_int_t)s->tiles_self));
+                               (json_int_t)s->tiles_self, "producer_thread", s->producer));
         }
         json_object_set_new(j, "dataset",
                             json_pack("{s:s,s:[I,I,I],s:[f,f,f]}", "name", in.name, "dims", (json_int_t)in.dims[0],
                                       (json_int_t)in.dims[1], (json_int_t)in.dims[2], "spacing", in.spacing[0],
                                       in.spacing[1], in.spacing[2]));
         json_object_update_new(
-            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
-                         "threads", a.threads, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks,
+            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
+                         "threads", a.threads, "producer_thread", fig[0].st.producer, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks,
                          "self_produce", a.self_produce, "size", a.size, "views", a.views,
                          "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
                          (json_int_t)a.seed));

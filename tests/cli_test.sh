@@ -253,9 +253,22 @@ for m in plain ess approx approx+refine; do
             -o "$tmp/cast_${m}_$t.exr" >/dev/null || bad "cast_$m_$t" "exit $?"
     done
 done
+for p in on off; do
+    "$cube5" cast phantom:shell:40 --size 48 --views 2 --mode approx --threads 2 --shading on --producer "$p" \
+        -o "$tmp/cast_producer_$p.exr" >/dev/null || bad "cast_producer_$p" "exit $?"
+done
 same=1
 for f in "$tmp"/cast_*.exr; do cmp -s "$f" "$tmp/cast_plain_1.exr" || { same=0; echo "    differs: $f"; }; done
-if [ "$same" = 1 ] && [ "$(ls "$tmp"/cast_*.exr | wc -l)" = 8 ]; then ok cast_modes_same_bits; else bad cast_modes_same_bits; fi
+if [ "$same" = 1 ] && [ "$(ls "$tmp"/cast_*.exr | wc -l)" = 10 ]; then ok cast_modes_same_bits; else bad cast_modes_same_bits; fi
+# --producer: on, the calling thread produces some tiles; off, the workers produce all 9 (48^2)
+if python3 -c '
+import json, subprocess, sys
+run = lambda p: json.loads(subprocess.run([sys.argv[1], "cast", "phantom:shell:40", "--size", "48", "--views", "2",
+    "--producer", p, "--queue-depth", "16", "--json"], capture_output=True, check=True).stdout)
+on, off = run("on"), run("off")
+assert on["producer_thread"] is True and off["producer_thread"] is False
+assert all(v["tiles_self_produced"] == 9 and not v["producer_thread"] for v in off["per_view"])
+assert all(v["producer_thread"] for v in on["per_view"])' "$cube5"; then ok cast_producer_flag; else bad cast_producer_flag; fi
 json=$("$cube5" cast phantom:ml:32 --size 32 --views 3 --k 4 --json)
 if python3 -c '
 import json, sys
@@ -272,6 +285,9 @@ expect cast_no_input 2 "cast needs a VOLUME or SCENE" -- "$cube5" cast
 expect cast_bad_mode 2 "--mode: expected plain, ess" -- "$cube5" cast phantom:ml:8 --mode fast
 expect cast_bad_k 2 "--k: expected 1, 2, 4, 8 or 16" -- "$cube5" cast phantom:ml:8 --k 3
 expect cast_bad_shading 2 "--shading: expected on or off" -- "$cube5" cast phantom:ml:8 --shading yes
+expect cast_bad_producer 2 "--producer: expected on, off or auto" -- "$cube5" cast phantom:ml:8 --producer 2
+expect cast_nobody_produces 2 "--producer off needs --self-produce on" -- "$cube5" cast phantom:ml:8 --producer off \
+    --self-produce off
 expect cast_bad_phantom 2 "unknown phantom 'foot'" -- "$cube5" cast phantom:foot:8
 expect cast_missing_file 2 "nothere_4x4x4_uint8.raw" -- "$cube5" cast "$tmp/nothere_4x4x4_uint8.raw"
 expect cast_uint16 2 "cast takes uint8 volumes" -- "$cube5" cast "$tmp/tiny_2x2x2_uint16.raw"

@@ -142,6 +142,7 @@ TEST(cast_modes_draw_the_bits_of_plain)
                     o.mode = (c5_cast_mode)mode, o.k = k;
                     o.workers = 1 + (k % 3), o.prefetch = k & 1, o.queue_depth = 1 + k % 5;
                     o.sub_bricks = !(k & 2), o.self_produce = !(k & 4);
+                    o.producer = k == 4 ? 1 : k & 9 ? 0 : -1; /* 0 only where the workers self-produce */
                     if (render(&fx, &cam, 53, 37, &o, &img, &st))
                         return;
                     n_cases++;
@@ -149,6 +150,7 @@ TEST(cast_modes_draw_the_bits_of_plain)
                     /* every tile produced exactly once (53x37: 4x3 tiles), by the workers only when allowed */
                     CHECK_INT((int)st.tiles, 12);
                     CHECK(o.self_produce || st.tiles_self == 0);
+                    CHECK(o.producer != 0 || (st.tiles_self == 12 && !st.producer));
                     /* one producer ray per pixel (ess) or per corner of the frame's k-grid: the
                      * corners on tile borders walked once, whichever tile got there first (this
                      * fixture's lists all fit in a shared entry) */
@@ -538,6 +540,11 @@ TEST(cast_edges)
     CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 32, 32, &o, &img, &st, &err) == -1 && strstr(err.msg, "workers"));
     o.workers = 2, o.k = 3;
     CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 32, 32, &o, &img, &st, &err) == -1 && strstr(err.msg, "k must"));
+    o.k = 0, o.producer = 0, o.self_produce = 0; /* nobody would produce */
+    CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 32, 32, &o, &img, &st, &err) == -1 && strstr(err.msg, "self_produce"));
+    o.producer = 2, o.self_produce = 1;
+    CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 32, 32, &o, &img, &st, &err) == -1 && strstr(err.msg, "producer must"));
+    o.producer = -1;
     o.k = 0, o.shading = 1;
     CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 16, 32, &o, &ref, &st, &err) == -1 && strstr(err.msg, "32x32"));
     c5_image_free(&ref);

@@ -88,7 +88,10 @@ typedef struct {
 typedef struct {
     c5_cast_mode mode;
     int k;             /* approximation interval in pixels: 1, 2, 4, 8 or 16; 0: Proposition 1 */
-    int workers;       /* worker threads, 1..C5_CAST_MAX_WORKERS; the producer is the calling thread */
+    int workers;       /* worker threads, 1..C5_CAST_MAX_WORKERS */
+    int producer;      /* the calling thread produces tiles into the workers' buffers: 1; 0: it does
+                          not, the workers produce every tile themselves (needs self_produce); -1:
+                          auto, 1 while there are fewer workers than online CPUs (docs/caster.md) */
     int shading;       /* headlight Blinn-Phong, two-sided (peer README) */
     int prefetch;      /* prefetch the next brick along the ray on entering a brick */
     int sub_bricks;    /* skipping modes: drop samples in sub-bricks the TF leaves empty */
@@ -108,6 +111,7 @@ typedef struct {
     double worker_s[C5_CAST_MAX_WORKERS];        /* each worker's rendering time (waits, own production excluded) */
     double worker_wait_s[C5_CAST_MAX_WORKERS];   /* each worker blocked on an empty buffer */
     int workers, k;
+    int producer;             /* the calling thread produced (opts.producer resolved) */
     uint64_t tiles;
     uint64_t tiles_self;      /* of `tiles`, those the workers produced themselves */
     uint64_t producer_rays;   /* rays the producer traversed */

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cast_internal.h"
 #include "cast_sample.h"
@@ -30,7 +31,7 @@ int c5_cast_mode_parse(const char *s, c5_cast_mode *m)
 
 void c5_cast_opts_default(c5_cast_opts *o)
 {
-    *o = (c5_cast_opts){.mode = C5_CAST_APPROX_REFINE, .k = 0, .workers = 2, .shading = 0, .prefetch = 1,
+    *o = (c5_cast_opts){.mode = C5_CAST_APPROX_REFINE, .k = 0, .workers = 2, .producer = -1, .shading = 0, .prefetch = 1,
                         .sub_bricks = 1, .self_produce = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
 }
 
@@ -282,6 +283,10 @@ static int check_args(const c5_cast_camera *cam, int w, int h, const c5_cast_opt
         return c5_fail(err, "cast: workers must be 1..%d (got %d)", C5_CAST_MAX_WORKERS, o->workers);
     if (o->k && o->k != 1 && o->k != 2 && o->k != 4 && o->k != 8 && o->k != 16)
         return c5_fail(err, "cast: k must be 1, 2, 4, 8 or 16 (got %d)", o->k);
+    if (o->producer < -1 || o->producer > 1)
+        return c5_fail(err, "cast: producer must be -1 (auto), 0 or 1 (got %d)", o->producer);
+    if (o->producer == 0 && !o->self_produce)
+        return c5_fail(err, "cast: with no producer thread (producer 0) the workers must produce their own tiles (self_produce 1)");
     if (o->queue_depth < 0 || o->queue_depth > 1024)
         return c5_fail(err, "cast: queue depth must be 0..1024 (got %d)", o->queue_depth);
     if (o->mode < 0 || o->mode >= C5_CAST_MODES)
@@ -349,8 +354,11 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
             break;
         }
     }
+    /* auto: a producer thread beside as many workers as there are CPUs only takes CPU time
+     * from them (docs/caster.md, "The producer thread"); the workers then produce every tile */
+    int producer = o->producer >= 0 ? o->producer : !o->self_produce || nw < sysconf(_SC_NPROCESSORS_ONLN);
     double t0 = c5_now_s();
-    for (int i = 0; i < ntiles && !failed; i++) {
+    for (int i = 0; producer && i < ntiles && !failed; i++) {
         ring *r = &rings[i % nw];
         int k;
         c5_cast_task *t = ring_claim(r, &k, &st->producer_wait_s);
@@ -361,7 +369,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         failed |= bad;
         st->tiles += !bad;
     }
-    for (int i = 0; i < started; i++) { /* nothing more will be claimed: lets the workers finish */
+    for (int i = 0; producer && i < started; i++) { /* nothing more will be claimed: lets the workers finish */
         pthread_mutex_lock(&rings[i].mu);
         rings[i].n = rings[i].next;
         pthread_cond_broadcast(&rings[i].cv);
@@ -380,7 +388,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         st->samples_sub += wk[i].cnt.sub;
         failed |= wk[i].failed;
     }
-    st->workers = started, st->k = vw.k;
+    st->workers = started, st->k = vw.k, st->producer = producer;
     if (failed) {
         c5_fail(err, started < nw ? "cast: could not start worker thread %d" : "cast: out of memory in the producer",
                 started);
