@@ -30,7 +30,8 @@ static const char USAGE[] =
     "  -o OUT             write the first view (.png or .exr)\n"
     "  --views N          views 1..1000 (default 24)\n"
     "  --size N           image N x N, 1..4096 (default 256)\n"
-    "  --mode M           plain | ess | approx | approx+refine (default approx+refine)\n"
+    "  --mode M           plain | ess | approx | approx+refine (default approx: with sub-bricks\n"
+    "                     the refining hash drops no sample they keep, docs/caster.md)\n"
     "  --threads N        worker threads 1..64 (default 2)\n"
     "  --producer on|off|auto  the calling thread produces tiles for the workers' buffers; off:\n"
     "                     the workers produce all their tiles (default auto: on while there are\n"
@@ -91,7 +92,7 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
     *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0, .prefetch = 1, .sub_bricks = 1,
                 .self_produce = 1, .queue_depth = 4, .repeats = 1,
-                .mode = C5_CAST_APPROX_REFINE, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
+                .mode = C5_CAST_APPROX, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;

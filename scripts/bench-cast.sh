@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # make bench, caster section: `cube5 cast` (the streaming-model ray caster of Kim & JaJa's Cell
 # B.E. paper, sections 5-6) over the peer benchmark's views, per dataset:
-#   headline fps (approx+refine, 2 threads, shading off/on at distance 3.8637, unshaded at 2.0),
+#   headline fps (approx, the default mode, 2 threads, shading off/on at distance 3.8637, unshaded at 2.0),
 #   Figure 11 producer vs worker ms (ess, approx, approx+refine), Table 2 prefetch on vs off,
 #   Figure 12 load imbalance (from the headline run), Figure 13 speed-up with 1, 2, 4 threads.
 # The paper's own figures are printed beside ours as reference lines.
@@ -42,17 +42,17 @@ run() { # kind name volume spacing tf [cast options...]
 }
 while IFS='|' read -r name vol sp tf; do
     for sh in off on; do
-        run head "$name" "$vol" "$sp" "$tf" --views 24 --threads 2 --mode approx+refine --shading "$sh" --distance 3.8637
+        run head "$name" "$vol" "$sp" "$tf" --views 24 --threads 2 --mode approx --shading "$sh" --distance 3.8637
     done
-    run head2 "$name" "$vol" "$sp" "$tf" --views 24 --threads 2 --mode approx+refine --shading off --distance 2.0
+    run head2 "$name" "$vol" "$sp" "$tf" --views 24 --threads 2 --mode approx --shading off --distance 2.0
     for m in ess approx approx+refine; do
         run fig11 "$name" "$vol" "$sp" "$tf" --views 8 --threads 2 --mode "$m" --shading off
     done
     for p in off on; do
-        run tab2 "$name" "$vol" "$sp" "$tf" --views 8 --threads 2 --mode approx+refine --shading off --prefetch "$p"
+        run tab2 "$name" "$vol" "$sp" "$tf" --views 8 --threads 2 --mode approx --shading off --prefetch "$p"
     done
     for t in 1 2 4; do
-        run fig13 "$name" "$vol" "$sp" "$tf" --views 8 --threads "$t" --mode approx+refine --shading off
+        run fig13 "$name" "$vol" "$sp" "$tf" --views 8 --threads "$t" --mode approx --shading off
     done
 done <<< "$sets" > "$tmp/runs"
 
@@ -67,7 +67,7 @@ for line in open(sys.argv[1]):
     runs.setdefault(name, {}).setdefault(kind, []).append(o)
 names = list(runs)
 res = {"datasets": {}}
-print("cube5 cast, 256x256, 24 views, approx+refine, 2 worker threads (+1 producer): fps = 1000 / median ms")
+print("cube5 cast, 256x256, 24 views, approx, 2 worker threads (producer: auto): fps = 1000 / median ms")
 print("%-9s %-11s %11s %10s %11s %10s %11s %10s %4s" % ("dataset", "dims", "d3.86 unsh", "fps", "d3.86 shad",
       "fps", "d2.0 unsh", "fps", "k"))
 for n in names:
@@ -95,7 +95,7 @@ for n in names:
                                                               "ms_median", "samples_mean")})
 print("  (worker ms: mean over the workers of each one's busy time per frame)")
 
-print("\nTable 2: ms per frame without / with prefetch, approx+refine, 8 views, 2 threads, unshaded")
+print("\nTable 2: ms per frame without / with prefetch, approx, 8 views, 2 threads, unshaded")
 print("%-9s %10s %10s %8s" % ("dataset", "w/o ms", "with ms", "ratio"))
 for n in names:
     off, on = runs[n]["tab2"]
@@ -111,7 +111,7 @@ for n in names:
     print("%-9s %9.2f%% %9.2f%% %9.2f%%" % ((n,) + tuple(x["load_imbalance_pct_mean"] for x in h)))
 print("  paper: 1.7% std on average among 8 SPEs (Figure 12, reference; we have 2 workers)")
 
-print("\nFigure 13: speed-up with worker threads (ms at 1 / ms at N), approx+refine, 8 views, unshaded")
+print("\nFigure 13: speed-up with worker threads (ms at 1 / ms at N), approx, 8 views, unshaded")
 print("%-9s %9s %9s %9s %8s %8s" % ("dataset", "1 thr ms", "2 thr ms", "4 thr ms", "x2", "x4"))
 for n in names:
     t1, t2, t4 = runs[n]["fig13"]

@@ -204,6 +204,19 @@ TEST(cast_refine_drops_samples)
     CHECK(!differ(&a, &b));
     CHECK(sb.samples_hashed > 0);
     CHECK(sb.samples + sb.samples_sub + sb.samples_hashed == sa.samples + sa.samples_sub);
+    /* with sub-bricks the hash drops nothing they keep: it drops only samples in bricks the
+     * TF leaves empty (docs/caster.md), and all of such a brick's sub-bricks are empty */
+    CHECK(sb.samples == sa.samples);
+    c5_image_free(&a);
+    c5_image_free(&b);
+    o.sub_bricks = 0; /* without them it is what drops samples */
+    if (render(&fx, &cam, 64, 64, &o, &b, &sb))
+        return;
+    o.mode = C5_CAST_APPROX;
+    if (render(&fx, &cam, 64, 64, &o, &a, &sa))
+        return;
+    CHECK(!differ(&a, &b));
+    CHECK(sb.samples < sa.samples && sb.samples_hashed > 0 && sb.samples_sub == 0);
     CHECK(sb.producer_rays == sa.producer_rays);
     c5_image_free(&a);
     c5_image_free(&b);

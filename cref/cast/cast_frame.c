@@ -31,7 +31,7 @@ int c5_cast_mode_parse(const char *s, c5_cast_mode *m)
 
 void c5_cast_opts_default(c5_cast_opts *o)
 {
-    *o = (c5_cast_opts){.mode = C5_CAST_APPROX_REFINE, .k = 0, .workers = 2, .producer = -1, .shading = 0, .prefetch = 1,
+    *o = (c5_cast_opts){.mode = C5_CAST_APPROX, .k = 0, .workers = 2, .producer = -1, .shading = 0, .prefetch = 1,
                         .sub_bricks = 1, .self_produce = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
 }
 
