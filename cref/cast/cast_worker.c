@@ -14,6 +14,7 @@
 static inline void prefetch_brick(const c5_cast_view *vw, size_t bi)
 {
     const char *b = (const char *)(vw->v->bricks + bi * C5_CAST_BSTRIDE);
+#pragma GCC unroll 12 /* one prefetch per line, no loop around them */
     for (int i = 0; i < C5_CAST_BSTRIDE; i += 64)
         __builtin_prefetch(b + i);
     if (vw->shading) {
@@ -145,7 +146,7 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
 {
     const c5_cast_volume *v = vw->v;
     out[0] = out[1] = out[2] = 0;
-    if (!v->bricks)
+    if (!v->bricks || !nseg) /* nothing to march: no ray set-up either */
         return;
     double d[3], o[3], dv[3], inv[3], tin, tout, lo[3] = {0, 0, 0};
     c5_cast_ray_dir(vw, px + 0.5, py + 0.5, d);
