@@ -128,16 +128,15 @@ int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double
 /* The corner rays on tile borders, each walked once per frame by whichever producer gets to
  * it first (cast_corners.c). Corner (a, b) is the ray through pixel (a k, b k). */
 typedef struct c5_cast_corners c5_cast_corners;
-typedef struct c5_cast_corner c5_cast_corner;
 c5_cast_corners *c5_cast_corners_new(int w, int h, int k); /* NULL when out of memory */
 void c5_cast_corners_free(c5_cast_corners *c);
-c5_cast_corner *c5_cast_corners_at(c5_cast_corners *c, int a, int b); /* NULL: not on a tile border */
-/* Takes corner e's list into out (and its hash bits, when hash): its length, or one of these:
+long c5_cast_corners_at(const c5_cast_corners *c, int a, int b); /* entry index; -1: not on a tile border */
+/* Takes entry i's list into out (and its hash bits, when hash): its length, or one of these:
  * WALK: the caller has claimed the corner and must walk it and c5_cast_corner_put the result;
  * WALK_AGAIN: the list did not fit in the entry, the caller walks it for itself. */
 enum { C5_CAST_CORNER_WALK = -1, C5_CAST_CORNER_WALK_AGAIN = -2 };
-int c5_cast_corner_take(c5_cast_corner *e, c5_cast_seg *out, uint64_t *hash);
-void c5_cast_corner_put(c5_cast_corner *e, const c5_cast_seg *seg, int n, const uint64_t *hash);
+int c5_cast_corner_take(c5_cast_corners *c, long i, c5_cast_seg *out, uint64_t *hash);
+void c5_cast_corner_put(c5_cast_corners *c, long i, const c5_cast_seg *seg, int n, const uint64_t *hash);
 
 /* Worker: renders the tile's pixels into img, adding to the counters. */
 typedef struct {

@@ -357,14 +357,14 @@ static int corner_list(const c5_cast_view *vw, c5_cast_scratch *rs, c5_cast_task
                        uint64_t *hash)
 {
     int k = t->unit;
-    c5_cast_corner *e = vw->corners ? c5_cast_corners_at(vw->corners, a, b) : NULL;
-    int got = e ? c5_cast_corner_take(e, out, hash) : C5_CAST_CORNER_WALK_AGAIN;
+    long e = vw->corners ? c5_cast_corners_at(vw->corners, a, b) : -1;
+    int got = e >= 0 ? c5_cast_corner_take(vw->corners, e, out, hash) : C5_CAST_CORNER_WALK_AGAIN;
     if (got >= 0)
         return got;
     int n = ray_list(vw, rs, a * k, b * k, out, hash);
     t->rays++;
     if (got == C5_CAST_CORNER_WALK)
-        c5_cast_corner_put(e, out, n, hash);
+        c5_cast_corner_put(vw->corners, e, out, n, hash);
     return n;
 }
 
