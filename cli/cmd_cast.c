@@ -90,8 +90,8 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0, .prefetch = 1, .sub_bricks = 1,
-                .self_produce = 1, .queue_depth = 4, .repeats = 1,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0, .prefetch = 1,
+                .sub_bricks = 1, .self_produce = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
     for (int i = 1; i < argc; i++) {
@@ -404,8 +404,8 @@ int c5_cmd_cast(int argc, char **argv)
         for (int i = 0; i < a.views; i++) {
             const c5_cast_stats *s = &fig[i].st;
             json_array_append_new(
-                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:b}", "ms", fig[i].ms, "producer_ms",
-                               fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct",
+                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:b}", "ms", fig[i].ms,
+                               "producer_ms", fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct",
                                fig[i].imbalance, "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
                                (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
                                (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
@@ -419,7 +419,8 @@ int c5_cmd_cast(int argc, char **argv)
                                       in.spacing[1], in.spacing[2]));
         json_object_update_new(
             j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
-                         "threads", a.threads, "producer_thread", fig[0].st.producer, "shading", a.shading, "prefetch", a.prefetch, "sub_bricks", a.sub_bricks,
+                         "threads", a.threads, "producer_thread", fig[0].st.producer, "shading", a.shading,
+                         "prefetch", a.prefetch, "sub_bricks", a.sub_bricks,
                          "self_produce", a.self_produce, "size", a.size, "views", a.views,
                          "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
                          (json_int_t)a.seed));

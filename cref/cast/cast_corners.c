@@ -29,7 +29,7 @@ typedef struct {
  * k = 2), not a line of each of 1.1 MB of entries (that took 0.6 ms, before any thread ran);
  * an entry is written first by the producer that walks its corner. */
 struct c5_cast_corners {
-    int k, cols, rows;      /* corners per image row and column: ceil(w / k) + 1, ceil(h / k) + 1 */
+    int cols, rows;         /* corners per image row and column: ceil(w / k) + 1, ceil(h / k) + 1 */
     int per_tile;           /* corner steps per tile side: C5_CAST_TILE / k */
     int n_vert;             /* entries of the vertical borders (every row of them), then horizontal */
     atomic_int *state;
@@ -41,7 +41,7 @@ c5_cast_corners *c5_cast_corners_new(int w, int h, int k)
     c5_cast_corners *c = malloc(sizeof *c);
     if (!c)
         return NULL;
-    c->k = k, c->cols = (w + k - 1) / k + 1, c->rows = (h + k - 1) / k + 1, c->per_tile = C5_CAST_TILE / k;
+    c->cols = (w + k - 1) / k + 1, c->rows = (h + k - 1) / k + 1, c->per_tile = C5_CAST_TILE / k;
     int vcols = (c->cols - 1) / c->per_tile + 1, hrows = (c->rows - 1) / c->per_tile + 1;
     c->n_vert = vcols * c->rows;
     size_t n = (size_t)c->n_vert + (size_t)hrows * (size_t)c->cols;

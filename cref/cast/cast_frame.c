@@ -286,7 +286,8 @@ static int check_args(const c5_cast_camera *cam, int w, int h, const c5_cast_opt
     if (o->producer < -1 || o->producer > 1)
         return c5_fail(err, "cast: producer must be -1 (auto), 0 or 1 (got %d)", o->producer);
     if (o->producer == 0 && !o->self_produce)
-        return c5_fail(err, "cast: with no producer thread (producer 0) the workers must produce their own tiles (self_produce 1)");
+        return c5_fail(err, "cast: with no producer thread (producer 0) the workers must produce their own tiles "
+                            "(self_produce 1)");
     if (o->queue_depth < 0 || o->queue_depth > 1024)
         return c5_fail(err, "cast: queue depth must be 0..1024 (got %d)", o->queue_depth);
     if (o->mode < 0 || o->mode >= C5_CAST_MODES)
