@@ -622,7 +622,8 @@ TEST(cast_samples_match_the_scalar_definition)
             float v = c5_cast_tri(brick + off, p), vr = c5_cast_tri_ref(brick + off, f);
             bad += memcmp(&v, &vr, sizeof v) != 0;
             float k[2], kr[2];
-            c5_cast_shade(tab, normals + off, p, k);
+            c5_cast_light kl = c5_cast_shade(tab, normals + off, p);
+            k[0] = c5_cast_light_factor(kl, 0), k[1] = c5_cast_light_factor(kl, 1);
             c5_cast_shade_ref(tab, normals + off, f, kr);
             bad += memcmp(k, kr, sizeof k) != 0;
             int moved = 0;
@@ -638,4 +639,116 @@ TEST(cast_samples_match_the_scalar_definition)
     }
     CHECK_INT(bad, 0);
     CHECK(tested == 2000 * 400 && clamped > 0);
+}
+
+/* One pixel as the definitions say, sample by sample: every sample j of the ray inside the
+ * volume at its cell and fraction (c5_cast_pos_ref), trilinear value, TF entry, headlight
+ * factors, shaded colour and front-to-back compositing, zero-opacity samples included, to
+ * early termination. Adds its samples to *n, its zero-opacity ones to *zero, and 1 to *term
+ * when it terminated. */
+static void march_definition(const c5_cast_view *vw, int px, int py, float rgb[3], uint64_t *n, uint64_t *zero,
+                             uint64_t *term)
+{
+    const c5_cast_volume *v = vw->v;
+    float acc[4] = {0, 0, 0, 0};
+    c5_cast_ray r;
+    int32_t jin, jout;
+    for (int32_t j = c5_cast_pixel_ray(vw, px, py, &r, &jin, &jout) ? jin : 1, j1 = j == 1 ? 0 : jout; j <= j1; j++) {
+        int i[3];
+        float f[3];
+        c5_cast_pos_ref(&r, j, i, f);
+        size_t bi = c5_cast_brick_index(v, i[0] / C5_CAST_BRICK, i[1] / C5_CAST_BRICK, i[2] / C5_CAST_BRICK);
+        int off = i[0] % C5_CAST_BRICK + C5_CAST_DY * (i[1] % C5_CAST_BRICK) + C5_CAST_DZ * (i[2] % C5_CAST_BRICK);
+        float sv = c5_cast_tri_ref(v->bricks + bi * C5_CAST_BSTRIDE + off, f);
+        const float *e = vw->tf->rgba[(int)(sv * C5_CAST_TF_SCALE + 0.5f)];
+        float c[4] = {e[0], e[1], e[2], e[3]};
+        if (vw->shading) {
+            float k[2];
+            c5_cast_shade_ref(vw->shade, v->normals + bi * C5_CAST_BSTRIDE + off, f, k);
+            c5_cast_lit_ref(e, k, c);
+        }
+        c5_cast_over_ref(acc, c);
+        (*n)++, *zero += e[3] == 0;
+        if (vw->early && acc[3] > C5_CAST_OPAQUE) {
+            (*term)++;
+            break;
+        }
+    }
+    memcpy(rgb, acc, 3 * sizeof *rgb);
+}
+
+/* The workers march in stages over batches of samples (cast_worker.c) and leave out the
+ * zero-opacity ones: still the definition's bits per pixel, its sample and zero-opacity counts
+ * and its terminated rays, shaded and not; and the counts of dropped samples stop where the
+ * ray does. The fixture's blobs stop some rays early and others pass through, so batches end
+ * both ways. */
+TEST(cast_workers_composite_as_the_definition)
+{
+    size_t d[3] = {45, 38, 29};
+    double sp[3] = {1, 1.25, 1.5};
+    fixture fx;
+    if (fixture_make(&fx, d, sp, 11))
+        return;
+    c5_tf_desc t; /* the fixture's TF, denser: opaque enough to stop rays in the blobs */
+    tf_ramp(&t);
+    t.opacity[2][1] = 0.9, t.opacity[3][1] = 1;
+    c5_err err;
+    if (c5_cast_tf_build(&t, 1, 1, &fx.tf, &err)) {
+        c5t_failf(__FILE__, __LINE__, "tf: %s", err.msg);
+        c5_cast_volume_free(fx.v);
+        return;
+    }
+    double c[3] = {22, 23.1, 21}, views[2][3] = {{90, -60, 50}, {-20, 40, -35}};
+    int w = 53, h = 37, bad = 0;
+    uint64_t terminated = 0;
+    for (int vi = 0; vi < 2; vi++)
+        for (int shading = 0; shading < 2; shading++) {
+            c5_cast_camera cam;
+            look_at(&cam, views[vi], c, 35);
+            c5_cast_opts o;
+            c5_cast_opts_default(&o);
+            o.mode = C5_CAST_PLAIN, o.workers = 2, o.shading = shading;
+            c5_image img;
+            c5_cast_stats st;
+            c5_cast_view vw;
+            if (render(&fx, &cam, w, h, &o, &img, &st))
+                return;
+            if (c5_cast_view_setup(&vw, fx.v, &fx.tf, &cam, w, h, &o, &err)) {
+                c5t_failf(__FILE__, __LINE__, "view: %s", err.msg);
+                c5_cast_view_release(&vw);
+                c5_image_free(&img);
+                return;
+            }
+            uint64_t n = 0, zero = 0, term = 0;
+            for (int py = 0; py < h; py++)
+                for (int px = 0; px < w; px++) {
+                    float rgb[3];
+                    march_definition(&vw, px, py, rgb, &n, &zero, &term);
+                    bad += memcmp(rgb, img.rgb + 3 * ((size_t)py * w + px), sizeof rgb) != 0;
+                }
+            CHECK_MSG(st.samples == n && st.samples_zero == zero && st.rays_terminated == term,
+                      "view %d shading %d: samples %llu/%llu zero %llu/%llu terminated %llu/%llu", vi, shading,
+                      (unsigned long long)st.samples, (unsigned long long)n, (unsigned long long)st.samples_zero,
+                      (unsigned long long)zero, (unsigned long long)st.rays_terminated, (unsigned long long)term);
+            terminated += term;
+            /* approx drops samples in empty sub-brick; up to where each ray ends, a dropped one
+             * is one fewer marched, however the batches fall */
+            c5_cast_stats sa, sb;
+            c5_image ia, ib;
+            o.mode = C5_CAST_APPROX, o.sub_bricks = 1;
+            if (!render(&fx, &cam, w, h, &o, &ia, &sa)) {
+                o.sub_bricks = 0;
+                if (!render(&fx, &cam, w, h, &o, &ib, &sb)) {
+                    CHECK(sa.samples_sub > 0 && sa.samples + sa.samples_sub == sb.samples && !differ(&ia, &img) &&
+                          !differ(&ib, &img) && sa.rays_terminated == term && sb.rays_terminated == term);
+                    c5_image_free(&ib);
+                }
+                c5_image_free(&ia);
+            }
+            c5_cast_view_release(&vw);
+            c5_image_free(&img);
+        }
+    c5_cast_volume_free(fx.v);
+    CHECK_INT(bad, 0);
+    CHECK(terminated > 0);
 }

@@ -87,8 +87,8 @@ double c5_cast_load_imbalance(const c5_cast_stats *st)
 
 /* The frame's constants: step, eye in voxel units, k, the producer's dilation (docs/caster.md),
  * the hash factors and, when shading, the headlight's factors per normal code. */
-static int view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_camera *cam,
-                      int w, int h, const c5_cast_opts *o, c5_err *err)
+int c5_cast_view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_camera *cam, int w,
+                       int h, const c5_cast_opts *o, c5_err *err)
 {
     memset(vw, 0, sizeof *vw);
     vw->v = v, vw->tf = tf, vw->cam = cam, vw->w = w, vw->h = h, vw->mode = o->mode;
@@ -312,7 +312,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
     if (check_args(cam, w, h, o, out, err))
         return -1;
     c5_cast_view vw;
-    if (view_setup(&vw, v, tf, cam, w, h, o, err)) {
+    if (c5_cast_view_setup(&vw, v, tf, cam, w, h, o, err)) {
         c5_cast_view_release(&vw);
         return -1;
     }

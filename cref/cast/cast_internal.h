@@ -76,6 +76,10 @@ typedef struct {
 
 enum { C5_CAST_EMPTY, C5_CAST_MIXED, C5_CAST_SOLID };
 
+/* The frame's view (cast_frame.c): -1 after c5_fail; c5_cast_view_release frees it either way. */
+int c5_cast_view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_camera *cam, int w,
+                       int h, const c5_cast_opts *o, c5_err *err);
+
 /* Classifies every octree node of vw->v through vw->tf, bottom up: a brick is empty when the
  * TF is zero over its voxels' range; a parent is empty (solid) when all its children are.
  * With `hashes`, also the OR of the hash bits of each node's bricks (levels >= 1). -1 when

@@ -34,6 +34,10 @@ typedef struct {
     float step;
 } c5_cast_ray;
 
+/* The ray of pixel (px, py) and the samples jin..jout inside the volume (cast_worker.c); 0
+ * when it misses the volume. */
+int c5_cast_pixel_ray(const c5_cast_view *vw, int px, int py, c5_cast_ray *r, int32_t *jin, int32_t *jout);
+
 enum {
     C5_CAST_BRICK_LOG2 = 3, /* C5_CAST_BRICK == 1 << 3 */
     C5_CAST_SUB_LOG2 = 2,   /* C5_CAST_SUB == 1 << 2 */
@@ -83,6 +87,26 @@ static inline void c5_cast_shade_ref(const float (*tab)[2], const uint16_t *n, c
         float x01 = c5_cast_lerp(v[4], v[5], f[0]), x11 = c5_cast_lerp(v[6], v[7], f[0]);
         out[c] = c5_cast_lerp(c5_cast_lerp(x00, x10, f[1]), c5_cast_lerp(x01, x11, f[1]), f[2]);
     }
+}
+
+/* The definition of a shaded colour: from the TF's premultiplied (c0, c1, c2, a) and the
+ * headlight's factors k (diffuse, specular), c = c k[0] + a k[1] per channel; a unchanged. */
+static inline void c5_cast_lit_ref(const float e[4], const float k[2], float out[4])
+{
+    float ks = e[3] * k[1];
+    for (int c = 0; c < 3; c++)
+        out[c] = e[c] * k[0] + ks;
+    out[3] = e[3];
+}
+
+/* The definition of front-to-back compositing: with T = 1 - A, each of C0, C1, C2, A gains
+ * T times the sample's c0, c1, c2, a. A sample with a == 0 has colour 0 (premultiplied) and
+ * adds +0 to each: leaving it out changes no bit. */
+static inline void c5_cast_over_ref(float acc[4], const float c[4])
+{
+    float T = 1 - acc[3];
+    for (int ch = 0; ch < 4; ch++)
+        acc[ch] += T * c[ch];
 }
 
 /* A position as the loop carries it: cells and fractions, per lane. */
@@ -156,8 +180,10 @@ static inline float c5_cast_tri(const uint8_t *b, c5_cast_pos p)
     return _mm_cvtss_f32(_mm_add_ss(y, _mm_mul_ss(fz, _mm_sub_ss(y1, y))));
 }
 /* The shading blend with both channels side by side: lanes (diffuse, specular) of two
- * corners at a time, then the same x, y, z rounds as the definition. */
-static inline void c5_cast_shade(const float (*tab)[2], const uint16_t *n, c5_cast_pos p, float out[2])
+ * corners at a time, then the same x, y, z rounds as the definition. Lanes 0 and 1 of the
+ * result: the diffuse and specular factors. */
+typedef __m128 c5_cast_light;
+static inline c5_cast_light c5_cast_shade(const float (*tab)[2], const uint16_t *n, c5_cast_pos p)
 {
     enum { X = C5_CAST_DX, Y = C5_CAST_DY, Z = C5_CAST_DZ };
 #define C5_PAIRS(a, b) _mm_loadh_pi(_mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)tab[n[a]]), (const __m64 *)tab[n[b]])
@@ -169,9 +195,39 @@ static inline void c5_cast_shade(const float (*tab)[2], const uint16_t *n, c5_ca
     __m128 c = _mm_movelh_ps(x0, x1), d = _mm_movehl_ps(x1, x0);   /* x00 x01 | x10 x11 */
     __m128 y = _mm_add_ps(c, _mm_mul_ps(_mm_shuffle_ps(p.f, p.f, _MM_SHUFFLE(1, 1, 1, 1)), _mm_sub_ps(d, c)));
     __m128 y1 = _mm_movehl_ps(y, y);
-    __m128 z = _mm_add_ps(y, _mm_mul_ps(_mm_shuffle_ps(p.f, p.f, _MM_SHUFFLE(2, 2, 2, 2)), _mm_sub_ps(y1, y)));
-    _mm_storel_pi((__m64 *)out, z);
+    return _mm_add_ps(y, _mm_mul_ps(_mm_shuffle_ps(p.f, p.f, _MM_SHUFFLE(2, 2, 2, 2)), _mm_sub_ps(y1, y)));
 }
+static inline float c5_cast_light_factor(c5_cast_light k, int c)
+{
+    return _mm_cvtss_f32(c == 0 ? k : _mm_shuffle_ps(k, k, 1));
+}
+
+/* A colour (c0, c1, c2, a) and the accumulated (C0, C1, C2, A): one register each. */
+typedef __m128 c5_cast_rgba;
+static inline c5_cast_rgba c5_cast_rgba_load(const float e[4]) { return _mm_loadu_ps(e); }
+static inline c5_cast_rgba c5_cast_rgba_zero(void) { return _mm_setzero_ps(); }
+static inline float c5_cast_rgba_at(c5_cast_rgba c, int ch)
+{
+    float v[4];
+    _mm_storeu_ps(v, c);
+    return v[ch];
+}
+/* As c5_cast_lit_ref, lane by lane; lane 3 (a) passes through untouched. */
+static inline c5_cast_rgba c5_cast_lit(const float e[4], c5_cast_light k)
+{
+    __m128 ev = _mm_loadu_ps(e), a = _mm_shuffle_ps(ev, ev, _MM_SHUFFLE(3, 3, 3, 3));
+    __m128 ks = _mm_mul_ps(a, _mm_shuffle_ps(k, k, _MM_SHUFFLE(1, 1, 1, 1)));
+    __m128 c = _mm_add_ps(_mm_mul_ps(ev, _mm_shuffle_ps(k, k, 0)), ks);   /* c0 c1 c2 x */
+    __m128 t = _mm_shuffle_ps(c, ev, _MM_SHUFFLE(3, 3, 2, 2));           /* c2 c2 a a */
+    return _mm_shuffle_ps(c, t, _MM_SHUFFLE(2, 0, 1, 0));                /* c0 c1 c2 a */
+}
+/* As c5_cast_over_ref, four lanes at once. */
+static inline c5_cast_rgba c5_cast_over(c5_cast_rgba acc, c5_cast_rgba c)
+{
+    __m128 T = _mm_sub_ps(_mm_set1_ps(1), _mm_shuffle_ps(acc, acc, _MM_SHUFFLE(3, 3, 3, 3)));
+    return _mm_add_ps(acc, _mm_mul_ps(T, c));
+}
+static inline float c5_cast_rgba_alpha(c5_cast_rgba c) { return _mm_cvtss_f32(_mm_shuffle_ps(c, c, 3)); }
 #else
 typedef struct {
     int i[3];
@@ -205,10 +261,35 @@ static inline int c5_cast_pos_off(c5_cast_pos p)
            C5_CAST_BSIDE * C5_CAST_BSIDE * (p.i[2] & (C5_CAST_BRICK - 1));
 }
 static inline float c5_cast_tri(const uint8_t *b, c5_cast_pos p) { return c5_cast_tri_ref(b, p.f); }
-static inline void c5_cast_shade(const float (*tab)[2], const uint16_t *n, c5_cast_pos p, float out[2])
+typedef struct {
+    float k[2];
+} c5_cast_light;
+static inline c5_cast_light c5_cast_shade(const float (*tab)[2], const uint16_t *n, c5_cast_pos p)
 {
-    c5_cast_shade_ref(tab, n, p.f, out);
+    c5_cast_light k;
+    c5_cast_shade_ref(tab, n, p.f, k.k);
+    return k;
 }
+static inline float c5_cast_light_factor(c5_cast_light k, int c) { return k.k[c]; }
+
+typedef struct {
+    float v[4];
+} c5_cast_rgba;
+static inline c5_cast_rgba c5_cast_rgba_load(const float e[4]) { return (c5_cast_rgba){{e[0], e[1], e[2], e[3]}}; }
+static inline c5_cast_rgba c5_cast_rgba_zero(void) { return (c5_cast_rgba){{0, 0, 0, 0}}; }
+static inline float c5_cast_rgba_at(c5_cast_rgba c, int ch) { return c.v[ch]; }
+static inline c5_cast_rgba c5_cast_lit(const float e[4], c5_cast_light k)
+{
+    c5_cast_rgba c;
+    c5_cast_lit_ref(e, k.k, c.v);
+    return c;
+}
+static inline c5_cast_rgba c5_cast_over(c5_cast_rgba acc, c5_cast_rgba c)
+{
+    c5_cast_over_ref(acc.v, c.v);
+    return acc;
+}
+static inline float c5_cast_rgba_alpha(c5_cast_rgba c) { return c.v[3]; }
 #endif
 
 /* The largest float below `cells` (>= 1): an axis's clamp bound, hi[a] of c5_cast_ray. */
