@@ -89,6 +89,11 @@ static int fixture_make(fixture *fx, const size_t d[3], const double sp[3], uint
     return rc;
 }
 
+/* The blobs fixture the rendering tests share: 45 x 38 x 29 voxels, anisotropic spacing, and
+ * the point their cameras look at. */
+static const size_t blob_dims[3] = {45, 38, 29};
+static const double blob_spacing[3] = {1, 1.25, 1.5}, blob_focal[3] = {22, 23.1, 21};
+
 static int render(const fixture *fx, const c5_cast_camera *cam, int w, int h, const c5_cast_opts *o, c5_image *img,
                   c5_cast_stats *st)
 {
@@ -117,16 +122,14 @@ static double coverage(const c5_image *a)
 
 TEST(cast_modes_draw_the_bits_of_plain)
 {
-    size_t d[3] = {45, 38, 29};
-    double sp[3] = {1, 1.25, 1.5};
     fixture fx;
-    if (fixture_make(&fx, d, sp, 7))
+    if (fixture_make(&fx, blob_dims, blob_spacing, 7))
         return;
-    double c[3] = {22, 23.1, 21}, views[3][3] = {{90, -60, 50}, {22.3, 23.1, 120}, {-20, 40, -35}};
+    double views[3][3] = {{90, -60, 50}, {22.3, 23.1, 120}, {-20, 40, -35}};
     int n_diff = 0, n_cases = 0, n_sub = 0;
     for (int vi = 0; vi < 3; vi++) {
         c5_cast_camera cam;
-        look_at(&cam, views[vi], c, 35);
+        look_at(&cam, views[vi], blob_focal, 35);
         for (int shading = 0; shading < 2; shading++) {
             c5_cast_opts o;
             c5_cast_opts_default(&o);
@@ -684,10 +687,8 @@ static void march_definition(const c5_cast_view *vw, int px, int py, float rgb[3
  * both ways. */
 TEST(cast_workers_composite_as_the_definition)
 {
-    size_t d[3] = {45, 38, 29};
-    double sp[3] = {1, 1.25, 1.5};
     fixture fx;
-    if (fixture_make(&fx, d, sp, 11))
+    if (fixture_make(&fx, blob_dims, blob_spacing, 11))
         return;
     c5_tf_desc t; /* the fixture's TF, denser: opaque enough to stop rays in the blobs */
     tf_ramp(&t);
@@ -698,13 +699,13 @@ TEST(cast_workers_composite_as_the_definition)
         c5_cast_volume_free(fx.v);
         return;
     }
-    double c[3] = {22, 23.1, 21}, views[2][3] = {{90, -60, 50}, {-20, 40, -35}};
+    double views[2][3] = {{90, -60, 50}, {-20, 40, -35}};
     int w = 53, h = 37, bad = 0;
     uint64_t terminated = 0;
     for (int vi = 0; vi < 2; vi++)
         for (int shading = 0; shading < 2; shading++) {
             c5_cast_camera cam;
-            look_at(&cam, views[vi], c, 35);
+            look_at(&cam, views[vi], blob_focal, 35);
             c5_cast_opts o;
             c5_cast_opts_default(&o);
             o.mode = C5_CAST_PLAIN, o.workers = 2, o.shading = shading;
