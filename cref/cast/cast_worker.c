@@ -41,6 +41,13 @@ static inline void brick_of(c5_cast_pos p, int b[3])
         b[a] = c5_cast_pos_cell(p, a) >> C5_CAST_BRICK_LOG2;
 }
 
+/* The TF entry (premultiplied colour, opacity) of the sample at p in the cell whose first
+ * corner is v: its trilinear value rounded to the table's nearest 1/16. */
+static inline const float *classify(const float (*rgba)[4], const uint8_t *v, c5_cast_pos p)
+{
+    return rgba[(int)(c5_cast_tri(v, p) * C5_CAST_TF_SCALE + 0.5f)];
+}
+
 /* Samples in flight between the stages of march_span. */
 enum { BATCH = 16 };
 
@@ -123,38 +130,36 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
                 break;
             }
         }
-        int32_t jend = j; /* positions jb..jend-1 were looked at; m kept, nz of them non-zero */
-        int nz = 0;
+        int nz = 0, last = -1; /* nz of the m kept are non-zero; last: the one the ray ended at */
         if (!shading) { /* nothing to wait for after the TF entry: (2) composites */
             for (int q = 0; q < m; q++) {
-                float sv = c5_cast_tri(kept[q].v, kept[q].p);
-                const float *e = rgba[(int)(sv * C5_CAST_TF_SCALE + 0.5f)];
+                const float *e = classify(rgba, kept[q].v, kept[q].p);
                 C = c5_cast_over(C, c5_cast_rgba_load(e));
                 nz += e[3] != 0;
                 if (early && c5_cast_rgba_alpha(C) > C5_CAST_OPAQUE) {
-                    cnt->terminated++;
-                    done = 1;
-                    jend = kept[q].j + 1, hashed = hash ? kept[q].hashed : 0, m = q + 1;
+                    last = q;
                     break;
                 }
             }
         }
         for (int q = 0; shading && q < m; q++) {
-            float sv = c5_cast_tri(kept[q].v, kept[q].p);
-            const float *e = rgba[(int)(sv * C5_CAST_TF_SCALE + 0.5f)];
+            const float *e = classify(rgba, kept[q].v, kept[q].p);
             lit[nz] = e, from[nz] = q;
             nz += e[3] != 0;
         }
         for (int s = 0; shading && s < nz; s++) {
-            const float *e = lit[s];
             int q = from[s];
-            C = c5_cast_over(C, c5_cast_lit(e, c5_cast_shade(shade, kept[q].n, kept[q].p)));
+            C = c5_cast_over(C, c5_cast_lit(lit[s], c5_cast_shade(shade, kept[q].n, kept[q].p)));
             if (early && c5_cast_rgba_alpha(C) > C5_CAST_OPAQUE) {
-                cnt->terminated++;
-                done = 1;
-                jend = kept[q].j + 1, hashed = hash ? kept[q].hashed : 0, m = q + 1, nz = s + 1;
+                last = q, nz = s + 1;
                 break;
             }
+        }
+        int32_t jend = j; /* positions jb..jend-1 were looked at */
+        if (last >= 0) { /* the counts stop at the terminating sample */
+            cnt->terminated++;
+            done = 1;
+            jend = kept[last].j + 1, hashed = hash ? kept[last].hashed : 0, m = last + 1;
         }
         cnt->samples += (unsigned)m, cnt->zero += (unsigned)(m - nz), cnt->hashed += hashed;
         cnt->sub += (unsigned)(jend - jb - m) - hashed;
