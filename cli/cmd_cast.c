@@ -38,7 +38,9 @@ static const char USAGE[] =
     "                     fewer workers than CPUs)\n"
     "  --shading on|off   headlight Blinn-Phong (default off)\n"
     "  --k N              approximation interval 1,2,4,8,16 (default: Proposition 1 per view)\n"
-    "  --prefetch on|off  prefetch the next brick along each ray (default on)\n"
+    "  --prefetch P       cells: the cache lines of each sample's cell, a batch of samples\n"
+    "                     ahead (default; on is the same); bricks: the paper's, the whole next\n"
+    "                     brick along each ray on entering a brick; off\n"
     "  --sub-bricks on|off skipping modes: drop samples in 4^3-cell sub-bricks the TF leaves\n"
     "                     empty (default on)\n"
     "  --queue-depth N    tasks each worker's buffer holds, 1..1024 (default 4, the paper's)\n"
@@ -57,7 +59,8 @@ static const char USAGE[] =
 
 typedef struct {
     const char *input, *out, *tf, *save_raw;
-    int views, size, threads, producer, shading, k, prefetch, sub_bricks, self_produce, queue_depth, repeats, json;
+    int views, size, threads, producer, shading, k, sub_bricks, self_produce, queue_depth, repeats, json;
+    c5_cast_prefetch prefetch;
     c5_cast_mode mode;
     double distance, step;
     long seed;
@@ -90,7 +93,7 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0, .prefetch = 1,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0, .prefetch = C5_CAST_PREFETCH_CELLS,
                 .sub_bricks = 1, .self_produce = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
@@ -136,8 +139,8 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
             if (on_off(o, v, &a->shading, err))
                 return -1;
         } else if (!strcmp(o, "--prefetch")) {
-            if (on_off(o, v, &a->prefetch, err))
-                return -1;
+            if (c5_cast_prefetch_parse(!strcmp(v, "on") ? "cells" : v, &a->prefetch))
+                return c5_fail(err, "--prefetch: expected cells, bricks, off or on, got '%s'", v);
         } else if (!strcmp(o, "--queue-depth")) {
             if (c5_cli_int(o, v, 1, 1024, &n, err))
                 return -1;
@@ -418,9 +421,9 @@ int c5_cmd_cast(int argc, char **argv)
                                       (json_int_t)in.dims[1], (json_int_t)in.dims[2], "spacing", in.spacing[0],
                                       in.spacing[1], in.spacing[2]));
         json_object_update_new(
-            j, json_pack("{s:s,s:i,s:b,s:b,s:b,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
+            j, json_pack("{s:s,s:i,s:b,s:b,s:s,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
                          "threads", a.threads, "producer_thread", fig[0].st.producer, "shading", a.shading,
-                         "prefetch", a.prefetch, "sub_bricks", a.sub_bricks,
+                         "prefetch", c5_cast_prefetch_name(a.prefetch), "sub_bricks", a.sub_bricks,
                          "self_produce", a.self_produce, "size", a.size, "views", a.views,
                          "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
                          (json_int_t)a.seed));
@@ -437,7 +440,7 @@ int c5_cmd_cast(int argc, char **argv)
     } else {
         printf("%s %zux%zux%zu, %d views at %dx%d, mode %s, k %d..%d, %d worker%s, shading %s, prefetch %s, sub-bricks %s\n",
                in.name, in.dims[0], in.dims[1], in.dims[2], a.views, a.size, a.size, c5_cast_mode_name(a.mode), k_min,
-               k_max, a.threads, a.threads == 1 ? "" : "s", a.shading ? "on" : "off", a.prefetch ? "on" : "off",
+               k_max, a.threads, a.threads == 1 ? "" : "s", a.shading ? "on" : "off", c5_cast_prefetch_name(a.prefetch),
                a.sub_bricks ? "on" : "off");
         printf("median %.2f ms/frame (%.1f fps), mean %.2f ms; producer %.2f ms, worker %.2f ms per frame; "
                "load imbalance %.1f%%; %.0f samples per frame; setup %.0f ms\n",

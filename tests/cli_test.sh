@@ -285,6 +285,7 @@ expect cast_no_input 2 "cast needs a VOLUME or SCENE" -- "$cube5" cast
 expect cast_bad_mode 2 "--mode: expected plain, ess" -- "$cube5" cast phantom:ml:8 --mode fast
 expect cast_bad_k 2 "--k: expected 1, 2, 4, 8 or 16" -- "$cube5" cast phantom:ml:8 --k 3
 expect cast_bad_shading 2 "--shading: expected on or off" -- "$cube5" cast phantom:ml:8 --shading yes
+expect cast_bad_prefetch 2 "--prefetch: expected cells, bricks, off or on" -- "$cube5" cast phantom:ml:8 --prefetch all
 expect cast_bad_producer 2 "--producer: expected on, off or auto" -- "$cube5" cast phantom:ml:8 --producer 2
 expect cast_nobody_produces 2 "--producer off needs --self-produce on" -- "$cube5" cast phantom:ml:8 --producer off \
     --self-produce off

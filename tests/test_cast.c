@@ -143,7 +143,8 @@ TEST(cast_modes_draw_the_bits_of_plain)
             for (int mode = C5_CAST_ESS; mode < C5_CAST_MODES; mode++)
                 for (int k = 0; k <= 16; k = k ? 2 * k : 1) {
                     o.mode = (c5_cast_mode)mode, o.k = k;
-                    o.workers = 1 + (k % 3), o.prefetch = k & 1, o.queue_depth = 1 + k % 5;
+                    o.workers = 1 + (k % 3), o.queue_depth = 1 + k % 5;
+                    o.prefetch = (c5_cast_prefetch)((k + mode) % C5_CAST_PREFETCHES);
                     o.sub_bricks = !(k & 2), o.self_produce = !(k & 4);
                     o.producer = k == 4 ? 1 : k & 9 ? 0 : -1; /* 0 only where the workers self-produce */
                     if (render(&fx, &cam, 53, 37, &o, &img, &st))

@@ -39,6 +39,14 @@ typedef enum {
     C5_CAST_MODES
 } c5_cast_mode;
 
+/* What the workers prefetch (docs/caster.md, "Prefetch"). Neither changes a bit of the image. */
+typedef enum {
+    C5_CAST_PREFETCH_OFF,
+    C5_CAST_PREFETCH_CELLS,  /* the cache lines of each kept sample's cell, a batch of samples ahead */
+    C5_CAST_PREFETCH_BRICKS, /* the paper's: the whole brick 8 samples ahead, on entering a brick */
+    C5_CAST_PREFETCHES
+} c5_cast_prefetch;
+
 /* ---- volume: bricks with an apron, normals, the min/max octree --------------------------- */
 
 /* uint8 voxels at VTK point positions (i*sx, j*sy, k*sz), x fastest. Opaque. */
@@ -93,7 +101,7 @@ typedef struct {
                           not, the workers produce every tile themselves (needs self_produce); -1:
                           auto, 1 while there are fewer workers than online CPUs (docs/caster.md) */
     int shading;       /* headlight Blinn-Phong, two-sided (peer README) */
-    int prefetch;      /* prefetch the next brick along the ray on entering a brick */
+    c5_cast_prefetch prefetch;
     int sub_bricks;    /* skipping modes: drop samples in sub-bricks the TF leaves empty */
     int self_produce;  /* a worker whose buffer is empty produces its next tile itself */
     int early_termination;
@@ -139,5 +147,8 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
 const char *c5_cast_mode_name(c5_cast_mode m);
 /* "plain", "ess", "approx", "approx+refine"; -1 for anything else. */
 int c5_cast_mode_parse(const char *s, c5_cast_mode *m);
+const char *c5_cast_prefetch_name(c5_cast_prefetch p);
+/* "off", "cells", "bricks"; -1 for anything else. */
+int c5_cast_prefetch_parse(const char *s, c5_cast_prefetch *p);
 
 #endif

@@ -19,19 +19,41 @@ static const char *const MODE_NAMES[C5_CAST_MODES] = {"plain", "ess", "approx", 
 
 const char *c5_cast_mode_name(c5_cast_mode m) { return m >= 0 && m < C5_CAST_MODES ? MODE_NAMES[m] : "?"; }
 
+/* The index of s in names[0..n), or -1. */
+static int name_index(const char *s, const char *const *names, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!strcmp(s, names[i]))
+            return i;
+    return -1;
+}
+
 int c5_cast_mode_parse(const char *s, c5_cast_mode *m)
 {
-    for (int i = 0; i < C5_CAST_MODES; i++)
-        if (!strcmp(s, MODE_NAMES[i])) {
-            *m = (c5_cast_mode)i;
-            return 0;
-        }
-    return -1;
+    int i = name_index(s, MODE_NAMES, C5_CAST_MODES);
+    if (i >= 0)
+        *m = (c5_cast_mode)i;
+    return i < 0 ? -1 : 0;
+}
+
+static const char *const PREFETCH_NAMES[C5_CAST_PREFETCHES] = {"off", "cells", "bricks"};
+
+const char *c5_cast_prefetch_name(c5_cast_prefetch p)
+{
+    return p >= 0 && p < C5_CAST_PREFETCHES ? PREFETCH_NAMES[p] : "?";
+}
+
+int c5_cast_prefetch_parse(const char *s, c5_cast_prefetch *p)
+{
+    int i = name_index(s, PREFETCH_NAMES, C5_CAST_PREFETCHES);
+    if (i >= 0)
+        *p = (c5_cast_prefetch)i;
+    return i < 0 ? -1 : 0;
 }
 
 void c5_cast_opts_default(c5_cast_opts *o)
 {
-    *o = (c5_cast_opts){.mode = C5_CAST_APPROX, .k = 0, .workers = 2, .producer = -1, .shading = 0, .prefetch = 1,
+    *o = (c5_cast_opts){.mode = C5_CAST_APPROX, .k = 0, .workers = 2, .producer = -1, .shading = 0, .prefetch = C5_CAST_PREFETCH_CELLS,
                         .sub_bricks = 1, .self_produce = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
 }
 
@@ -292,6 +314,8 @@ static int check_args(const c5_cast_camera *cam, int w, int h, const c5_cast_opt
         return c5_fail(err, "cast: queue depth must be 0..1024 (got %d)", o->queue_depth);
     if (o->mode < 0 || o->mode >= C5_CAST_MODES)
         return c5_fail(err, "cast: unknown mode %d", (int)o->mode);
+    if (o->prefetch < 0 || o->prefetch >= C5_CAST_PREFETCHES)
+        return c5_fail(err, "cast: unknown prefetch %d", (int)o->prefetch);
     if (!(o->step >= 0) || !isfinite(o->step))
         return c5_fail(err, "cast: step must be finite and >= 0 (got %g)", o->step);
     if (!(cam->tan_half > 0) || !isfinite(cam->tan_half))

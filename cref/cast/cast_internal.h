@@ -62,7 +62,7 @@ typedef struct {
     float clamp_hi[3];      /* the workers' position clamp per axis (cast_sample.h) */
     double delta_v[3];      /* dilation of every box for the producer's rays, voxel units */
     double margin_t;        /* added to both ends of each segment, world units */
-    int lookahead;          /* samples ahead of the current one that the prefetch looks at */
+    int lookahead;          /* samples ahead of the current one that the brick prefetch looks at */
     uint64_t hash_r[3];     /* the universal hash's random factors, in (0, PR) */
     float (*shade)[2];      /* per normal code: diffuse and specular factors of the headlight */
     /* the octree classified through this frame's TF (c5_cast_view_classify): per node

@@ -1,6 +1,6 @@
 /* The workers (the paper's SPEs, sec. 5.1): march the producer's segments of each pixel's
  * ray, reconstruct trilinearly inside one brick, classify, shade, composite front to back
- * with early ray termination, and prefetch the brick the ray is heading for.
+ * with early ray termination, and prefetch what the ray reads next (docs/caster.md, "Prefetch").
  *
  * Exactness across modes: sample j of a ray sits at t = j * step from the eye, computed from
  * j alone; a skipped sample has opacity exactly 0, and compositing such a sample adds +0 to
@@ -11,7 +11,13 @@
 #include "cast_internal.h"
 #include "cast_sample.h"
 
-static inline void prefetch_brick(const c5_cast_view *vw, size_t bi)
+/* The prefetch helpers are always inlined: GCC 12 deems a function whose body is only
+ * __builtin_prefetch free of side effects and deletes its calls (-O1 and up), which left the
+ * brick prefetch out of every build until 2026-11-21. tests/prefetch_test.sh counts them in
+ * the object file. */
+
+/* The whole brick bi (values, and normal codes when shading). */
+static inline __attribute__((always_inline)) void prefetch_brick(const c5_cast_view *vw, size_t bi)
 {
     const char *b = (const char *)(vw->v->bricks + bi * C5_CAST_BSTRIDE);
 #pragma GCC unroll 12 /* one prefetch per line, no loop around them */
@@ -21,6 +27,23 @@ static inline void prefetch_brick(const c5_cast_view *vw, size_t bi)
         const char *n = (const char *)(vw->v->normals + bi * C5_CAST_BSTRIDE);
         for (int i = 0; i < C5_CAST_BSTRIDE * 2; i += 64)
             __builtin_prefetch(n + i);
+    }
+}
+
+/* The cache lines of the cell whose first corner is v (normal codes n, NULL unshaded): the
+ * lines of its first and last corner in the two 16-byte value loads of c5_cast_tri, and of
+ * the first and last code of each pair of rows that c5_cast_shade reads. Issued in stage 1 of
+ * march_span, a batch (some hundred cycles) before stages 2 and 3 load them. */
+static inline __attribute__((always_inline)) void prefetch_cell(const uint8_t *v, const uint16_t *n)
+{
+    enum { X = C5_CAST_DX, Y = C5_CAST_DY, Z = C5_CAST_DZ };
+    __builtin_prefetch(v);
+    __builtin_prefetch(v + Z + Y + X);
+    if (n) {
+        __builtin_prefetch(n);
+        __builtin_prefetch(n + Y + X);
+        __builtin_prefetch(n + Z);
+        __builtin_prefetch(n + Z + Y + X);
     }
 }
 
@@ -71,7 +94,8 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
 {
     const float(*rgba)[4] = vw->tf->rgba;
     const float(*shade)[2] = vw->shade;
-    const int prefetch = vw->prefetch, early = vw->early, lookahead = vw->lookahead;
+    const int cells = vw->prefetch == C5_CAST_PREFETCH_CELLS, bricks = vw->prefetch == C5_CAST_PREFETCH_BRICKS;
+    const int early = vw->early, lookahead = vw->lookahead;
     c5_cast_rgba C = *acc;
     c5_cast_bkey bkey = bs->key;
     struct {
@@ -105,7 +129,7 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
                     bs->hashed = !(hash[hk / 64] >> (hk % 64) & 1);
                     bs->sub = bs->hashed ? 0 : bs->sub;
                 }
-                if (prefetch) {
+                if (bricks) {
                     int nc[3];
                     brick_of(c5_cast_pos_at(r, j + lookahead < jout ? j + lookahead : jout), nc);
                     if (nc[0] != bc[0] || nc[1] != bc[1] || nc[2] != bc[2])
@@ -123,6 +147,8 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
             kept[m].p = p, kept[m].v = bs->b + off, kept[m].j = j;
             if (shading)
                 kept[m].n = bs->n + off;
+            if (cells)
+                prefetch_cell(kept[m].v, shading ? kept[m].n : NULL);
             if (hash)
                 kept[m].hashed = hashed;
             if (++m == BATCH) {
