@@ -16,7 +16,7 @@ if ! lines=$(objdump -dl --no-show-raw-insn "$obj" 2>/dev/null |
     bad prefetch_objdump "objdump -dl $obj failed"
     summary
 fi
-for helper in prefetch_brick prefetch_cell; do
+for helper in prefetch_brick prefetch_cell_values prefetch_cell_codes; do
     first=$(grep -n "void $helper(" "$src" | head -n 1 | cut -d: -f1)
     last=$(awk -v f="$first" 'NR > f && /^}/ { print NR; exit }' "$src")
     if [ -z "$first" ] || [ -z "$last" ]; then

@@ -30,21 +30,24 @@ static inline __attribute__((always_inline)) void prefetch_brick(const c5_cast_v
     }
 }
 
-/* The cache lines of the cell whose first corner is v (normal codes n, NULL unshaded): the
- * lines of its first and last corner in the two 16-byte value loads of c5_cast_tri, and of
- * the first and last code of each pair of rows that c5_cast_shade reads. Issued in stage 1 of
- * march_span, a batch (some hundred cycles) before stages 2 and 3 load them. */
-static inline __attribute__((always_inline)) void prefetch_cell(const uint8_t *v, const uint16_t *n)
+/* The cell of a kept sample, issued in stage 1 of march_span, a batch (some hundred cycles)
+ * before stages 2 and 3 load it. Values from the cell's first corner v: the lines of its first
+ * and last corner in the two 16-byte loads of c5_cast_tri. */
+static inline __attribute__((always_inline)) void prefetch_cell_values(const uint8_t *v)
+{
+    __builtin_prefetch(v);
+    __builtin_prefetch(v + C5_CAST_DZ + C5_CAST_DY + C5_CAST_DX);
+}
+
+/* Normal codes from the cell's first n: the first and last code of each pair of rows that
+ * c5_cast_shade reads. */
+static inline __attribute__((always_inline)) void prefetch_cell_codes(const uint16_t *n)
 {
     enum { X = C5_CAST_DX, Y = C5_CAST_DY, Z = C5_CAST_DZ };
-    __builtin_prefetch(v);
-    __builtin_prefetch(v + Z + Y + X);
-    if (n) {
-        __builtin_prefetch(n);
-        __builtin_prefetch(n + Y + X);
-        __builtin_prefetch(n + Z);
-        __builtin_prefetch(n + Z + Y + X);
-    }
+    __builtin_prefetch(n);
+    __builtin_prefetch(n + Y + X);
+    __builtin_prefetch(n + Z);
+    __builtin_prefetch(n + Z + Y + X);
 }
 
 /* The brick a ray is in, carried across its segments. */
@@ -145,10 +148,13 @@ static inline __attribute__((always_inline)) int march_span(const c5_cast_view *
             }
             int off = c5_cast_pos_off(p);
             kept[m].p = p, kept[m].v = bs->b + off, kept[m].j = j;
-            if (shading)
-                kept[m].n = bs->n + off;
             if (cells)
-                prefetch_cell(kept[m].v, shading ? kept[m].n : NULL);
+                prefetch_cell_values(kept[m].v);
+            if (shading) {
+                kept[m].n = bs->n + off;
+                if (cells)
+                    prefetch_cell_codes(kept[m].n);
+            }
             if (hash)
                 kept[m].hashed = hashed;
             if (++m == BATCH) {
