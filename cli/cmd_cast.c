@@ -93,7 +93,8 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
 
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
-    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0, .prefetch = C5_CAST_PREFETCH_CELLS,
+    *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0,
+                .prefetch = C5_CAST_PREFETCH_CELLS,
                 .sub_bricks = 1, .self_produce = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};

@@ -10,12 +10,14 @@ src=cref/cast/cast_worker.c
 obj=$build/cref/cast/cast_worker.o
 . "$(dirname "$0")/lib.sh"
 
-if ! lines=$(objdump -dl --no-show-raw-insn "$obj" 2>/dev/null |
-    awk '/cast_worker\.c:[0-9]+/ { match($0, /cast_worker\.c:[0-9]+/); ln = substr($0, RSTART + 14, RLENGTH - 14) }
-         /\tprefetch/ { print ln }'); then
-    bad prefetch_objdump "objdump -dl $obj failed"
+if [ ! -f "$obj" ]; then
+    bad prefetch_object "no $obj: build first"
     summary
 fi
+# the source line of each prefetch instruction
+lines=$(objdump -dl --no-show-raw-insn "$obj" |
+    awk '/cast_worker\.c:[0-9]+/ { match($0, /cast_worker\.c:[0-9]+/); ln = substr($0, RSTART + 14, RLENGTH - 14) }
+         /\tprefetch/ { print ln }')
 for helper in prefetch_brick prefetch_cell_values prefetch_cell_codes; do
     first=$(grep -n "void $helper(" "$src" | head -n 1 | cut -d: -f1)
     last=$(awk -v f="$first" 'NR > f && /^}/ { print NR; exit }' "$src")

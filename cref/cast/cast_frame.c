@@ -53,7 +53,8 @@ int c5_cast_prefetch_parse(const char *s, c5_cast_prefetch *p)
 
 void c5_cast_opts_default(c5_cast_opts *o)
 {
-    *o = (c5_cast_opts){.mode = C5_CAST_APPROX, .k = 0, .workers = 2, .producer = -1, .shading = 0, .prefetch = C5_CAST_PREFETCH_CELLS,
+    *o = (c5_cast_opts){.mode = C5_CAST_APPROX, .k = 0, .workers = 2, .producer = -1, .shading = 0,
+                        .prefetch = C5_CAST_PREFETCH_CELLS,
                         .sub_bricks = 1, .self_produce = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
 }
 

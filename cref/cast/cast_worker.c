@@ -13,8 +13,8 @@
 
 /* The prefetch helpers are always inlined: GCC 12 deems a function whose body is only
  * __builtin_prefetch free of side effects and deletes its calls (-O1 and up), which left the
- * brick prefetch out of every build until 2026-11-21. tests/prefetch_test.sh counts them in
- * the object file. */
+ * brick prefetch out of most builds until 2026-11-21 (docs/caster.md). tests/prefetch_test.sh
+ * looks for them in the object file. */
 
 /* The whole brick bi (values, and normal codes when shading). */
 static inline __attribute__((always_inline)) void prefetch_brick(const c5_cast_view *vw, size_t bi)
