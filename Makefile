@@ -6,7 +6,9 @@ CC       ?= gcc
 CXX      ?= g++
 OPT      ?= -O2
 SAN      ?=
-CPPFLAGS += -D_DEFAULT_SOURCE -Itests -Icommon -Icref -Icref/cast -Irtl_model -Ivectors/gen -Isweep -I$(BUILD)/gen
+# One version for the three programs, the libraries' SONAMEs and pkg-config files: VERSION.
+C5_VERSION := $(shell cat VERSION)
+CPPFLAGS += -D_DEFAULT_SOURCE -DC5_VERSION='"$(C5_VERSION)"' -Itests -Icommon -Icref -Icref/cast -Irtl_model -Ivectors/gen -Isweep -I$(BUILD)/gen
 CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror -pthread $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror $(SAN)
 LDFLAGS  += -pthread $(SAN)
