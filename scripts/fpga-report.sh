@@ -118,9 +118,9 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
     echo
     echo "## Tools and target"
     echo
-    echo "- $(ghdl --version | head -n 1)"
+    echo "- $(ghdl --version | sed -n 1p)"
     echo "- $(yosys -V)"
-    echo "- $(nextpnr-ice40 --version 2>&1 | head -n 1)"
+    echo "- $(nextpnr-ice40 --version 2>&1 | sed -n 1p)"
     echo "- Target: Lattice iCE40 ${DEVICE^^}, package $PACKAGE; timing constraint ${FREQ} MHz (the paper's"
     echo "  clock), placer seed $SEED."
     echo

@@ -17,7 +17,7 @@ trap 'rm -rf "$tmp"' EXIT
 export TMPDIR=$tmp
 
 preload=libumockdev-preload.so.0
-if [ -x "$link" ] && ldd "$link" 2>/dev/null | grep -q libasan; then
+if [ -x "$link" ] && links_asan "$link"; then
     preload=$(gcc -print-file-name=libasan.so):$preload # ASan's runtime must come first
 fi
 
@@ -74,7 +74,7 @@ for args in "run --bogus -- true" "run --fault nope -- true" "run --fault stall:
     fi
 done
 
-"$board" --help | grep -q -- "--fault" && ok "cube5-board --help" || bad "cube5-board --help"
+grep -q -- "--fault" <<<"$("$board" --help)" && ok "cube5-board --help" || bad "cube5-board --help"
 
 "$board" run -- sh -c 'case "$LD_PRELOAD" in *umockdev*) [ -d "$UMOCKDEV_DIR" ];; *) false;; esac'
 rc=$?
@@ -82,7 +82,7 @@ rc=$?
 
 # (an ASan-built runner needs ASan's runtime first itself: then that is the existing entry)
 first=libc.so.6
-ldd "$board" 2>/dev/null | grep -q libasan && first=$(gcc -print-file-name=libasan.so)
+links_asan "$board" && first=$(gcc -print-file-name=libasan.so)
 LD_PRELOAD=$first "$board" run -- sh -c 'case "$LD_PRELOAD" in "$0":*umockdev*) ;; *) exit 1;; esac' "$first"
 rc=$?
 [ "$rc" -eq 0 ] && ok "an existing LD_PRELOAD stays first" || bad "an existing LD_PRELOAD stays first" "exit $rc"
