@@ -185,6 +185,74 @@ accuracy: $(BUILD)/cube5
 fpga-report: $(LAYOUTS_VHD)
 	bash scripts/fpga-report.sh $(BUILD)
 
+# ---- The installable driver library and `make install` (README.md "Install", host_driver/README.md)
+# libc5drv: the driver and the parts of the model it loads scenes with (scene parsing, super
+# volume, cells, registers and what they use: DRV_MODEL_SRC; the link fails on anything
+# missing), compiled once more with -fPIC into $(BUILD)/pic. The shared library exports only
+# c5drv_* (host_driver/c5drv.map) and the static one keeps only those global, so neither
+# leaks the model's c5_* symbols. The programs keep linking libcube5.a: nothing installed
+# needs an rpath. The model is not an installed library: its headers are internal (generated
+# layouts, structs that change with the hardware), and the programs are its interface.
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+MANDIR     ?= $(PREFIX)/share/man
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+C5_SOVERSION := $(firstword $(subst ., ,$(C5_VERSION)))
+DRV_SONAME := libc5drv.so.$(C5_SOVERSION)
+DRV_SO     := $(BUILD)/libc5drv.so.$(C5_VERSION)
+DRV_STATIC := $(BUILD)/pic/libc5drv.a
+DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/tlp.c common/volume.c \
+  common/generators.c common/tf.c common/camera.c rtl_model/cells.c rtl_model/regs.c \
+  rtl_model/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c
+DRV_PIC_OBJ := $(patsubst %.c,$(BUILD)/pic/%.o,$(DRV_SRC) $(DRV_MODEL_SRC)) $(CREFL_SRC:cref/%.c=$(BUILD)/pic/cref-long/%.o)
+DRV_PUBLIC_H := host_driver/c5drv.h $(REGS_H)
+MAN_PAGES  := man/cube5.1 man/cube5ctl.1 man/cube5-board.1
+INSTALL_BINS := $(BUILD)/cube5 $(BUILD)/cube5ctl $(BUILD)/cube5-board
+.PHONY: install uninstall
+all test: $(DRV_SO) $(DRV_STATIC)
+
+$(BUILD)/pic/%.o: %.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fPIC -MMD -MP -c $< -o $@
+
+$(BUILD)/pic/cref-long/%.o: cref/%.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) -DC5_CREF_LONG $(CFLAGS) -fPIC -MMD -MP -c $< -o $@
+
+$(DRV_SO): $(DRV_PIC_OBJ) host_driver/c5drv.map
+	$(CC) -shared $(LDFLAGS) -Wl,-soname,$(DRV_SONAME) -Wl,--version-script=host_driver/c5drv.map \
+	  -Wl,--no-undefined -o $@ $(DRV_PIC_OBJ) $(USB_LIBS) $(shell pkg-config --libs jansson) -lteem -lz -lm
+
+# One relocatable object whose only global symbols are c5drv_*.
+$(DRV_STATIC): $(DRV_PIC_OBJ)
+	$(LD) -r -o $(@D)/c5drv-all.o $^
+	objcopy --wildcard --keep-global-symbol='c5drv_*' $(@D)/c5drv-all.o
+	@rm -f $@
+	ar rcs $@ $(@D)/c5drv-all.o
+
+install: $(INSTALL_BINS) $(DRV_SO) $(DRV_STATIC) $(DRV_PUBLIC_H) $(MAN_PAGES) host_driver/c5drv.pc.in
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PKGCONFIGDIR) \
+	  $(DESTDIR)$(INCLUDEDIR)/cube5 $(DESTDIR)$(MANDIR)/man1
+	install -m 755 $(INSTALL_BINS) $(DESTDIR)$(BINDIR)/
+	install -m 755 $(DRV_SO) $(DESTDIR)$(LIBDIR)/
+	ln -sf $(notdir $(DRV_SO)) $(DESTDIR)$(LIBDIR)/$(DRV_SONAME)
+	ln -sf $(DRV_SONAME) $(DESTDIR)$(LIBDIR)/libc5drv.so
+	install -m 644 $(DRV_STATIC) $(DESTDIR)$(LIBDIR)/
+	install -m 644 $(DRV_PUBLIC_H) $(DESTDIR)$(INCLUDEDIR)/cube5/
+	install -m 644 $(MAN_PAGES) $(DESTDIR)$(MANDIR)/man1/
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' \
+	  -e 's|@VERSION@|$(C5_VERSION)|' host_driver/c5drv.pc.in > $(DESTDIR)$(PKGCONFIGDIR)/c5drv.pc
+
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(notdir $(INSTALL_BINS))) \
+	  $(addprefix $(DESTDIR)$(LIBDIR)/,$(notdir $(DRV_SO)) $(DRV_SONAME) libc5drv.so libc5drv.a) \
+	  $(addprefix $(DESTDIR)$(INCLUDEDIR)/cube5/,$(notdir $(DRV_PUBLIC_H))) \
+	  $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(notdir $(MAN_PAGES))) $(DESTDIR)$(PKGCONFIGDIR)/c5drv.pc
+	-rmdir $(DESTDIR)$(INCLUDEDIR)/cube5
+# ---- end of the install block -----------------------------------------------------------------
+
 clean:
 	rm -rf build out
 

@@ -4,14 +4,34 @@
  * libusb, a test may give it anything that moves packets.
  *
  * Every call returns C5DRV_OK (0) or a negative c5drv_status; c5drv_message says what
- * happened in words. A handle is used by one thread at a time. */
+ * happened in words. A handle is used by one thread at a time.
+ *
+ * This header is the installed public API (libc5drv, pkg-config c5drv): it includes only
+ * standard headers and the handle is opaque, so a program needs nothing of cube5's source
+ * tree. Register offsets for c5drv_reg_read/write are in the installed c5_regs_map.h. */
 #ifndef C5_DRV_H
 #define C5_DRV_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#include "image.h"
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The board's USB identity (pid.codes test VID:PID), what c5drv_open_usb looks for. */
+#define C5DRV_USB_VID 0x1209u
+#define C5DRV_USB_PID 0x0001u
+
+/* A frame as floats: linear RGB, w * h * 3 values, row-major, top row first. */
+typedef struct {
+    int w, h;
+    float *rgb;
+} c5drv_image;
+
+/* Frees the pixels of an image c5drv_read_frame filled and zeroes it (NULL or a zeroed image:
+ * nothing happens). */
+void c5drv_image_free(c5drv_image *img);
 
 typedef enum {
     C5DRV_OK = 0,
@@ -85,8 +105,9 @@ int c5drv_start_frame(c5drv *d, int frame);
 /* Serves the board's DMA reads (scene descriptor, cells) and takes its frame-buffer writes
  * until the frame completes, the board reports an error, or timeout_ms passes. */
 int c5drv_wait_frame(c5drv *d, unsigned timeout_ms);
-/* The completed frame as the model converts it (frame_acc UQ20.12 -> float). */
-int c5drv_read_frame(c5drv *d, c5_image *out);
+/* The completed frame as the model converts it (frame_acc UQ20.12 -> float), into *out
+ * (zeroed on failure); free it with c5drv_image_free. */
+int c5drv_read_frame(c5drv *d, c5drv_image *out);
 /* The raw frame buffer (3 words a pixel, frame_acc UQ20.12); valid until the next frame. */
 const uint32_t *c5drv_frame_words(const c5drv *d, int *w, int *h);
 
@@ -108,8 +129,13 @@ typedef struct {
 
 int c5drv_read_counters(c5drv *d, c5drv_counters *c);
 
-/* Register access for tools and tests (offsets from build/gen/c5_regs_map.h). */
+/* Register access for tools and tests (offsets: C5_REG_*_OFFSET in c5_regs_map.h,
+ * docs/register-map.md). */
 int c5drv_reg_read(c5drv *d, uint32_t offset, uint32_t *value);
 int c5drv_reg_write(c5drv *d, uint32_t offset, uint32_t value);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -320,15 +320,15 @@ static int cmd_render(c5drv *d, const opts *o, const char *json, const char *dir
             c5drv_reset(d); /* best effort: leave no frame running on the board */
         return status;
     }
-    c5_image img = {0};
+    c5drv_image frame = {0};
     c5drv_counters c;
-    if ((rc = c5drv_read_frame(d, &img)) || (rc = c5drv_read_counters(d, &c))) {
-        c5_image_free(&img);
+    if ((rc = c5drv_read_frame(d, &frame)) || (rc = c5drv_read_counters(d, &c))) {
+        c5drv_image_free(&frame);
         return drv_err(d, rc);
     }
     c5_err err;
-    rc = c5_image_write(o->out, &img, &err);
-    c5_image_free(&img);
+    rc = c5_image_write(o->out, &(c5_image){frame.w, frame.h, frame.rgb}, &err);
+    c5drv_image_free(&frame);
     if (rc != 0)
         return fail("%s", err.msg);
     print_counters(&c, o->json, 1);

@@ -256,17 +256,31 @@ int c5drv_wait_frame(c5drv *d, unsigned timeout_ms)
     return rc;
 }
 
-int c5drv_read_frame(c5drv *d, c5_image *out)
+void c5drv_image_free(c5drv_image *img)
 {
+    if (!img)
+        return;
+    free(img->rgb);
+    memset(img, 0, sizeof *img);
+}
+
+int c5drv_read_frame(c5drv *d, c5drv_image *out)
+{
+    if (out)
+        memset(out, 0, sizeof *out);
     int rc = drv_begin(d);
     if (rc)
         return rc;
+    if (!out)
+        return drv_fail(d, C5DRV_E_ARG, "no image to read the frame into");
     if (d->state != DRV_DONE)
         return drv_fail(d, C5DRV_E_STATE, "no completed frame");
-    c5_err err;
-    if (c5_image_alloc(out, d->hm.width, d->hm.height, &err) != 0)
-        return drv_fail(d, C5DRV_E_NOMEM, "%s", err.msg);
+    /* the size was checked against the board's limit (512 x 512) when the scene was loaded */
     size_t n = (size_t)d->hm.width * (size_t)d->hm.height * 3;
+    if (!(out->rgb = malloc(n * sizeof *out->rgb)))
+        return drv_fail(d, C5DRV_E_NOMEM, "out of memory for a %dx%d frame", d->hm.width, d->hm.height);
+    out->w = d->hm.width;
+    out->h = d->hm.height;
     const uint8_t *p = d->hm.fb.data;
     for (size_t i = 0; i < n; i++, p += 4) {
         uint32_t word = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;

@@ -10,6 +10,8 @@
 #include "c5drv.h"
 #include "tlp.h"
 
+_Static_assert(C5DRV_USB_VID == C5_USB_VID && C5DRV_USB_PID == C5_USB_PID, "c5drv.h and tlp.h name one board");
+
 typedef struct {
     libusb_context *ctx;
     libusb_device_handle *h;

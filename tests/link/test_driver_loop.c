@@ -99,7 +99,8 @@ static int model_render(const char *json, const int cells[3], c5_image *img, c5_
 /* One frame through the driver, compared bit for bit with the model. */
 static void render_matches(const char *json, const int cells[3])
 {
-    c5_image want = {0}, got = {0};
+    c5_image want = {0};
+    c5drv_image got = {0};
     c5_board_stats mst, est;
     CHECK(model_render(json, cells, &want, &mst) == 0);
     c5_emu *e = c5_emu_new(NULL);
@@ -144,7 +145,7 @@ static void render_matches(const char *json, const int cells[3])
     c5drv_close(d);
     c5_emu_free(e);
     c5_image_free(&want);
-    c5_image_free(&got);
+    c5drv_image_free(&got);
 }
 
 TEST(driver_default_1cell_matches_model)
@@ -196,7 +197,7 @@ TEST(driver_calls_out_of_order)
     c5drv *d = open_loop(e);
     CHECK(d);
     CHECK_INT(c5drv_wait_frame(d, 100), C5DRV_E_STATE);
-    c5_image img = {0};
+    c5drv_image img = {0};
     CHECK_INT(c5drv_read_frame(d, &img), C5DRV_E_STATE);
     CHECK(c5drv_frame_words(d, NULL, NULL) == NULL);
     uint32_t v;

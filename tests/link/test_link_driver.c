@@ -71,7 +71,8 @@ static void same_frame(const char *name, int w, int h, int cells, int frame)
 {
     link l;
     CHECK_MSG(up(&l, NULL) == C5DRV_OK, "%s", l.msg);
-    c5_image via = {0}, direct = {0};
+    c5drv_image via = {0};
+    c5_image direct = {0};
     c5_board_stats st;
     int rc = drv_render(&l, name, w, h, cells, frame, 120000);
     if (rc != C5DRV_OK) {
@@ -90,7 +91,7 @@ static void same_frame(const char *name, int w, int h, int cells, int frame)
     size_t n = (size_t)via.w * (size_t)via.h * 3, diff = 0;
     for (size_t i = 0; i < n; i++)
         diff += memcmp(&via.rgb[i], &direct.rgb[i], sizeof via.rgb[i]) != 0;
-    c5_image_free(&via);
+    c5drv_image_free(&via);
     c5_image_free(&direct);
     CHECK_MSG(diff == 0, "%s %dx%d cells %d frame %d: %zu of %zu channels differ", name, w, h, cells, frame, diff, n);
     CHECK_MSG(c.fetches_served == st.fetches && c.fetches == st.fetches && board_st.fetches == st.fetches,
