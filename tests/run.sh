@@ -31,6 +31,7 @@ run_suite bash tests/fpga_test.sh "$build"
 run_suite bash tests/link_test.sh "$build"
 run_suite bash tests/pipefail_lint_test.sh
 run_suite bash tests/man_test.sh "$build"
+run_suite bash tests/install_test.sh "$build"
 rm -f "$log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
