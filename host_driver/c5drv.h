@@ -105,8 +105,9 @@ int c5drv_start_frame(c5drv *d, int frame);
 /* Serves the board's DMA reads (scene descriptor, cells) and takes its frame-buffer writes
  * until the frame completes, the board reports an error, or timeout_ms passes. */
 int c5drv_wait_frame(c5drv *d, unsigned timeout_ms);
-/* The completed frame as the model converts it (frame_acc UQ20.12 -> float), into *out
- * (zeroed on failure); free it with c5drv_image_free. */
+/* The completed frame as the model converts it (frame_acc UQ20.12 -> float), into *out,
+ * which is overwritten (zeroed on failure; C5DRV_E_ARG when NULL); free it with
+ * c5drv_image_free. */
 int c5drv_read_frame(c5drv *d, c5drv_image *out);
 /* The raw frame buffer (3 words a pixel, frame_acc UQ20.12); valid until the next frame. */
 const uint32_t *c5drv_frame_words(const c5drv *d, int *w, int *h);

@@ -199,6 +199,10 @@ TEST(driver_calls_out_of_order)
     CHECK_INT(c5drv_wait_frame(d, 100), C5DRV_E_STATE);
     c5drv_image img = {0};
     CHECK_INT(c5drv_read_frame(d, &img), C5DRV_E_STATE);
+    CHECK(img.rgb == NULL && img.w == 0 && img.h == 0);
+    CHECK_INT(c5drv_read_frame(d, NULL), C5DRV_E_ARG);
+    c5drv_image_free(&img); /* a zeroed image and NULL: nothing to free */
+    c5drv_image_free(NULL);
     CHECK(c5drv_frame_words(d, NULL, NULL) == NULL);
     uint32_t v;
     CHECK_INT(c5drv_reg_read(d, 3, &v), C5DRV_E_ARG);     /* unaligned */
