@@ -10,6 +10,7 @@ pkgs=(build-essential g++ pkg-config zlib1g-dev
       libopenimageio-dev    # PNG / EXR output (OpenImageIO)
       libusb-1.0-0-dev      # the host driver's USB transport (host_driver/)
       umockdev libumockdev-dev # the emulated board as a USB device (board_emu/, tests/link_test.sh)
+      groff-base            # tests/man_test.sh renders man/*.1 with groff
       gnuplot-nox           # cube5 sweep draws sweep.png with it (pngcairo; tests/cli_test.sh), make results
       ghdl ghdl-mcode       # VHDL-2008 simulation and --synth of fpga/ (mcode: the backend
                             # that runs in place, no compiler needed; tests/fpga_test.sh)
