@@ -52,5 +52,7 @@ unsigned c5_volume_at(const c5_volume *v, size_t i);
 
 /* Multiplies dims with overflow and limit checks: 0 and the product in *count, or -1. */
 int c5_dims_product(const size_t dims[3], size_t *count);
+/* c5_dims_product says only yes or no; this re-derives why: "PATH: dims AxBxC: ...", -1. */
+int c5_dims_fail(const char *path, const size_t dims[3], c5_err *err);
 
 #endif
