@@ -143,20 +143,47 @@ static void expect_status(const c5drv *d, int rc)
         c5_fuzz_expect(c5drv_message(d)[0] != 0, "a failed call says why");
 }
 
+/* One handle for the whole run, the scene loaded once (loading costs far more than a frame):
+ * each input starts from the state a fresh handle with that scene has. The driver never
+ * writes the scene's buffers, and start_frame clears the frame buffer, so inputs do not
+ * see each other. */
+static feed f;
+static c5drv *d;
+
+static void fresh(void)
+{
+    if (!d) {
+        c5drv_transport t = {.ctx = &f, .send = f_send, .recv = f_recv, .clear_halt = f_clear_halt};
+        char msg[256];
+        c5_fuzz_expect(c5drv_open(&t, &d, msg, sizeof msg) == C5DRV_OK, "c5drv_open on a complete transport");
+        int rc = c5drv_load_scene(d, SCENE, NULL, "fuzz scene", (const int[3]){2, 1, 1}, 4, 4);
+        c5_fuzz_expect(rc == C5DRV_OK, "the fuzz scene loads");
+        f.d = d;
+    }
+    d->msg[0] = 0;
+    d->tag = 0;
+    d->gone = 0;
+    d->state = DRV_IDLE;
+    d->frame = 0;
+    d->irq = 0;
+    memset(&d->cnt, 0, sizeof d->cnt);
+    d->t_start = 0;
+    d->ur_addr = 0;
+    d->ur_seen = 0;
+    d->up_active = 0;
+    d->up_addr = d->up_end = d->up_left = 0;
+    d->up_t0 = 0;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    feed f = {.p = data, .n = size};
-    c5drv_transport t = {.ctx = &f, .send = f_send, .recv = f_recv, .clear_halt = f_clear_halt};
-    c5drv *d;
-    char msg[256];
-    if (c5drv_open(&t, &d, msg, sizeof msg) != C5DRV_OK)
-        return 0;
-    f.d = d;
-    /* loaded first: it needs no board, and later calls then have buffers to serve */
-    int rc = c5drv_load_scene(d, SCENE, NULL, "fuzz scene", (const int[3]){2, 1, 1}, 4, 4);
-    c5_fuzz_expect(rc == C5DRV_OK, "the fuzz scene loads");
+    fresh();
+    f.p = data;
+    f.n = size;
+    f.have_last = 0;
     c5drv_info info;
     expect_status(d, c5drv_identify(d, &info));
+    int rc;
     for (int frame = 0; frame < 2 && f.n >= 3; frame++) {
         expect_status(d, rc = c5drv_start_frame(d, 0));
         if (rc == C5DRV_OK)
@@ -171,6 +198,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         expect_status(d, c5drv_read_counters(d, &c));
         expect_status(d, c5drv_reset(d));
     }
-    c5drv_close(d);
     return 0;
 }
