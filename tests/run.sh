@@ -30,6 +30,7 @@ run_suite bash tests/vectors_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
 run_suite bash tests/link_test.sh "$build"
 run_suite bash tests/fuzz_replay_test.sh "$build"
+run_suite bash tests/volume_inputs_test.sh "$build"
 rm -f "$log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
