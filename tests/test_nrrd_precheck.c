@@ -79,6 +79,11 @@ TEST(nrrd_precheck_header_text)
     CHECK_REFUSED_TEXT("2d.nrrd", "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 1 1\nencoding: raw\n\nx",
                        "2-D NRRD, only 3-D");
     CHECK_REFUSED_TEXT("sizes.nrrd", HEAD3("2 2 +2", "\n"), "are not 3 whole numbers");
+    /* Teem leaks its mop refusing kinds or centers before the dimension */
+    CHECK_REFUSED_TEXT("kinds.nrrd", "NRRD0004\nkinds: domain domain domain\ntype: uchar\ndimension: 3\n",
+                       "field \"kinds\" before dimension");
+    CHECK_REFUSED_TEXT("centers.nrrd", "NRRD0004\ncenterings: cell cell cell\ndimension: 3\n",
+                       "field \"centerings\" before dimension");
 
     /* a NUL anywhere in the header (here: inside a data file name) */
     const char *p = c5t_path(0, "nul.nhdr");
