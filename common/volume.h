@@ -40,7 +40,9 @@ int c5_scivis_name(const char *path, size_t dims[3], c5_voxel_type *type);
 
 int c5_volume_load_raw(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err);
 /* NRRD through Teem: attached (.nrrd) and detached (.nhdr) headers, raw and gzip encodings,
- * either endianness; 3-D scalar uchar/ushort only (signed types and others are refused). */
+ * either endianness; 3-D scalar uchar/ushort only (signed types and others are refused).
+ * c5_nrrd_precheck (nrrd_precheck.h) reads the header and sizes the data before Teem runs;
+ * spacing[] is the header's spacings (or space directions' lengths), 0 where it gives none. */
 int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err);
 /* Dispatches on the extension: .nrrd/.nhdr to NRRD, anything else to raw. */
 int c5_volume_load(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err);
