@@ -6,40 +6,15 @@
 #include "nrrd_precheck.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <zlib.h>
 
 #define FAIL(...) c5_fail(err, __VA_ARGS__)
-
-/* Opens a file for reading without blocking (a FIFO with no writer would block open()
- * forever) and refuses anything but a regular file. Returns the descriptor, or -1 with
- * "WHERE: problem". */
-static int open_regular_fd(const char *path, const char *where, long long *size, c5_err *err)
-{
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0)
-        return FAIL("%s: cannot open: %s", where, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        FAIL("%s: cannot stat: %s", where, strerror(errno));
-        close(fd);
-        return -1;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        FAIL("%s: not a regular file", where);
-        close(fd);
-        return -1;
-    }
-    *size = (long long)st.st_size;
-    return fd;
-}
 
 /* read() until n bytes or end of file; the count read, or -1. */
 static long long read_full(int fd, unsigned char *buf, size_t n)
@@ -478,7 +453,7 @@ int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err)
     if (!path)
         return FAIL("(null): no file name");
     long long size;
-    int fd = open_regular_fd(path, path, &size, err);
+    int fd = c5_open_regular(path, path, &size, err);
     if (fd < 0)
         return -1;
     size_t cap = size < C5_NRRD_HEADER_MAX ? (size_t)size : C5_NRRD_HEADER_MAX;
@@ -520,7 +495,7 @@ int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err)
     /* Messages name the header too: the data file alone does not say where it came from. */
     char where[sizeof h->data_path + 600];
     snprintf(where, sizeof where, "%s: data file %s", path, h->data_path);
-    fd = open_regular_fd(h->data_path, where, &size, err);
+    fd = c5_open_regular(h->data_path, where, &size, err);
     if (fd >= 0)
         rc = check_data(fd, where, size, 0, h, err);
 done:

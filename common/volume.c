@@ -145,31 +145,34 @@ int c5_scivis_name(const char *path, size_t dims[3], c5_voxel_type *type)
 
 /* ---- raw ------------------------------------------------------------------------- */
 
-/* Opens a regular file and reports its size; the size check needs fstat on the very
- * file we read, and a directory would otherwise open fine and fail later obscurely.
- * O_NONBLOCK: a FIFO with no writer would block open() forever; it is refused below. */
-static FILE *open_regular(const char *path, long long *size, c5_err *err)
+int c5_open_regular(const char *path, const char *where, long long *size, c5_err *err)
 {
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    FILE *f = fd < 0 ? NULL : fdopen(fd, "rb");
-    if (!f) {
-        c5_fail(err, "%s: cannot open: %s", path, strerror(errno));
-        if (fd >= 0)
-            close(fd);
-        return NULL;
-    }
+    if (fd < 0)
+        return c5_fail(err, "%s: cannot open: %s", where, strerror(errno));
     struct stat st;
-    if (fstat(fileno(f), &st) != 0) {
-        c5_fail(err, "%s: cannot stat: %s", path, strerror(errno));
-        fclose(f);
-        return NULL;
+    if (fstat(fd, &st) != 0) {
+        c5_fail(err, "%s: cannot stat: %s", where, strerror(errno));
+        close(fd);
+        return -1;
     }
     if (!S_ISREG(st.st_mode)) {
-        c5_fail(err, "%s: not a regular file", path);
-        fclose(f);
-        return NULL;
+        c5_fail(err, "%s: not a regular file", where);
+        close(fd);
+        return -1;
     }
     *size = (long long)st.st_size;
+    return fd;
+}
+
+static FILE *open_regular(const char *path, long long *size, c5_err *err)
+{
+    int fd = c5_open_regular(path, path, size, err);
+    FILE *f = fd < 0 ? NULL : fdopen(fd, "rb");
+    if (!f && fd >= 0) {
+        c5_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        close(fd);
+    }
     return f;
 }
 

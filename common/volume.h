@@ -54,6 +54,11 @@ unsigned c5_volume_at(const c5_volume *v, size_t i);
 
 /* Multiplies dims with overflow and limit checks: 0 and the product in *count, or -1. */
 int c5_dims_product(const size_t dims[3], size_t *count);
+/* Opens a file to read, without blocking (a FIFO with no writer would block open()
+ * forever), and refuses anything but a regular file: the descriptor and the file's size, or
+ * -1 with "WHERE: cannot open: ..." / "WHERE: not a regular file". The size check needs
+ * fstat on the very file read, and a directory would otherwise open and fail obscurely. */
+int c5_open_regular(const char *path, const char *where, long long *size, c5_err *err);
 /* c5_dims_product says only yes or no; this re-derives why: "PATH: dims AxBxC: ...", -1. */
 int c5_dims_fail(const char *path, const size_t dims[3], c5_err *err);
 

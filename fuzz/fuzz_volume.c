@@ -17,6 +17,9 @@
 
 static char dir[256];
 
+/* Every input's files are unlinked after it: the folder is empty at exit. */
+static void remove_dir(void) { rmdir(dir); }
+
 static void make_dir(void)
 {
     if (dir[0])
@@ -27,6 +30,7 @@ static void make_dir(void)
         perror("fuzz_volume: mkdtemp");
         abort();
     }
+    atexit(remove_dir);
 }
 
 static void put(const char *path, const uint8_t *p, size_t n)
