@@ -31,7 +31,7 @@ static int build(const char *volumes, const char *grid, c5_supervol *sv, c5_err 
     return c5_supervol_build(&s, sv, err);
 }
 
-TEST(spacing_from_the_file_when_the_scene_gives_none)
+TEST(spacing_from_the_file_unless_the_scene_gives_one)
 {
     CHECK(write_nrrd("aniso.nrrd", "spacings: 1 1 3\n") == 0);
     c5_supervol sv;
@@ -46,13 +46,7 @@ TEST(spacing_from_the_file_when_the_scene_gives_none)
     CHECK_NEAR(sv.spacing.z / sv.spacing.x, 3, 1e-12);
     CHECK_NEAR(sv.dims[2] * sv.spacing.z, 12, 1e-9);
     c5_supervol_free(&sv);
-}
-
-TEST(spacing_from_the_scene_when_given)
-{
-    CHECK(write_nrrd("aniso.nrrd", "spacings: 1 1 3\n") == 0);
-    c5_supervol sv;
-    c5_err e = {{0}};
+    /* the scene's grid.spacing, when given, wins over the file's */
     CHECK_MSG(build("{'file': 'aniso.nrrd'}", "'spacing': [2, 2, 2]", &sv, &e) == 0, "%s", e.msg);
     CHECK_NEAR(sv.spacing.z, 2, 0);
     CHECK(strcmp(sv.spacing_source, "scene") == 0);
