@@ -39,64 +39,46 @@ typedef struct {
     const char *path;
     c5_nrrd_header *h;
     int seen_type, seen_dim, seen_sizes, seen_enc, seen_data, seen_line, seen_byte;
-    unsigned dim;
 } parse_state;
 
-/* Teem's spellings (nrrd/enumsNrrd.c, _nrrdTypeStrEqv) with the canonical name of each. */
+/* Teem's spellings of a type (nrrd/enumsNrrd.c, _nrrdTypeStrEqv), each with the name
+ * airEnumStr(nrrdType, ...) gives it, for the message. */
 static const struct {
-    const char *name, *canon;
+    const char *name, *teem;
 } TYPES[] = {
     {"signed char", "signed char"}, {"int8", "signed char"}, {"int8_t", "signed char"},
-    {"uchar", "unsigned char"}, {"unsigned char", "unsigned char"}, {"uint8", "unsigned char"},
-    {"uint8_t", "unsigned char"}, {"short", "short"}, {"short int", "short"},
-    {"signed short", "short"}, {"signed short int", "short"}, {"int16", "short"},
-    {"int16_t", "short"}, {"ushort", "unsigned short"}, {"unsigned short", "unsigned short"},
-    {"unsigned short int", "unsigned short"}, {"uint16", "unsigned short"},
-    {"uint16_t", "unsigned short"}, {"int", "int"}, {"signed int", "int"}, {"int32", "int"},
-    {"int32_t", "int"}, {"uint", "unsigned int"}, {"unsigned int", "unsigned int"},
-    {"uint32", "unsigned int"}, {"uint32_t", "unsigned int"}, {"longlong", "long long int"},
-    {"long long", "long long int"}, {"long long int", "long long int"},
-    {"signed long long", "long long int"}, {"signed long long int", "long long int"},
-    {"int64", "long long int"}, {"int64_t", "long long int"},
-    {"ulonglong", "unsigned long long int"}, {"unsigned long long", "unsigned long long int"},
-    {"unsigned long long int", "unsigned long long int"}, {"uint64", "unsigned long long int"},
-    {"uint64_t", "unsigned long long int"}, {"float", "float"}, {"double", "double"},
-    {"block", "block"},
+    {"uchar", "uchar"}, {"unsigned char", "uchar"}, {"uint8", "uchar"}, {"uint8_t", "uchar"},
+    {"short", "short"}, {"short int", "short"}, {"signed short", "short"},
+    {"signed short int", "short"}, {"int16", "short"}, {"int16_t", "short"},
+    {"ushort", "ushort"}, {"unsigned short", "ushort"}, {"unsigned short int", "ushort"},
+    {"uint16", "ushort"}, {"uint16_t", "ushort"}, {"int", "int"}, {"signed int", "int"},
+    {"int32", "int"}, {"int32_t", "int"}, {"uint", "uint"}, {"unsigned int", "uint"},
+    {"uint32", "uint"}, {"uint32_t", "uint"}, {"longlong", "longlong"}, {"long long", "longlong"},
+    {"long long int", "longlong"}, {"signed long long", "longlong"},
+    {"signed long long int", "longlong"}, {"int64", "longlong"}, {"int64_t", "longlong"},
+    {"ulonglong", "ulonglong"}, {"unsigned long long", "ulonglong"},
+    {"unsigned long long int", "ulonglong"}, {"uint64", "ulonglong"}, {"uint64_t", "ulonglong"},
+    {"float", "float"}, {"double", "double"}, {"block", "block"},
 };
-
-/* Teem's canonical names are airEnumStr(nrrdType, ...): "uchar", "short", "float", ... */
-static const char *teem_type_name(const char *canon)
-{
-    static const char *const map[][2] = {
-        {"signed char", "signed char"}, {"unsigned char", "uchar"}, {"short", "short"},
-        {"unsigned short", "ushort"}, {"int", "int"}, {"unsigned int", "uint"},
-        {"long long int", "longlong"}, {"unsigned long long int", "ulonglong"},
-        {"float", "float"}, {"double", "double"}, {"block", "block"},
-    };
-    for (size_t i = 0; i < sizeof map / sizeof map[0]; i++)
-        if (!strcmp(map[i][0], canon))
-            return map[i][1];
-    return canon;
-}
 
 static int parse_type(parse_state *s, const char *v, c5_err *err)
 {
     for (size_t i = 0; i < sizeof TYPES / sizeof TYPES[0]; i++) {
         if (strcasecmp(v, TYPES[i].name) != 0)
             continue;
-        if (!strcmp(TYPES[i].canon, "unsigned char"))
+        if (!strcmp(TYPES[i].teem, "uchar"))
             s->h->type = C5_VOX_U8;
-        else if (!strcmp(TYPES[i].canon, "unsigned short"))
+        else if (!strcmp(TYPES[i].teem, "ushort"))
             s->h->type = C5_VOX_U16;
         else
-            return FAIL("%s: unsupported voxel type '%s' (uint8 or uint16 only)", s->path,
-                        teem_type_name(TYPES[i].canon));
+            return FAIL("%s: unsupported voxel type '%s' (uint8 or uint16 only)", s->path, TYPES[i].teem);
         return 0;
     }
     return FAIL("%s: cannot read NRRD: unknown type \"%s\"", s->path, v);
 }
 
-/* Strict decimal: digits only (no sign, no space), saturating at max + 1. */
+/* Strict decimal: digits only (no sign, no space), saturating at max + 1 so that an absurd
+ * value still reaches the limit checks and their message. */
 static int parse_uint(const char *s, size_t len, unsigned long long max, unsigned long long *out)
 {
     if (len == 0)
@@ -105,9 +87,9 @@ static int parse_uint(const char *s, size_t len, unsigned long long max, unsigne
     for (size_t i = 0; i < len; i++) {
         if (s[i] < '0' || s[i] > '9')
             return -1;
-        n = n * 10 + (unsigned)(s[i] - '0');
-        if (n > max)
-            n = max + 1;
+        unsigned d = (unsigned)(s[i] - '0');
+        if (n <= max)
+            n = n > (max - d) / 10 ? max + 1 : n * 10 + d;
     }
     *out = n;
     return 0;
@@ -120,7 +102,6 @@ static int parse_dimension(parse_state *s, const char *v, c5_err *err)
         return FAIL("%s: cannot read NRRD: dimension \"%s\" is not a whole number", s->path, v);
     if (d != 3)
         return FAIL("%s: %llu-D NRRD, only 3-D scalar volumes are supported", s->path, d);
-    s->dim = 3;
     return 0;
 }
 
@@ -131,8 +112,10 @@ static int parse_sizes(parse_state *s, const char *v, c5_err *err)
         p += strspn(p, " \t");
         size_t len = strcspn(p, " \t");
         unsigned long long n;
-        if (parse_uint(p, len, (unsigned long long)SIZE_MAX - 1, &n) != 0)
+        if (parse_uint(p, len, 999999999999ull, &n) != 0)
             return FAIL("%s: cannot read NRRD: sizes \"%s\" are not 3 whole numbers", s->path, v);
+        if (n > 999999999999ull) /* saturated: quote it rather than print the cap */
+            return FAIL("%s: dims: size %.*s: every dim must be 1..%u", s->path, (int)len, p, C5_VOLUME_MAX_DIM);
         s->h->dims[a] = (size_t)n;
         p += len;
     }

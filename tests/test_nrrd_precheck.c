@@ -79,6 +79,8 @@ TEST(nrrd_precheck_header_text)
     CHECK_REFUSED_TEXT("2d.nrrd", "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 1 1\nencoding: raw\n\nx",
                        "2-D NRRD, only 3-D");
     CHECK_REFUSED_TEXT("sizes.nrrd", HEAD3("2 2 +2", "\n"), "are not 3 whole numbers");
+    CHECK_REFUSED_TEXT("huge.nrrd", HEAD3("2 99999999999999999999999 2", "\n"),
+                       "dims: size 99999999999999999999999: every dim must be 1..65535");
     /* Teem leaks its mop refusing kinds or centers before the dimension */
     CHECK_REFUSED_TEXT("kinds.nrrd", "NRRD0004\nkinds: domain domain domain\ntype: uchar\ndimension: 3\n",
                        "field \"kinds\" before dimension");
