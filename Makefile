@@ -48,9 +48,13 @@ REGS_H      := $(BUILD)/gen/c5_regs_map.h
 REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
-.PHONY: all demo test asan bench bench-peer tb results accuracy deps docs golden fpga-report clean
+.PHONY: all demo test asan bench bench-peer tb results accuracy deps docs golden fpga-report fuzz clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
-all: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
+# The fuzz harnesses (fuzz/, docs/fuzzing.md) built with this toolchain on a replay main:
+# `make test` replays the committed corpus through them (no clang, no libFuzzer).
+FUZZ_NAMES  := scene volume tlp driver
+FUZZ_REPLAY := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay-%)
+all: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
 
 deps: $(DEPS_OK)
 $(DEPS_OK): scripts/setup-deps.sh
@@ -142,11 +146,20 @@ $(BUILD)/tests/cast-nosimd: $(NOSIMD_OBJ) $(BUILD)/tests/harness.o $(BUILD)/libc
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
+$(BUILD)/fuzz/replay-%: $(BUILD)/fuzz/fuzz_%.o $(BUILD)/fuzz/replay_main.o $(BUILD)/libc5drv.a $(BUILD)/libcube5.a
+	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+# libFuzzer campaigns with clang and sanitizers, Teem's reader instrumented from its Debian
+# source (fuzz/run.sh installs what it needs): FUZZ_SECONDS per harness (default 60),
+# or FUZZ_RUNS executions; FUZZ_ONLY picks harnesses.
+fuzz: $(LAYOUTS_H) $(REGS_H)
+	bash fuzz/run.sh $(BUILD)
+
 demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(LAYOUTS_VHD) $(REGS_VHD)
+test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
 	bash tests/run.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.

@@ -214,8 +214,9 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
     } else {
         for (int i = 0; i < sv->n_sources; i++)
             printf("  volume   %s\n", sv->source_label[i]);
-        printf("  grid     %zux%zux%zu voxels, spacing %g %g %g, step %g\n", sv->dims[0], sv->dims[1], sv->dims[2],
-               sv->spacing.x, sv->spacing.y, sv->spacing.z, c5_render_step(s, sv));
+        printf("  grid     %zux%zux%zu voxels, spacing %g %g %g (%s%s), step %g\n", sv->dims[0], sv->dims[1],
+               sv->dims[2], sv->spacing.x, sv->spacing.y, sv->spacing.z, sv->spacing_source,
+               s->grid.size > 0 ? ", scaled to grid.size" : "", c5_render_step(s, sv));
     }
     printf("  scene    %d surface(s), %d light(s), max %d bounce(s)\n", s->n_surfaces, s->n_lights,
            s->render.max_bounces);
@@ -326,6 +327,12 @@ int c5_cmd_render(int argc, char **argv)
             } else {
                 json_object_set_new(o, "threads", json_integer(threads));
             }
+            if (!c5_supervol_empty(&sv))
+                json_object_set_new(o, "grid", json_pack("{s:[I, I, I], s:[f, f, f], s:s}", "dims",
+                                                         (json_int_t)sv.dims[0], (json_int_t)sv.dims[1],
+                                                         (json_int_t)sv.dims[2], "spacing", sv.spacing.x,
+                                                         sv.spacing.y, sv.spacing.z, "spacing_from",
+                                                         sv.spacing_source));
             json_object_set_new(o, "frames", per_frame);
             json_object_set_new(o, "outputs", outputs);
             per_frame = outputs = NULL;

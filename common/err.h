@@ -1,7 +1,8 @@
 /* Error reporting shared by every cube5 module.
  * A fallible function returns 0 on success and -1 on failure, after writing one line
  * (no trailing newline) into a c5_err that names the file or key and the problem.
- * The command line prints it as "cube5: error: <msg>" and exits with C5_EXIT_INPUT. */
+ * The command line prints it as "cube5: error: <msg>" and exits with C5_EXIT_INPUT.
+ * Control characters in the message (from a key or a file name) become "?". */
 #ifndef C5_ERR_H
 #define C5_ERR_H
 

@@ -56,6 +56,7 @@ typedef struct {
     c5_vec3 origin;        /* world position of the grid's low corner; default (0,0,0) */
     c5_vec3 center;        /* world position of the grid's centre */
     c5_vec3 spacing;       /* voxel size, default (1,1,1); every component > 0 */
+    int has_spacing;       /* 1: `spacing` given in the scene (it wins over a file's own) */
     double size;           /* > 0: scale spacing uniformly so the largest world extent of the
                               grid is `size` (a replaced volume keeps the scene's framing) */
     size_t dims[3];        /* default 0: the bounding box of the placed volumes */

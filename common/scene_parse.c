@@ -346,6 +346,7 @@ static int parse_grid(ctx *c, json_t *root, c5_grid_desc *g)
     if (json_object_get(o, "origin") && json_object_get(o, "center"))
         return fail(c, p, "center", "not allowed together with grid.origin (give one of them)");
     g->has_center = json_object_get(o, "center") != NULL;
+    g->has_spacing = json_object_get(o, "spacing") != NULL;
     if (get_vec(c, o, p, "origin", ANY, OPT, v3(0, 0, 0), &g->origin) ||
         get_vec(c, o, p, "center", ANY, OPT, v3(0, 0, 0), &g->center) ||
         get_vec(c, o, p, "spacing", POS, OPT, v3(1, 1, 1), &g->spacing) ||

@@ -1,5 +1,6 @@
 #include "supervol.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,10 +34,18 @@ static void window_to_u8(const c5_volume *v, const c5_volume_desc *d, uint8_t *o
     snprintf(label + used, label_len - used, " window [%g, %g]", lo, hi);
 }
 
-/* One source volume as 8-bit voxels (malloc'd) with its dims. */
-static int load_source(const c5_volume_desc *d, uint8_t **out, size_t dims[3], char *label, size_t label_len,
-                       c5_err *err)
+static const char *base_name(const char *path)
 {
+    const char *b = strrchr(path, '/');
+    return b ? b + 1 : path;
+}
+
+/* One source volume as 8-bit voxels (malloc'd) with its dims, and the file's own spacing
+ * (all 0 when it gives none for every axis: raw files, generators). */
+static int load_source(const c5_volume_desc *d, uint8_t **out, size_t dims[3], double spacing[3], char *label,
+                       size_t label_len, c5_err *err)
+{
+    spacing[0] = spacing[1] = spacing[2] = 0;
     if (d->kind == C5_SRC_GENERATOR) {
         size_t n;
         if (c5_dims_product(d->gen_dims, &n) != 0)
@@ -60,15 +69,50 @@ static int load_source(const c5_volume_desc *d, uint8_t **out, size_t dims[3], c
         c5_volume_free(&v);
         return c5_fail(err, "%s: out of memory for %zu voxels", d->path, n);
     }
-    const char *base = strrchr(d->path, '/');
-    snprintf(label, label_len, "file %s %zux%zux%zu %s", base ? base + 1 : d->path, v.dims[0], v.dims[1], v.dims[2],
+    snprintf(label, label_len, "file %s %zux%zux%zu %s", base_name(d->path), v.dims[0], v.dims[1], v.dims[2],
              v.type == C5_VOX_U16 ? "uint16" : "uint8");
     if (v.type == C5_VOX_U16)
         window_to_u8(&v, d, *out, label, label_len);
     else
         memcpy(*out, v.data, n);
     memcpy(dims, v.dims, sizeof v.dims);
+    if (v.spacing[0] > 0 && v.spacing[1] > 0 && v.spacing[2] > 0)
+        memcpy(spacing, v.spacing, sizeof v.spacing);
     c5_volume_free(&v);
+    return 0;
+}
+
+/* The rule of docs/scene-format.md ("Spacing"): the scene's grid.spacing when given, else
+ * the spacing the volume files state (every file that states one must state the same: the
+ * grid has one), else (1, 1, 1). */
+static int resolve_spacing(const c5_scene *s, const double file_sp[][3], c5_supervol *out, c5_err *err)
+{
+    if (s->grid.has_spacing) {
+        snprintf(out->spacing_source, sizeof out->spacing_source, "scene");
+        return 0;
+    }
+    int from = -1;
+    for (int i = 0; i < s->n_volumes; i++) {
+        const double *sp = file_sp[i];
+        if (!(sp[0] > 0))
+            continue;
+        if (from < 0) {
+            from = i;
+            continue;
+        }
+        const double *f = file_sp[from];
+        for (int a = 0; a < 3; a++)
+            if (fabs(sp[a] - f[a]) > 1e-9 * fmax(sp[a], f[a]))
+                return c5_fail(err, "%s: spacing %g %g %g differs from %s's %g %g %g: the grid has one spacing "
+                                    "(give grid.spacing in the scene)", s->volumes[i].path, sp[0], sp[1], sp[2],
+                               s->volumes[from].path, f[0], f[1], f[2]);
+    }
+    if (from < 0) {
+        snprintf(out->spacing_source, sizeof out->spacing_source, "default");
+        return 0;
+    }
+    out->spacing = v3(file_sp[from][0], file_sp[from][1], file_sp[from][2]);
+    snprintf(out->spacing_source, sizeof out->spacing_source, "file %s", base_name(s->volumes[from].path));
     return 0;
 }
 
@@ -91,10 +135,12 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
 
     uint8_t *src[C5_MAX_VOLUMES] = {0};
     size_t dims[C5_MAX_VOLUMES][3];
+    double file_sp[C5_MAX_VOLUMES][3];
     size_t need[3] = {0, 0, 0};
     int rc = -1;
     for (int i = 0; i < s->n_volumes; i++) {
-        if (load_source(&s->volumes[i], &src[i], dims[i], out->source_label[i], sizeof out->source_label[i], err) != 0)
+        if (load_source(&s->volumes[i], &src[i], dims[i], file_sp[i], out->source_label[i],
+                        sizeof out->source_label[i], err) != 0)
             goto done;
         out->n_sources++;
         for (int a = 0; a < 3; a++)
@@ -109,6 +155,8 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
             goto done;
         }
     }
+    if (resolve_spacing(s, file_sp, out, err) != 0)
+        goto done;
     size_t n;
     if (c5_dims_product(out->dims, &n) != 0) {
         c5_fail(err, "grid: %zux%zux%zu voxels is too large", out->dims[0], out->dims[1], out->dims[2]);

@@ -17,11 +17,16 @@ typedef struct {
     /* what was placed, for summaries */
     int n_sources;
     char source_label[C5_MAX_VOLUMES][160];
+    /* where the spacing came from (docs/scene-format.md, "Spacing"): "scene" (grid.spacing),
+     * "file NAME" (a volume file's own spacing) or "default" (1, 1, 1); before grid.size */
+    char spacing_source[180];
 } c5_supervol;
 
 /* Loads or generates every volume of the scene, maps uint16 through its window, places
- * each at its offset and resolves the grid's dims, spacing (grid.size) and origin
- * (grid.center). A scene without volumes gives an empty super volume (v == NULL). */
+ * each at its offset and resolves the grid's dims, spacing and origin (grid.center). The
+ * spacing is the scene's grid.spacing when it gives one, else the files' own spacing (they
+ * must agree), else (1, 1, 1); grid.size then scales it. A scene without volumes gives an
+ * empty super volume (v == NULL). */
 int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err);
 void c5_supervol_free(c5_supervol *sv);
 

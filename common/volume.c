@@ -8,9 +8,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <teem/nrrd.h>
+
+#include "nrrd_precheck.h"
 
 /* ---- dims ------------------------------------------------------------------------ */
 
@@ -50,8 +54,7 @@ int c5_dims_product(const size_t dims[3], size_t *count)
     return 0;
 }
 
-/* c5_dims_product says only yes or no; this re-derives why, for the message. */
-static int dims_fail(const char *path, const size_t d[3], c5_err *err)
+int c5_dims_fail(const char *path, const size_t d[3], c5_err *err)
 {
     size_t n = 0;
     if (dims_overflow(d, &n) != 0)
@@ -142,27 +145,34 @@ int c5_scivis_name(const char *path, size_t dims[3], c5_voxel_type *type)
 
 /* ---- raw ------------------------------------------------------------------------- */
 
-/* Opens a regular file and reports its size; the size check needs fstat on the very
- * file we read, and a directory would otherwise open fine and fail later obscurely. */
-static FILE *open_regular(const char *path, long long *size, c5_err *err)
+int c5_open_regular(const char *path, const char *where, long long *size, c5_err *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        c5_fail(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
+        return c5_fail(err, "%s: cannot open: %s", where, strerror(errno));
     struct stat st;
-    if (fstat(fileno(f), &st) != 0) {
-        c5_fail(err, "%s: cannot stat: %s", path, strerror(errno));
-        fclose(f);
-        return NULL;
+    if (fstat(fd, &st) != 0) {
+        c5_fail(err, "%s: cannot stat: %s", where, strerror(errno));
+        close(fd);
+        return -1;
     }
     if (!S_ISREG(st.st_mode)) {
-        c5_fail(err, "%s: not a regular file", path);
-        fclose(f);
-        return NULL;
+        c5_fail(err, "%s: not a regular file", where);
+        close(fd);
+        return -1;
     }
     *size = (long long)st.st_size;
+    return fd;
+}
+
+static FILE *open_regular(const char *path, long long *size, c5_err *err)
+{
+    int fd = c5_open_regular(path, path, size, err);
+    FILE *f = fd < 0 ? NULL : fdopen(fd, "rb");
+    if (!f && fd >= 0) {
+        c5_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        close(fd);
+    }
     return f;
 }
 
@@ -215,17 +225,19 @@ int c5_volume_load_raw(const char *path, const c5_raw_spec *spec, c5_volume *out
         return c5_fail(err, "(null): no file name");
     size_t dims[3], count, bytes;
     c5_voxel_type type;
-    if (raw_layout(path, spec, dims, &type, err) != 0)
-        return -1;
-    if (c5_dims_product(dims, &count) != 0)
-        return dims_fail(path, dims, err);
-    if (mul_size(count, voxel_size(type), &bytes) != 0)
-        return dims_fail(path, dims, err);
-
+    /* Opened first: a missing file is reported as missing, not as a name without dims. */
     long long size;
     FILE *f = open_regular(path, &size, err);
     if (!f)
         return -1;
+    if (raw_layout(path, spec, dims, &type, err) != 0) {
+        fclose(f);
+        return -1;
+    }
+    if (c5_dims_product(dims, &count) != 0 || mul_size(count, voxel_size(type), &bytes) != 0) {
+        fclose(f);
+        return c5_dims_fail(path, dims, err);
+    }
     if ((unsigned long long)size != bytes) {
         char why[64] = "truncated";
         if ((unsigned long long)size > bytes)
@@ -290,8 +302,7 @@ static int teem_fail(const char *path, c5_err *err)
     return -1;
 }
 
-/* Checks what the loader accepts; runs on the header alone so that huge sizes are
- * refused before Teem allocates anything for them. */
+/* Checks what the loader accepts in Teem's reading (the precheck read the same header). */
 static int nrrd_check(const char *path, const Nrrd *n, size_t dims[3], c5_voxel_type *type,
                       c5_err *err)
 {
@@ -315,7 +326,7 @@ static int nrrd_check(const char *path, const Nrrd *n, size_t dims[3], c5_voxel_
     }
     size_t count;
     if (c5_dims_product(dims, &count) != 0)
-        return dims_fail(path, dims, err);
+        return c5_dims_fail(path, dims, err);
     return 0;
 }
 
@@ -332,8 +343,28 @@ static double nrrd_spacing(const Nrrd *n, unsigned a)
     return airExists(s) ? fabs(s) : 0;
 }
 
-static int nrrd_load(const char *path, int header_only, Nrrd **n, c5_err *err)
+/* Teem's reading of a header the precheck passed must be the precheck's: if they ever
+ * disagreed, the sizes checked would not be the sizes Teem reads. */
+static int same_reading(const Nrrd *n, const NrrdIoState *nio, const c5_nrrd_header *h)
 {
+    const NrrdEncoding *enc = h->encoding == C5_NRRD_GZIP ? nrrdEncodingGzip : nrrdEncodingRaw;
+    int type = h->type == C5_VOX_U16 ? nrrdTypeUShort : nrrdTypeUChar;
+    if (n->dim != 3 || n->type != type || nio->encoding != enc ||
+        nio->dataFNArr->len != (h->detached ? 1u : 0u) || nio->dataFNFormat)
+        return 0;
+    for (unsigned a = 0; a < 3; a++)
+        if (n->axis[a].size != h->dims[a])
+            return 0;
+    return 1;
+}
+
+/* The precheck, then Teem's full read (nothing else of Teem ever sees a user's file). */
+static int nrrd_load(const char *path, Nrrd **n, c5_err *err)
+{
+    c5_nrrd_header h;
+    *n = NULL;
+    if (c5_nrrd_precheck_info(path, &h, err) != 0)
+        return -1;
     *n = nrrdNew();
     NrrdIoState *nio = nrrdIoStateNew();
     if (!*n || !nio) {
@@ -341,12 +372,16 @@ static int nrrd_load(const char *path, int header_only, Nrrd **n, c5_err *err)
         *n = nrrdNuke(*n);
         return c5_fail(err, "%s: out of memory", path);
     }
-    nio->skipData = header_only ? AIR_TRUE : AIR_FALSE;
     int rc = nrrdLoad(*n, path, nio);
+    int same = rc == 0 && same_reading(*n, nio, &h);
     nrrdIoStateNix(nio);
     if (rc != 0) {
         *n = nrrdNuke(*n);
         return teem_fail(path, err);
+    }
+    if (!same) {
+        *n = nrrdNuke(*n);
+        return c5_fail(err, "%s: " C5_NRRD_DISAGREE, path);
     }
     return 0;
 }
@@ -358,24 +393,10 @@ int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err)
     memset(out, 0, sizeof *out);
     if (!path)
         return c5_fail(err, "(null): no file name");
-    /* Our own open gives the same "cannot open" wording as raw files. */
-    long long size;
-    FILE *f = open_regular(path, &size, err);
-    if (!f)
-        return -1;
-    fclose(f);
-
     Nrrd *n;
-    size_t dims[3], count;
-    c5_voxel_type type;
-    if (nrrd_load(path, 1, &n, err) != 0)
-        return -1;
-    int rc = nrrd_check(path, n, dims, &type, err);
-    nrrdNuke(n);
-    if (rc != 0)
-        return -1;
-    /* Checked again on the full load: the file may have changed in between. */
-    if (nrrd_load(path, 0, &n, err) != 0)
+    size_t dims[3];
+    c5_voxel_type type = C5_VOX_NONE;
+    if (nrrd_load(path, &n, err) != 0)
         return -1;
     if (nrrd_check(path, n, dims, &type, err) != 0) {
         nrrdNuke(n);
@@ -385,20 +406,14 @@ int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err)
         nrrdNuke(n);
         return c5_fail(err, "%s: NRRD has no data", path);
     }
-    c5_dims_product(dims, &count);
-    size_t bytes = count * voxel_size(type);
-    void *data = malloc(bytes);
-    if (!data) {
-        nrrdNuke(n);
-        return c5_fail(err, "%s: out of memory for %zu bytes", path, bytes);
-    }
-    memcpy(data, n->data, bytes);
     for (unsigned a = 0; a < 3; a++)
         out->spacing[a] = nrrd_spacing(n, a);
+    /* Teem's buffer is malloc'd (airFree is free): taken over rather than copied. */
+    out->data = n->data;
+    n->data = NULL;
     nrrdNuke(n);
     memcpy(out->dims, dims, sizeof dims);
     out->type = type;
-    out->data = data;
     return 0;
 }
 

@@ -40,7 +40,9 @@ int c5_scivis_name(const char *path, size_t dims[3], c5_voxel_type *type);
 
 int c5_volume_load_raw(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err);
 /* NRRD through Teem: attached (.nrrd) and detached (.nhdr) headers, raw and gzip encodings,
- * either endianness; 3-D scalar uchar/ushort only (signed types and others are refused). */
+ * either endianness; 3-D scalar uchar/ushort only (signed types and others are refused).
+ * c5_nrrd_precheck (nrrd_precheck.h) reads the header and sizes the data before Teem runs;
+ * spacing[] is the header's spacings (or space directions' lengths), 0 where it gives none. */
 int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err);
 /* Dispatches on the extension: .nrrd/.nhdr to NRRD, anything else to raw. */
 int c5_volume_load(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err);
@@ -52,5 +54,12 @@ unsigned c5_volume_at(const c5_volume *v, size_t i);
 
 /* Multiplies dims with overflow and limit checks: 0 and the product in *count, or -1. */
 int c5_dims_product(const size_t dims[3], size_t *count);
+/* Opens a file to read, without blocking (a FIFO with no writer would block open()
+ * forever), and refuses anything but a regular file: the descriptor and the file's size, or
+ * -1 with "WHERE: cannot open: ..." / "WHERE: not a regular file". The size check needs
+ * fstat on the very file read, and a directory would otherwise open and fail obscurely. */
+int c5_open_regular(const char *path, const char *where, long long *size, c5_err *err);
+/* c5_dims_product says only yes or no; this re-derives why: "PATH: dims AxBxC: ...", -1. */
+int c5_dims_fail(const char *path, const size_t dims[3], c5_err *err);
 
 #endif

@@ -32,6 +32,8 @@ run_suite bash tests/link_test.sh "$build"
 run_suite bash tests/pipefail_lint_test.sh
 run_suite bash tests/man_test.sh "$build"
 run_suite bash tests/install_test.sh "$build"
+run_suite bash tests/fuzz_replay_test.sh "$build"
+run_suite bash tests/volume_inputs_test.sh "$build"
 rm -f "$log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
