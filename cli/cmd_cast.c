@@ -315,10 +315,32 @@ static int write_raw(const char *path, const input *in, c5_err *err)
     return 0;
 }
 
-static int same_path(const char *a, const char *b)
+/* The files cast reads: the volume (and a NRRD header's data files) or the scene's files,
+ * and a transfer-function file. */
+static int cast_inputs(const args *a, c5_file_list *in, c5_err *err)
 {
-    char ra[4096], rb[4096];
-    return realpath(a, ra) && realpath(b, rb) && !strcmp(ra, rb);
+    if (a->tf && c5_file_list_add(in, a->tf, "the transfer function file", err) != 0)
+        return -1;
+    if (!strncmp(a->input, "phantom:", 8))
+        return 0;
+    if (has_ext(a->input, ".raw") || has_ext(a->input, ".nrrd") || has_ext(a->input, ".nhdr"))
+        return c5_volume_input_files(a->input, "the input volume", in, err);
+    static c5_scene s;
+    char label[512];
+    return c5_cli_load_scene(a->input, &s, label, sizeof label, err) != 0 ||
+                   c5_cli_scene_inputs(a->input, &s, in, err) != 0
+               ? -1
+               : 0;
+}
+
+/* -o and --save-raw: checked before anything is read or written. */
+static int check_outputs(const args *a, c5_err *err)
+{
+    c5_file_list in = {0};
+    int rc = cast_inputs(a, &in, err) != 0 || (a->out && c5_cli_check_image_out(a->out, &in, err) != 0) ||
+             (a->save_raw && c5_cli_check_not_input(a->save_raw, &in, err) != 0);
+    c5_file_list_free(&in);
+    return rc ? -1 : 0;
 }
 
 int c5_cmd_cast(int argc, char **argv)
@@ -336,19 +358,8 @@ int c5_cmd_cast(int argc, char **argv)
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err))
         goto fail;
-    if (a.out) {
-        const char *dot = strrchr(a.out, '.');
-        if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr"))) {
-            c5_fail(&err, "%s: unsupported image extension (use .png or .exr)", a.out);
-            goto fail;
-        }
-    }
-    const char *outs[2] = {a.out, a.save_raw};
-    for (int i = 0; i < 2; i++)
-        if (outs[i] && (same_path(outs[i], a.input) || (a.tf && same_path(outs[i], a.tf)))) {
-            c5_fail(&err, "%s: is an input; refusing to overwrite it", outs[i]);
-            goto fail;
-        }
+    if (check_outputs(&a, &err) != 0)
+        goto fail;
     double t0 = c5_now_s();
     if (load_input(&a, &in, &err) || c5_cast_volume_make(in.vox, in.dims, in.spacing, &cv, &err))
         goto fail;

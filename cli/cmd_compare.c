@@ -223,7 +223,7 @@ int c5_cmd_compare(int argc, char **argv)
         c5_fail(&err, "--frame: the scene has %d frame(s) (0..%d), no frame %ld", frames, frames - 1, a.frame);
         goto fail;
     }
-    if (a.diff && c5_cli_check_output(a.diff, a.scene_arg, &s, &err) != 0)
+    if (a.diff && c5_cli_check_scene_image_out(a.diff, 1, a.scene_arg, &s, &err) != 0)
         goto fail;
     if (c5_supervol_build(&s, &sv, &err) != 0 || c5_cli_check_cells(a.cells, &sv, &err) != 0)
         goto fail;

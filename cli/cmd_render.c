@@ -269,7 +269,7 @@ int c5_cmd_render(int argc, char **argv)
             goto fail;
         }
     }
-    if (a.out && c5_cli_check_output(a.out, a.scene_arg, &s, &err) != 0)
+    if (a.out && c5_cli_check_scene_image_out(a.out, c5_scene_frames(&s), a.scene_arg, &s, &err) != 0)
         goto fail;
     if (c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;

@@ -462,15 +462,17 @@ int c5_cmd_sweep(int argc, char **argv)
     snprintf(csv, sizeof csv, "%s/sweep.csv", dir);
     snprintf(png, sizeof png, "%s/sweep.png", dir);
     const char *outs[2] = {csv, png};
-    for (int i = 0; i < 2; i++) {
+    c5_file_list in = {0};
+    int refused = c5_cli_scene_inputs(a.scene_arg, &s, &in, &err);
+    for (int i = 0; i < 2 && !refused; i++) {
         struct stat st;
-        if (c5_cli_check_not_input(outs[i], a.scene_arg, &s, &err) != 0)
-            goto fail;
-        if (!a.force && stat(outs[i], &st) == 0) {
-            c5_fail(&err, "%s: exists; refusing to overwrite it (give --force, or another --out)", outs[i]);
-            goto fail;
-        }
+        refused = c5_cli_check_not_input(outs[i], &in, &err);
+        if (!refused && !a.force && stat(outs[i], &st) == 0)
+            refused = c5_fail(&err, "%s: exists; refusing to overwrite it (give --force, or another --out)", outs[i]);
     }
+    c5_file_list_free(&in);
+    if (refused)
+        goto fail;
     if (c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
     if (!a.n_knobs) {

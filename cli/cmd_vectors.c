@@ -112,6 +112,22 @@ static json_t *run_scene(c5_vset *set, const vec_args *a, const char *arg, c5_er
     return rec;
 }
 
+/* DIR is cleared of an earlier set and filled with files named here: none of its entries may
+ * be a file the scenes read. Checked before the folder is touched. */
+static int check_out_dir(const vec_args *a, c5_err *err)
+{
+    static c5_scene s;
+    c5_file_list in = {0};
+    char label[512];
+    int rc = 0;
+    for (int i = 0; i < a->n_scenes && !rc; i++)
+        rc = c5_cli_load_scene(a->scenes[i], &s, label, sizeof label, err) != 0 ||
+             c5_cli_scene_inputs(a->scenes[i], &s, &in, err) != 0;
+    rc = rc || c5_cli_check_dir_out(a->out, &in, err) != 0;
+    c5_file_list_free(&in);
+    return rc ? -1 : 0;
+}
+
 int c5_cmd_vectors(int argc, char **argv)
 {
     if (c5_cli_help(argc, argv, usage_text))
@@ -119,7 +135,7 @@ int c5_cmd_vectors(int argc, char **argv)
     c5_err err;
     vec_args a;
     c5_vset set;
-    if (parse_args(argc, argv, &a, &err) != 0 || c5_vset_init(&set, a.out, (uint64_t)a.seed, a.count, &err) != 0) {
+    if (parse_args(argc, argv, &a, &err) != 0 || check_out_dir(&a, &err) != 0 || c5_vset_init(&set, a.out, (uint64_t)a.seed, a.count, &err) != 0) {
         fprintf(stderr, "cube5: error: %s\n", err.msg);
         return C5_EXIT_INPUT;
     }
