@@ -5,39 +5,18 @@
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
 
 #include "builtin_scenes.h"
 #include "cli.h"
 
 int c5_cli_scene_inputs(const char *scene_arg, const c5_scene *s, c5_file_list *in, c5_err *err)
 {
-    if (!c5_builtin_scene_json(scene_arg) && c5_file_list_add(in, scene_arg, "the scene file", err) != 0)
-        return -1;
-    for (int i = 0; i < s->n_volumes; i++) {
-        char what[32];
-        snprintf(what, sizeof what, "volume %d", i);
-        if (s->volumes[i].kind == C5_SRC_FILE && c5_volume_input_files(s->volumes[i].path, what, in, err) != 0)
-            return -1;
-    }
-    return 0;
-}
-
-/* The input that `st` is, or -1. An input that does not exist cannot be overwritten. */
-static long input_index(const struct stat *st, const c5_file_list *in)
-{
-    for (size_t i = 0; i < in->n; i++) {
-        struct stat si;
-        if (stat(in->path[i], &si) == 0 && si.st_dev == st->st_dev && si.st_ino == st->st_ino)
-            return (long)i;
-    }
-    return -1;
+    return c5_scene_input_files(c5_builtin_scene_json(scene_arg) ? NULL : scene_arg, s, in, err);
 }
 
 int c5_cli_check_not_input(const char *out, const c5_file_list *in, c5_err *err)
 {
-    struct stat st;
-    long i = stat(out, &st) == 0 ? input_index(&st, in) : -1;
+    long i = c5_file_list_find(in, out);
     if (i >= 0)
         return c5_fail(err, "%s: is %s (%s); refusing to overwrite an input", out, in->what[i], in->path[i]);
     return 0;
@@ -72,9 +51,8 @@ int c5_cli_check_dir_out(const char *dir, const c5_file_list *in, c5_err *err)
     int rc = 0;
     for (struct dirent *e; rc == 0 && (e = readdir(d)) != NULL;) {
         char path[4200];
-        struct stat st;
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        long i = strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && stat(path, &st) == 0 ? input_index(&st, in) : -1;
+        long i = strcmp(e->d_name, ".") && strcmp(e->d_name, "..") ? c5_file_list_find(in, path) : -1;
         if (i >= 0)
             rc = c5_fail(err, "%s: holds %s (%s); refusing to write into a folder with an input", dir, in->what[i],
                          in->path[i]);

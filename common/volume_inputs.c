@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <teem/nrrd.h>
+
 
 int c5_file_list_add(c5_file_list *l, const char *path, const char *what, c5_err *err)
 {
@@ -40,6 +42,17 @@ void c5_file_list_free(c5_file_list *l)
     free(l->path);
     free(l->what);
     memset(l, 0, sizeof *l);
+}
+
+long c5_file_list_find(const c5_file_list *l, const char *path)
+{
+    struct stat so, si;
+    if (stat(path, &so) != 0)
+        return -1;
+    for (size_t i = 0; i < l->n; i++)
+        if (stat(l->path[i], &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+            return (long)i;
+    return -1;
 }
 
 static int is_nrrd_name(const char *path)
@@ -128,4 +141,17 @@ int c5_volume_input_files(const char *path, const char *what, c5_file_list *l, c
     nrrdIoStateNix(nio);
     nrrdNuke(n);
     return rc;
+}
+
+int c5_scene_input_files(const char *scene_path, const c5_scene *s, c5_file_list *l, c5_err *err)
+{
+    if (scene_path && c5_file_list_add(l, scene_path, "the scene file", err) != 0)
+        return -1;
+    for (int i = 0; i < s->n_volumes; i++) {
+        char what[32];
+        snprintf(what, sizeof what, "volume %d", i);
+        if (s->volumes[i].kind == C5_SRC_FILE && c5_volume_input_files(s->volumes[i].path, what, l, err) != 0)
+            return -1;
+    }
+    return 0;
 }
