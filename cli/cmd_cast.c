@@ -14,10 +14,11 @@
 #include "cli.h"
 #include "volume.h"
 #include "clock.h"
+#include "progress.h"
 
 static const char USAGE[] =
     "usage: cube5 cast VOLUME|SCENE [-o OUT] [--views N] [--size N] [--mode MODE] [--threads N]\n"
-    "                  [--shading on|off] [--json] [options]\n"
+    "                  [--shading on|off] [--json] [--progress] [options]\n"
     "\n"
     "Renders the peer benchmark's views (../shared/bench/peer-vtk conventions: SplitMix64 cameras\n"
     "around the volume, 30-degree perspective, its transfer-function files) with the streaming-\n"
@@ -55,7 +56,7 @@ static const char USAGE[] =
     "  --dims XxYxZ       dims of a raw file whose name does not give them\n"
     "  --spacing X,Y,Z    voxel spacing (default 1,1,1, or the NRRD header's)\n"
     "  --save-raw FILE    write the voxels cast as raw uint8 (for the peer: render_vtk.py --raw)\n"
-    "  --json             the figures as JSON on stdout\n";
+    "  --json             the figures as JSON on stdout\n" C5_PROGRESS_HELP;
 
 typedef struct {
     const char *input, *out, *tf, *save_raw;
@@ -355,6 +356,7 @@ int c5_cmd_cast(int argc, char **argv)
     view_fig *fig = NULL;
     double *pass_median = NULL, *tmp = NULL;
     c5_image img = {0};
+    c5_progress prog = {0};
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err))
         goto fail;
@@ -390,6 +392,7 @@ int c5_cmd_cast(int argc, char **argv)
     o.sub_bricks = a.sub_bricks, o.queue_depth = a.queue_depth, o.self_produce = a.self_produce;
     o.producer = a.producer;
     o.step = a.step * ms_sp;
+    c5_progress_begin(&prog, "cast", a.repeats * a.views);
     for (int p = 0; p < a.repeats; p++) {
         for (int i = 0; i < a.views; i++) {
             view_fig *f = &fig[i];
@@ -403,9 +406,11 @@ int c5_cmd_cast(int argc, char **argv)
             tmp[i] = f->ms;
             if (i == 0 && p == 0 && a.out && c5_image_write(a.out, &img, &err))
                 goto fail;
+            c5_progress_step(&prog, p * a.views + i + 1, "view %d: %.2f ms", i, f->ms);
         }
         pass_median[p] = median(tmp, a.views);
     }
+    c5_progress_end(&prog);
     double ms_med = median(pass_median, a.repeats), prod = 0, work = 0, imb = 0, samples = 0, mean = 0;
     int k_min = 16, k_max = 1;
     for (int i = 0; i < a.views; i++) {
@@ -457,10 +462,15 @@ int c5_cmd_cast(int argc, char **argv)
         printf("median %.2f ms/frame (%.1f fps), mean %.2f ms; producer %.2f ms, worker %.2f ms per frame; "
                "load imbalance %.1f%%; %.0f samples per frame; setup %.0f ms\n",
                ms_med, 1000 / ms_med, mean, prod, work, imb, samples, setup_ms);
+        if (a.out)
+            printf("image %s (the first view)\n", a.out);
+        if (a.save_raw)
+            printf("voxels %s (raw uint8, %zux%zux%zu)\n", a.save_raw, in.dims[0], in.dims[1], in.dims[2]);
     }
     rc = 0;
     goto done;
 fail:
+    c5_progress_end(&prog);
     fprintf(stderr, "cube5: error: cast: %s\n", err.msg);
 done:
     c5_image_free(&img);

@@ -4,7 +4,6 @@
 #include <dirent.h>
 #include <stdio.h>
 #include <string.h>
-#include <strings.h>
 
 #include "builtin_scenes.h"
 #include "cli.h"
@@ -24,10 +23,7 @@ int c5_cli_check_not_input(const char *out, const c5_file_list *in, c5_err *err)
 
 int c5_cli_check_image_out(const char *out, const c5_file_list *in, c5_err *err)
 {
-    const char *dot = strrchr(out, '.');
-    if (!dot || (strcasecmp(dot, ".png") != 0 && strcasecmp(dot, ".exr") != 0))
-        return c5_fail(err, "%s: unsupported image extension (use .png or .exr)", out);
-    return c5_cli_check_not_input(out, in, err);
+    return c5_image_check_out(out, err) != 0 ? -1 : c5_cli_check_not_input(out, in, err);
 }
 
 int c5_cli_check_frames_out(const char *out, int n, const c5_file_list *in, c5_err *err)
