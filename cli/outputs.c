@@ -23,7 +23,7 @@ int c5_cli_check_not_input(const char *out, const c5_file_list *in, c5_err *err)
 
 int c5_cli_check_image_out(const char *out, const c5_file_list *in, c5_err *err)
 {
-    return c5_image_check_out(out, err) != 0 ? -1 : c5_cli_check_not_input(out, in, err);
+    return c5_cli_check_not_input(out, in, err) != 0 ? -1 : c5_image_check_out(out, err);
 }
 
 int c5_cli_check_frames_out(const char *out, int n, const c5_file_list *in, c5_err *err)
