@@ -39,35 +39,21 @@ typedef struct {
     int frame, cells[3], have_cells, w, h, json;
 } opts;
 
-static int vfail(int status, const char *fmt, va_list ap)
+/* One error line; returns the exit status: fail() for a failure while running (1),
+ * bad_input() for the scene or the output path (2). */
+static int failure(int status, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int failure(int status, const char *fmt, ...)
 {
+    va_list ap;
+    va_start(ap, fmt);
     fprintf(stderr, "cube5ctl: error: ");
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
+    va_end(ap);
     return status;
 }
-
-/* A failure while running: exit 1. */
-static int fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int fail(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int rc = vfail(EXIT_FAIL, fmt, ap);
-    va_end(ap);
-    return rc;
-}
-
-/* Bad input (the scene, the output path): exit 2. */
-static int bad_input(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int bad_input(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int rc = vfail(EXIT_USAGE, fmt, ap);
-    va_end(ap);
-    return rc;
-}
+#define fail(...) failure(EXIT_FAIL, __VA_ARGS__)
+#define bad_input(...) failure(EXIT_USAGE, __VA_ARGS__)
 
 /* s as a JSON string body: quotes, backslashes and control characters dropped (a serial
  * number holds none of them). */
