@@ -22,7 +22,7 @@ extern char **environ;
 
 static const char usage[] =
     "usage: cube5-board run [--serial S] [--fault KIND[:TYPE[:NTH[:REPEAT]]]] -- PROGRAM [ARGS...]\n"
-    "       cube5-board --help\n";
+    "       cube5-board --help | --version\n";
 
 static const char help[] =
     "Runs PROGRAM with an emulated cube5 board (VID:PID 1209:0001) on a umockdev USB bus.\n"
@@ -106,7 +106,7 @@ static int parse_fault(const char *spec, c5_fault *f, char *why, size_t cap)
 
 static int usage_error(const char *fmt, const char *arg)
 {
-    fprintf(stderr, "cube5-board: ");
+    fprintf(stderr, "cube5-board: error: ");
     fprintf(stderr, fmt, arg);
     fprintf(stderr, "\n%s", usage);
     return 2;
@@ -175,19 +175,19 @@ static int run(int argc, char **argv)
 
     prctl(PR_SET_TIMERSLACK, 1UL); /* the preload sleeps after every emulated ioctl; inherited */
     if (set_child_env()) {
-        fprintf(stderr, "cube5-board: out of memory\n");
+        fprintf(stderr, "cube5-board: error: out of memory\n");
         return 1;
     }
     c5_emu *board = c5_emu_new(serial);
     if (!board) {
-        fprintf(stderr, "cube5-board: could not create the board\n");
+        fprintf(stderr, "cube5-board: error: could not create the board\n");
         return 1;
     }
     if (have_fault)
         c5_emu_set_fault(board, &fault);
     c5_usb_device *usb = c5_usb_device_new(board, why, sizeof why);
     if (!usb) {
-        fprintf(stderr, "cube5-board: %s\n", why);
+        fprintf(stderr, "cube5-board: error: %s\n", why);
         c5_emu_free(board);
         return 1;
     }
@@ -203,7 +203,7 @@ static int run(int argc, char **argv)
     int status = 0, rc;
     int e = posix_spawnp(&pid, argv[i], NULL, NULL, argv + i, environ);
     if (e) {
-        fprintf(stderr, "cube5-board: %s: %s\n", argv[i], strerror(e));
+        fprintf(stderr, "cube5-board: error: %s: %s\n", argv[i], strerror(e));
         rc = 127;
     } else {
         child = pid;
@@ -223,6 +223,10 @@ int main(int argc, char **argv)
         fputs(usage, stdout);
         fputs("\n", stdout);
         fputs(help, stdout);
+        return 0;
+    }
+    if (argc >= 2 && strcmp(argv[1], "--version") == 0) {
+        printf("cube5-board %s\n", C5_VERSION);
         return 0;
     }
     if (argc < 2)

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
 
 #include "builtin_scenes.h"
 
@@ -84,32 +83,6 @@ int c5_cli_replace_volume(c5_scene *s, const char *arg, c5_err *err)
     d->kind = C5_SRC_FILE;
     strcpy(d->path, path);
     memcpy(d->offset, off, sizeof off);
-    return 0;
-}
-
-static int same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-}
-
-int c5_cli_check_not_input(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err)
-{
-    if (same_file(out, scene_arg))
-        return c5_fail(err, "%s: is the scene file; refusing to overwrite an input", out);
-    for (int i = 0; i < s->n_volumes; i++)
-        if (s->volumes[i].kind == C5_SRC_FILE && same_file(out, s->volumes[i].path))
-            return c5_fail(err, "%s: is an input volume; refusing to overwrite an input", out);
-    return 0;
-}
-
-int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err)
-{
-    if (c5_cli_check_not_input(out, scene_arg, s, err) != 0)
-        return -1;
-    const char *dot = strrchr(out, '.');
-    if (!dot || (strcasecmp(dot, ".png") != 0 && strcasecmp(dot, ".exr") != 0))
-        return c5_fail(err, "%s: unsupported image extension (use .png or .exr)", out);
     return 0;
 }
 

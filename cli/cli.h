@@ -8,6 +8,7 @@
 #include "err.h"
 #include "scene.h"
 #include "supervol.h"
+#include "volume_inputs.h"
 
 /* Strict number parsing of option values: the whole string, in range, else an error
  * naming the option. */
@@ -47,11 +48,21 @@ int c5_cli_scene_arg(const char *cmd, const char *arg, const char **scene_arg, i
 /* Collects "--volume [I=]FILE" (at most C5_MAX_VOLUMES) for c5_cli_replace_volume. */
 int c5_cli_add_volume(const char *v, const char **volumes, int *n, c5_err *err);
 
-/* Refuses an output path that names an input (the scene file, a volume file). */
-int c5_cli_check_not_input(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err);
-/* Refuses, before any work, an output path with an extension other than .png/.exr or one
- * that names an input (the scene file, a volume file). */
-int c5_cli_check_output(const char *out, const char *scene_arg, const c5_scene *s, c5_err *err);
+/* Output safety (cli/outputs.c): every file a command reads, and the refusal, with exit 2
+ * before anything is written, of an output that is one of them (by device and inode, so
+ * through any name, link or hard link). */
+/* Adds the scene file (not a built-in scene) and each volume's files (c5_volume_input_files). */
+int c5_cli_scene_inputs(const char *scene_arg, const c5_scene *s, c5_file_list *in, c5_err *err);
+int c5_cli_check_not_input(const char *out, const c5_file_list *in, c5_err *err);
+/* An image output: .png or .exr, and no input. */
+int c5_cli_check_image_out(const char *out, const c5_file_list *in, c5_err *err);
+/* Every file `-o OUT` names over n frames (c5_cli_frame_path): .png or .exr, and no input. */
+int c5_cli_check_frames_out(const char *out, int n, const c5_file_list *in, c5_err *err);
+/* A folder a command writes files of its own naming into (and clears): none of its entries
+ * may be an input. */
+int c5_cli_check_dir_out(const char *dir, const c5_file_list *in, c5_err *err);
+/* The scene's inputs, then c5_cli_check_frames_out: the images of render -o and compare --diff. */
+int c5_cli_check_scene_image_out(const char *out, int n, const char *scene_arg, const c5_scene *s, c5_err *err);
 /* OUT for frame i of n: OUT itself when n == 1, else BASE_0007.EXT. */
 void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);
 

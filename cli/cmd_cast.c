@@ -14,10 +14,11 @@
 #include "cli.h"
 #include "volume.h"
 #include "clock.h"
+#include "progress.h"
 
 static const char USAGE[] =
     "usage: cube5 cast VOLUME|SCENE [-o OUT] [--views N] [--size N] [--mode MODE] [--threads N]\n"
-    "                  [--shading on|off] [--json] [options]\n"
+    "                  [--shading on|off] [--json] [--progress] [options]\n"
     "\n"
     "Renders the peer benchmark's views (../shared/bench/peer-vtk conventions: SplitMix64 cameras\n"
     "around the volume, 30-degree perspective, its transfer-function files) with the streaming-\n"
@@ -55,7 +56,7 @@ static const char USAGE[] =
     "  --dims XxYxZ       dims of a raw file whose name does not give them\n"
     "  --spacing X,Y,Z    voxel spacing (default 1,1,1, or the NRRD header's)\n"
     "  --save-raw FILE    write the voxels cast as raw uint8 (for the peer: render_vtk.py --raw)\n"
-    "  --json             the figures as JSON on stdout\n";
+    "  --json             the figures as JSON on stdout\n" C5_PROGRESS_HELP;
 
 typedef struct {
     const char *input, *out, *tf, *save_raw;
@@ -315,10 +316,32 @@ static int write_raw(const char *path, const input *in, c5_err *err)
     return 0;
 }
 
-static int same_path(const char *a, const char *b)
+/* The files cast reads: the volume (and a NRRD header's data files) or the scene's files,
+ * and a transfer-function file. */
+static int cast_inputs(const args *a, c5_file_list *in, c5_err *err)
 {
-    char ra[4096], rb[4096];
-    return realpath(a, ra) && realpath(b, rb) && !strcmp(ra, rb);
+    if (a->tf && c5_file_list_add(in, a->tf, "the transfer function file", err) != 0)
+        return -1;
+    if (!strncmp(a->input, "phantom:", 8))
+        return 0;
+    if (has_ext(a->input, ".raw") || has_ext(a->input, ".nrrd") || has_ext(a->input, ".nhdr"))
+        return c5_volume_input_files(a->input, "the input volume", in, err);
+    static c5_scene s;
+    char label[512];
+    return c5_cli_load_scene(a->input, &s, label, sizeof label, err) != 0 ||
+                   c5_cli_scene_inputs(a->input, &s, in, err) != 0
+               ? -1
+               : 0;
+}
+
+/* -o and --save-raw: checked before anything is read or written. */
+static int check_outputs(const args *a, c5_err *err)
+{
+    c5_file_list in = {0};
+    int rc = cast_inputs(a, &in, err) != 0 || (a->out && c5_cli_check_image_out(a->out, &in, err) != 0) ||
+             (a->save_raw && c5_cli_check_not_input(a->save_raw, &in, err) != 0);
+    c5_file_list_free(&in);
+    return rc ? -1 : 0;
 }
 
 int c5_cmd_cast(int argc, char **argv)
@@ -333,22 +356,12 @@ int c5_cmd_cast(int argc, char **argv)
     view_fig *fig = NULL;
     double *pass_median = NULL, *tmp = NULL;
     c5_image img = {0};
+    c5_progress prog = {0};
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err))
         goto fail;
-    if (a.out) {
-        const char *dot = strrchr(a.out, '.');
-        if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr"))) {
-            c5_fail(&err, "%s: unsupported image extension (use .png or .exr)", a.out);
-            goto fail;
-        }
-    }
-    const char *outs[2] = {a.out, a.save_raw};
-    for (int i = 0; i < 2; i++)
-        if (outs[i] && (same_path(outs[i], a.input) || (a.tf && same_path(outs[i], a.tf)))) {
-            c5_fail(&err, "%s: is an input; refusing to overwrite it", outs[i]);
-            goto fail;
-        }
+    if (check_outputs(&a, &err) != 0)
+        goto fail;
     double t0 = c5_now_s();
     if (load_input(&a, &in, &err) || c5_cast_volume_make(in.vox, in.dims, in.spacing, &cv, &err))
         goto fail;
@@ -379,6 +392,7 @@ int c5_cmd_cast(int argc, char **argv)
     o.sub_bricks = a.sub_bricks, o.queue_depth = a.queue_depth, o.self_produce = a.self_produce;
     o.producer = a.producer;
     o.step = a.step * ms_sp;
+    c5_progress_begin(&prog, "cast", a.repeats * a.views);
     for (int p = 0; p < a.repeats; p++) {
         for (int i = 0; i < a.views; i++) {
             view_fig *f = &fig[i];
@@ -392,9 +406,11 @@ int c5_cmd_cast(int argc, char **argv)
             tmp[i] = f->ms;
             if (i == 0 && p == 0 && a.out && c5_image_write(a.out, &img, &err))
                 goto fail;
+            c5_progress_step(&prog, p * a.views + i + 1, "view %d: %.2f ms", i, f->ms);
         }
         pass_median[p] = median(tmp, a.views);
     }
+    c5_progress_end(&prog);
     double ms_med = median(pass_median, a.repeats), prod = 0, work = 0, imb = 0, samples = 0, mean = 0;
     int k_min = 16, k_max = 1;
     for (int i = 0; i < a.views; i++) {
@@ -446,10 +462,15 @@ int c5_cmd_cast(int argc, char **argv)
         printf("median %.2f ms/frame (%.1f fps), mean %.2f ms; producer %.2f ms, worker %.2f ms per frame; "
                "load imbalance %.1f%%; %.0f samples per frame; setup %.0f ms\n",
                ms_med, 1000 / ms_med, mean, prod, work, imb, samples, setup_ms);
+        if (a.out)
+            printf("image %s (the first view)\n", a.out);
+        if (a.save_raw)
+            printf("voxels %s (raw uint8, %zux%zux%zu)\n", a.save_raw, in.dims[0], in.dims[1], in.dims[2]);
     }
     rc = 0;
     goto done;
 fail:
+    c5_progress_end(&prog);
     fprintf(stderr, "cube5: error: cast: %s\n", err.msg);
 done:
     c5_image_free(&img);

@@ -12,11 +12,13 @@
 #include "cref.h"
 #include "metrics.h"
 #include "clock.h"
+#include "progress.h"
 
 static const char usage_text[] =
     "usage: cube5 compare [SCENE|FILE.json] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
     "                     [--size WxH] [--frame I] [--diff OUT.png] [--gain G] [--json]\n"
-    "                     [--volume [I=]FILE] [--threads N] [--ref-precision double|long]\n\n"
+    "                     [--volume [I=]FILE] [--threads N] [--ref-precision double|long]\n"
+    "                     [--progress]\n\n"
     "Renders one frame of a scene (default: 'default') with cref, the reference, and with the\n"
     "bit-accurate board model, then prints how far the model's image is from cref's (PSNR,\n"
     "RMSE, largest error, overall and per channel, and a histogram of the errors in 8-bit\n"
@@ -30,7 +32,7 @@ static const char usage_text[] =
     "  --json            print one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
     "  --threads N       cref's worker threads (default: one per CPU); the model uses one\n"
-    "  --ref-precision P cref in double (default) or long (long double; docs/stability.md)\n";
+    "  --ref-precision P cref in double (default) or long (long double; docs/stability.md)\n" C5_PROGRESS_HELP;
 
 typedef struct {
     const char *scene_arg, *diff;
@@ -213,6 +215,7 @@ int c5_cmd_compare(int argc, char **argv)
     char label[1100];
     c5_supervol sv = {0};
     compare_result r;
+    c5_progress prog = {0};
     memset(&r, 0, sizeof r);
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err) != 0 ||
@@ -223,7 +226,7 @@ int c5_cmd_compare(int argc, char **argv)
         c5_fail(&err, "--frame: the scene has %d frame(s) (0..%d), no frame %ld", frames, frames - 1, a.frame);
         goto fail;
     }
-    if (a.diff && c5_cli_check_output(a.diff, a.scene_arg, &s, &err) != 0)
+    if (a.diff && c5_cli_check_scene_image_out(a.diff, 1, a.scene_arg, &s, &err) != 0)
         goto fail;
     if (c5_supervol_build(&s, &sv, &err) != 0 || c5_cli_check_cells(a.cells, &sv, &err) != 0)
         goto fail;
@@ -232,13 +235,17 @@ int c5_cmd_compare(int argc, char **argv)
     c5_cref_opts copts = {.threads = (int)a.threads};
     c5_board_opts bopts = {.key = a.key};
     memcpy(bopts.cells, a.cells, sizeof bopts.cells);
+    c5_progress_begin(&prog, "compare", 2);
     double t0 = c5_now_s();
     if ((a.ref_long ? c5_cref_render_long : c5_cref_render)(&s, &sv, (int)a.frame, &copts, &r.ref, &r.cref, &err) !=
         0)
         goto fail;
     double t1 = c5_now_s();
+    c5_progress_step(&prog, 1, "cref: %.2f s", t1 - t0);
     if (c5_board_render(&s, &sv, (int)a.frame, &bopts, &r.test, &r.board, &err) != 0)
         goto fail;
+    c5_progress_step(&prog, 2, "rtl model: %.2f s", c5_now_s() - t1);
+    c5_progress_end(&prog);
     r.cref_wall_s = t1 - t0;
     r.model_wall_s = c5_now_s() - t1;
     if (c5_image_compare(&r.ref, &r.test, &r.d, &err) != 0)
@@ -260,6 +267,7 @@ int c5_cmd_compare(int argc, char **argv)
     c5_supervol_free(&sv);
     return 0;
 fail:
+    c5_progress_end(&prog);
     result_free(&r);
     c5_supervol_free(&sv);
     fprintf(stderr, "cube5: error: %s\n", err.msg);

@@ -8,10 +8,11 @@
 #include "board.h"
 #include "cli.h"
 #include "cref.h"
+#include "progress.h"
 
 static const char usage_text[] =
     "usage: cube5 render [SCENE|FILE.json] [-o OUT] [--threads N] [--frames N]\n"
-    "                    [--size WxH] [--volume [I=]FILE] [--json]\n"
+    "                    [--size WxH] [--volume [I=]FILE] [--json] [--progress]\n"
     "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n\n"
     "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file\n"
     "with cref, the double-precision reference renderer, or with the bit-accurate board model.\n\n"
@@ -30,7 +31,7 @@ static const char usage_text[] =
     "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n"
     "  --json            print one JSON object instead of the text summary; each frame\n"
     "                    has \"crc32\", a CRC-32 of its float RGB pixels, and with rtl\n"
-    "                    \"board\", the model's counters\n";
+    "                    \"board\", the model's counters\n" C5_PROGRESS_HELP;
 
 typedef struct {
     const char *scene_arg, *out;
@@ -202,7 +203,7 @@ static void print_board(const render_args *a, const c5_board_stats *b)
 }
 
 static void print_text(const char *label, const c5_scene *s, const c5_supervol *sv, int frames, int threads,
-                       const render_args *a, const c5_cref_stats *st, const c5_board_stats *board, const char *out)
+                       const render_args *a, const c5_cref_stats *st, const c5_board_stats *board, const json_t *outputs)
 {
     printf("cube5 render: %s, %dx%d, %d frame(s), ", label, s->render.width, s->render.height, frames);
     if (a->rtl)
@@ -228,7 +229,16 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
     if (board)
         print_board(a, board);
     printf("  time     %.3f s%s\n", st->wall_s, board ? " (host)" : "");
-    printf("  image    %s\n", out ? out : "not written (give -o OUT)");
+    /* The files written: each one, or with many frames the first and the last. */
+    size_t n = json_array_size(outputs);
+    if (n == 0)
+        printf("  image    not written (give -o OUT)\n");
+    else if (n <= 4)
+        for (size_t i = 0; i < n; i++)
+            printf("  image    %s\n", json_string_value(json_array_get(outputs, i)));
+    else
+        printf("  images   %zu files, %s ... %s\n", n, json_string_value(json_array_get(outputs, 0)),
+               json_string_value(json_array_get(outputs, n - 1)));
 }
 
 /* One frame through the chosen model: the image, the cref-shaped statistics and, for rtl,
@@ -270,7 +280,7 @@ int c5_cmd_render(int argc, char **argv)
             goto fail;
         }
     }
-    if (a.out && c5_cli_check_output(a.out, a.scene_arg, &s, &err) != 0)
+    if (a.out && c5_cli_check_scene_image_out(a.out, c5_scene_frames(&s), a.scene_arg, &s, &err) != 0)
         goto fail;
     if (c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
@@ -281,6 +291,8 @@ int c5_cmd_render(int argc, char **argv)
     c5_cref_stats total = {0};
     c5_board_stats board_total = {0};
     json_t *per_frame = json_array(), *outputs = json_array();
+    c5_progress prog;
+    c5_progress_begin(&prog, "render", frames);
     rc = 0;
     for (int f = 0; f < frames && rc == 0; f++) {
         c5_image img;
@@ -309,7 +321,11 @@ int c5_cmd_render(int argc, char **argv)
                 json_array_append_new(outputs, json_string(path));
         }
         c5_image_free(&img);
+        if (rc == 0)
+            c5_progress_step(&prog, f + 1, "frame %d%s%s", f, a.out ? ": " : "",
+                             a.out ? json_string_value(json_array_get(outputs, (size_t)f)) : "");
     }
+    c5_progress_end(&prog);
     if (rc == 0) {
         int threads = c5_cref_thread_count((int)a.threads);
         if (a.json) {
@@ -341,8 +357,7 @@ int c5_cmd_render(int argc, char **argv)
             free(text);
             json_decref(o);
         } else {
-            print_text(label, &s, &sv, frames, threads, &a, &total, a.rtl ? &board_total : NULL,
-                       frames > 1 && a.out ? "one file per frame" : a.out);
+            print_text(label, &s, &sv, frames, threads, &a, &total, a.rtl ? &board_total : NULL, outputs);
         }
     }
     json_decref(per_frame);

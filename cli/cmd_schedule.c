@@ -8,11 +8,12 @@
 #include "board.h"
 #include "cli.h"
 #include "dsp_sched.h"
+#include "progress.h"
 
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
     "                      [--split paper|lookahead|rollout] [--exact-states N] [--tree-nodes N]\n"
-    "                      [--still] [--volume [I=]FILE] [--json]\n\n"
+    "                      [--still] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
     "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"
@@ -34,7 +35,7 @@ static const char usage_text[] =
     "                    when it gives up: the best proven bound and the best schedule found\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
     "  --json            one JSON object instead of the text\n"
-    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n";
+    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_PROGRESS_HELP;
 
 #define EXACT_STATES_DEFAULT 200000
 #define EXACT_NODES_MAX 4096
@@ -248,9 +249,20 @@ static int same_bits(const c5_image *a, const c5_image *b)
     return a->w == b->w && a->h == b->h && !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * (size_t)a->h);
 }
 
-/* Frame f: the Max Work baseline, then the board as it runs (following `prev`, the schedule
- * made from frame f-1's tree, when there is one), then the DSP's work on this frame's tree. */
-static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f, const c5_schedule *prev,
+/* Why frame f runs Max Work when it does: there is no previous frame, the previous tree
+ * overflowed the DSP RAM, or it was empty (no ray reached a cell: nothing to schedule). */
+static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
+{
+    if (f == 0 || !prev)
+        return "maxwork (first frame)";
+    return prev->overflow ? "maxwork (previous tree overflowed)" : "maxwork (previous tree empty)";
+}
+
+/* Frame f: the Max Work baseline, then the board as it runs (following the schedule the DSP
+ * made from frame f-1's tree, `prev`, when there is one), then the DSP's work on this frame's
+ * tree. */
+static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f,
+                     const c5_dsp_sched_result *prev,
                      c5_ctree *trees, frame_row *row, c5_err *err)
 {
     c5_image mw_img = {0}, ct_img = {0};
@@ -263,11 +275,11 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         goto done;
     c5_ctree *tree = &trees[0];
     row->ct = mw;
-    row->followed = f == 0 ? "maxwork (first frame)" : "maxwork (previous tree overflowed)";
-    if (prev && prev->len > 0) {
+    row->followed = maxwork_reason(f, prev);
+    if (prev && prev->next.len > 0) {
         o.sched = C5_SCHED_EXTERNAL;
-        o.schedule = prev->cells;
-        o.schedule_len = prev->len;
+        o.schedule = prev->next.cells;
+        o.schedule_len = prev->next.len;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
         if (c5_board_render(s, sv, f, &o, &ct_img, &row->ct, err) != 0)
@@ -321,9 +333,16 @@ int c5_cmd_schedule(int argc, char **argv)
         c5_fail(&err, "out of memory for %d frames", frames);
         goto fail;
     }
-    for (int f = 0; f < frames; f++)
-        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch.next : NULL, trees, &rows[f], &err) != 0)
+    c5_progress prog;
+    c5_progress_begin(&prog, "schedule", frames);
+    for (int f = 0; f < frames; f++) {
+        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, trees, &rows[f], &err) != 0) {
+            c5_progress_end(&prog);
             goto fail;
+        }
+        c5_progress_step(&prog, f + 1, "frame %d: %s", f, rows[f].followed);
+    }
+    c5_progress_end(&prog);
     if (a.json)
         print_json(&a, &s, rows, frames);
     else

@@ -1,6 +1,6 @@
 /* cube5 sweep: error against run time over the renderers' settings (sweep/sweep.h,
- * docs/sweep.md). Writes DIR/sweep.csv and DIR/sweep.png (gnuplot, pngcairo), one progress
- * line per run on stderr, and a table (or --json) on stdout. */
+ * docs/sweep.md). Writes DIR/sweep.csv and DIR/sweep.png (gnuplot, pngcairo), progress per
+ * run on stderr (cli/progress.h), and a table (or --json) on stdout. */
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
@@ -10,16 +10,17 @@
 #include <sys/stat.h>
 
 #include "cli.h"
+#include "progress.h"
 #include "sweep.h"
 
 static const char usage_text[] =
     "usage: cube5 sweep [SCENE|FILE.json] [--knob NAME=V1,V2,...]... [--out DIR] [--force]\n"
-    "                   [--size N|WxH] [--threads N] [--volume [I=]FILE] [--json]\n\n"
+    "                   [--size N|WxH] [--threads N] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders a scene over a range of one setting at a time (the others at the scene's values)\n"
     "and puts each image's error against a converged reference (PSNR, RMSE, largest error, as\n"
     "cube5 compare reports them) next to its cost (host wall time; modelled board time for the\n"
     "board model). Writes DIR/sweep.csv and DIR/sweep.png (RMSE against time, log-log, the\n"
-    "Pareto front drawn; needs gnuplot) and prints one progress line per run on stderr.\n"
+    "Pareto front drawn; needs gnuplot).\n"
     "Definitions and the reference: docs/sweep.md.\n\n"
     "knobs (NAME=V1,V2,...; --knob may be given once per knob):\n"
     "  step=V,...        sample step in voxels (the grid's smallest spacing), (0, 7.99): cref, model\n"
@@ -34,7 +35,7 @@ static const char usage_text[] =
     "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
     "  --threads N       cref's threads and the caster's workers (default: one per CPU)\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
-    "  --json            one JSON object on stdout instead of the table\n";
+    "  --json            one JSON object on stdout instead of the table\n" C5_PROGRESS_HELP;
 
 typedef struct {
     const char *scene_arg, *out_dir;
@@ -433,6 +434,18 @@ static void print_text(const char *label, const c5_scene *s, const c5_sweep_ctx 
     printf("  wrote %s and %s\n", csv, png);
 }
 
+/* Progress over the reference renders and then the rows, numbered together. */
+typedef struct {
+    c5_progress p;
+    int done;
+} sweep_progress;
+
+static void ref_progress(void *arg, const char *what, double s)
+{
+    sweep_progress *sp = arg;
+    c5_progress_step(&sp->p, ++sp->done, "%s: %.2f s", what, s);
+}
+
 int c5_cmd_sweep(int argc, char **argv)
 {
     if (c5_cli_help(argc, argv, usage_text))
@@ -445,6 +458,7 @@ int c5_cmd_sweep(int argc, char **argv)
     c5_sweep_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
     sweep_row *rows = NULL;
+    sweep_progress prog = {{0}, 0};
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err) != 0 ||
         c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
@@ -462,15 +476,17 @@ int c5_cmd_sweep(int argc, char **argv)
     snprintf(csv, sizeof csv, "%s/sweep.csv", dir);
     snprintf(png, sizeof png, "%s/sweep.png", dir);
     const char *outs[2] = {csv, png};
-    for (int i = 0; i < 2; i++) {
+    c5_file_list in = {0};
+    int refused = c5_cli_scene_inputs(a.scene_arg, &s, &in, &err);
+    for (int i = 0; i < 2 && !refused; i++) {
         struct stat st;
-        if (c5_cli_check_not_input(outs[i], a.scene_arg, &s, &err) != 0)
-            goto fail;
-        if (!a.force && stat(outs[i], &st) == 0) {
-            c5_fail(&err, "%s: exists; refusing to overwrite it (give --force, or another --out)", outs[i]);
-            goto fail;
-        }
+        refused = c5_cli_check_not_input(outs[i], &in, &err);
+        if (!refused && !a.force && stat(outs[i], &st) == 0)
+            refused = c5_fail(&err, "%s: exists; refusing to overwrite it (give --force, or another --out)", outs[i]);
     }
+    c5_file_list_free(&in);
+    if (refused)
+        goto fail;
     if (c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
     if (!a.n_knobs) {
@@ -503,8 +519,8 @@ int c5_cmd_sweep(int argc, char **argv)
     rc = C5_EXIT_RUNTIME;
     if (c5_sweep_init(&ctx, &s, &sv, (int)a.threads, need_cast, &err) != 0)
         goto fail;
-    fprintf(stderr, "sweep: %s, %dx%d, %d runs after the reference\n", label, s.render.width, s.render.height, n);
-    if (c5_sweep_reference(&ctx, finest, stderr, &err) != 0)
+    c5_progress_begin(&prog.p, "sweep", c5_sweep_reference_steps(&ctx) + n);
+    if (c5_sweep_reference(&ctx, finest, ref_progress, &prog, &err) != 0)
         goto fail;
     rows = calloc((size_t)n, sizeof *rows);
     if (!rows) {
@@ -532,15 +548,15 @@ int c5_cmd_sweep(int argc, char **argv)
                     r->res = rows[r->same_as].res;
                 else if (c5_sweep_run(&ctx, r->r, &r->p, &r->res, &err) != 0)
                     goto fail;
-                fprintf(stderr, "[%d/%d] %s=%g %s ... ", at + 1, n, kn->name, kn->v[i], c5_sweep_renderer_name(r->r));
+                const char *rn = c5_sweep_renderer_name(r->r);
                 if (!r->res.ok)
-                    fprintf(stderr, "refused: %s\n", r->res.msg);
+                    c5_progress_step(&prog.p, ++prog.done, "%s=%g %s: refused: %s", kn->name, kn->v[i], rn, r->res.msg);
                 else if (r->same_as >= 0)
-                    fprintf(stderr, "%.2f s, RMSE %.3e (the run of [%d/%d])\n", r->res.host_s, r->res.rmse,
-                            r->same_as + 1, n);
+                    c5_progress_step(&prog.p, ++prog.done, "%s=%g %s: %.2f s, RMSE %.3e (the run of row %d)", kn->name,
+                                     kn->v[i], rn, r->res.host_s, r->res.rmse, r->same_as + 1);
                 else
-                    fprintf(stderr, "%.2f s, RMSE %.3e\n", r->res.host_s, r->res.rmse);
-                fflush(stderr);
+                    c5_progress_step(&prog.p, ++prog.done, "%s=%g %s: %.2f s, RMSE %.3e", kn->name, kn->v[i], rn,
+                                     r->res.host_s, r->res.rmse);
                 at++;
             }
     }
@@ -566,18 +582,19 @@ int c5_cmd_sweep(int argc, char **argv)
                 *(board ? &rows[i].pareto_board : &rows[i].pareto_host) = 1;
     }
     free(t), free(e), free(on);
+    c5_progress_end(&prog.p);
     if (write_csv(csv, rows, n, &err) != 0 || write_png(png, label, s.render.width, s.render.height, rows, n, &a, &err))
         goto fail;
     if (a.json)
         print_json(label, &s, &ctx, rows, n, csv, png);
     else
         print_text(label, &s, &ctx, rows, n, csv, png);
-    fprintf(stderr, "sweep: wrote %s and %s\n", csv, png);
     free(rows);
     c5_sweep_free(&ctx);
     c5_supervol_free(&sv);
     return 0;
 fail:
+    c5_progress_end(&prog.p);
     free(rows);
     c5_sweep_free(&ctx);
     c5_supervol_free(&sv);

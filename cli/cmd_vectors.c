@@ -7,9 +7,11 @@
 #include "blocks.h"
 #include "builtin_scenes.h"
 #include "cli.h"
+#include "progress.h"
 
 static const char usage_text[] =
-    "usage: cube5 vectors [--out DIR] [--scene S ...] [--count N] [--seed N] [--size WxH] [--cells N|NxMxK]\n\n"
+    "usage: cube5 vectors [--out DIR] [--scene S ...] [--count N] [--seed N] [--size WxH] [--cells N|NxMxK]\n"
+    "                     [--progress]\n\n"
     "Writes input and expected-output vectors for every block of the board model into DIR\n"
     "(default out/vectors): BLOCK.SOURCE.hex files (hex text, one vector per line, fixed\n"
     "columns) and manifest.json (each file's block, fields, widths, count, seed, scene and\n"
@@ -24,7 +26,7 @@ static const char usage_text[] =
     "                  first cycles of a trace); default 256\n"
     "  --seed N        seed of the random cases and samples (default 1)\n"
     "  --size WxH      image size of the scenes (default 64x64)\n"
-    "  --cells N|NxMxK cell split of the scenes (default 2: 8 cells)\n";
+    "  --cells N|NxMxK cell split of the scenes (default 2: 8 cells)\n" C5_PROGRESS_HELP;
 
 #define MAX_SCENES 32
 
@@ -112,6 +114,22 @@ static json_t *run_scene(c5_vset *set, const vec_args *a, const char *arg, c5_er
     return rec;
 }
 
+/* DIR is cleared of an earlier set and filled with files named here: none of its entries may
+ * be a file the scenes read. Checked before the folder is touched. */
+static int check_out_dir(const vec_args *a, c5_err *err)
+{
+    static c5_scene s;
+    c5_file_list in = {0};
+    char label[512];
+    int rc = 0;
+    for (int i = 0; i < a->n_scenes && !rc; i++)
+        rc = c5_cli_load_scene(a->scenes[i], &s, label, sizeof label, err) != 0 ||
+             c5_cli_scene_inputs(a->scenes[i], &s, &in, err) != 0;
+    rc = rc || c5_cli_check_dir_out(a->out, &in, err) != 0;
+    c5_file_list_free(&in);
+    return rc ? -1 : 0;
+}
+
 int c5_cmd_vectors(int argc, char **argv)
 {
     if (c5_cli_help(argc, argv, usage_text))
@@ -119,13 +137,17 @@ int c5_cmd_vectors(int argc, char **argv)
     c5_err err;
     vec_args a;
     c5_vset set;
-    if (parse_args(argc, argv, &a, &err) != 0 || c5_vset_init(&set, a.out, (uint64_t)a.seed, a.count, &err) != 0) {
+    if (parse_args(argc, argv, &a, &err) != 0 || check_out_dir(&a, &err) != 0 || c5_vset_init(&set, a.out, (uint64_t)a.seed, a.count, &err) != 0) {
         fprintf(stderr, "cube5: error: %s\n", err.msg);
         return C5_EXIT_INPUT;
     }
     int rc = 0;
-    for (int i = 0; i < c5_n_vblock_gens && rc == 0; i++)
+    c5_progress prog;
+    c5_progress_begin(&prog, "vectors", c5_n_vblock_gens + a.n_scenes);
+    for (int i = 0; i < c5_n_vblock_gens && rc == 0; i++) {
         rc = c5_vblock_gens[i]->directed(&set);
+        c5_progress_step(&prog, i + 1, "%s: directed", c5_vblock_gens[i]->name);
+    }
     json_t *scenes = json_array();
     for (int i = 0; i < a.n_scenes && rc == 0; i++) {
         json_t *rec = run_scene(&set, &a, a.scenes[i], &err);
@@ -133,7 +155,9 @@ int c5_cmd_vectors(int argc, char **argv)
             rc = -1;
         else
             json_array_append_new(scenes, rec);
+        c5_progress_step(&prog, c5_n_vblock_gens + i + 1, "scene %s", a.scenes[i]);
     }
+    c5_progress_end(&prog);
     if (rc != 0 || set.failed) {
         json_decref(scenes);
         c5_vset_abort(&set);

@@ -1,44 +1,83 @@
-/* cube5: the command-line tool. One subcommand per job; `cube5 CMD --help` for each. */
+/* cube5: the command-line tool. One subcommand per job; `cube5 help CMD` (or `cube5 CMD
+ * --help`) for each. Conventions shared with cube5ctl and cube5-board (README, "Conventions"):
+ * errors as "cube5: error: ...", exit 0 ok, 1 failure while running, 2 bad input or usage. */
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
+#include "progress.h"
 
 static const struct {
     const char *name;
     c5_cmd_fn fn;
+    int progress; /* takes --progress: a run can last long */
     const char *summary;
 } cmds[] = {
-    {"cast", c5_cmd_cast, "the streaming-model volume ray caster over the peer benchmark's views (fps)"},
-    {"compare", c5_cmd_compare, "render a frame with cref and the board model and compare the images"},
-    {"render", c5_cmd_render, "render a scene with cref or the board model (--model rtl)"},
-    {"schedule", c5_cmd_schedule, "the Cell Tree scheduler against Max Work over a scene's frames"},
-    {"scenes", c5_cmd_scenes, "list the built-in scenes"},
-    {"sweep", c5_cmd_sweep, "error against time over step, early termination, bounces, widths, the caster's k"},
-    {"vectors", c5_cmd_vectors, "golden vectors of every block for the VHDL testbenches"},
+    {"cast", c5_cmd_cast, 1, "the streaming-model volume ray caster over the peer benchmark's views (fps)"},
+    {"compare", c5_cmd_compare, 1, "render a frame with cref and the board model and compare the images"},
+    {"render", c5_cmd_render, 1, "render a scene with cref or the board model (--model rtl)"},
+    {"schedule", c5_cmd_schedule, 1, "the Cell Tree scheduler against Max Work over a scene's frames"},
+    {"scenes", c5_cmd_scenes, 0, "list the built-in scenes"},
+    {"sweep", c5_cmd_sweep, 1, "error against time over step, early termination, bounces, widths, the caster's k"},
+    {"vectors", c5_cmd_vectors, 1, "golden vectors of every block for the VHDL testbenches"},
 };
+#define N_CMDS (sizeof cmds / sizeof cmds[0])
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: cube5 COMMAND [ARGS]\n\ncommands:\n");
-    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
+    fprintf(f, "usage: cube5 COMMAND [ARGS]\n       cube5 help [COMMAND] | --version\n\ncommands:\n");
+    for (size_t i = 0; i < N_CMDS; i++)
         fprintf(f, "  %-8s %s\n", cmds[i].name, cmds[i].summary);
-    fprintf(f, "  %-8s %s\n", "help", "this text; 'cube5 COMMAND --help' for a command");
+    fprintf(f, "  %-8s %s\n", "help", "this text; 'cube5 help COMMAND' (or 'cube5 COMMAND --help') for a command");
+    fprintf(f, "\nEvery command but scenes shows its progress on stderr when stderr is a terminal, and\n"
+               "with --progress one line per step (never on stdout). Exit status: 0 ok, 1 a failure\n"
+               "while running, 2 bad input or usage; errors read 'cube5: error: ...'.\n");
+}
+
+static long find_cmd(const char *name)
+{
+    for (size_t i = 0; i < N_CMDS; i++)
+        if (!strcmp(name, cmds[i].name))
+            return (long)i;
+    return -1;
 }
 
 int main(int argc, char **argv)
 {
     if (argc < 2) {
         usage(stderr);
-        return 2;
+        return C5_EXIT_INPUT;
     }
-    if (!strcmp(argv[1], "help") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-        usage(stdout);
+    if (!strcmp(argv[1], "--version")) {
+        printf("cube5 %s\n", C5_VERSION);
         return 0;
     }
-    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
-        if (!strcmp(argv[1], cmds[i].name))
-            return cmds[i].fn(argc - 1, argv + 1);
-    fprintf(stderr, "cube5: error: unknown command '%s' (see 'cube5 help')\n", argv[1]);
-    return 2;
+    if (!strcmp(argv[1], "help") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        if (argc == 2 || strcmp(argv[1], "help")) {
+            usage(stdout);
+            return 0;
+        }
+        long c = find_cmd(argv[2]);
+        if (c < 0 || argc > 3) {
+            fprintf(stderr, "cube5: error: %s '%s' (see 'cube5 help')\n", c < 0 ? "unknown command" : "unexpected argument",
+                    argv[c < 0 ? 2 : 3]);
+            return C5_EXIT_INPUT;
+        }
+        char help[] = "--help", *sub[] = {argv[2], help, NULL};
+        return cmds[c].fn(2, sub);
+    }
+    long c = find_cmd(argv[1]);
+    if (c < 0) {
+        fprintf(stderr, "cube5: error: unknown command '%s' (see 'cube5 help')\n", argv[1]);
+        return C5_EXIT_INPUT;
+    }
+    /* --progress means the same to every long command: taken out here, before it parses. */
+    int n = 1;
+    for (int i = 2; i < argc; i++)
+        if (cmds[c].progress && !strcmp(argv[i], "--progress"))
+            c5_progress_requested = 1;
+        else
+            argv[1 + n++] = argv[i];
+    argv[1 + n] = NULL;
+    return cmds[c].fn(n, argv + 1);
 }

@@ -16,6 +16,9 @@ void c5_image_free(c5_image *img);
 /* The format follows the extension: .png (8-bit, values clamped to [0,1], rounded to
  * nearest of 255 levels, no gamma) or .exr (32-bit float, exact). Anything else is an error. */
 int c5_image_write(const char *path, const c5_image *img, c5_err *err);
+/* What c5_image_write refuses whatever the image, checked before the work that makes it: the
+ * extension, and a folder that is missing, not a folder or not writable. */
+int c5_image_check_out(const char *path, c5_err *err);
 /* Reads any format OpenImageIO knows into RGB floats (extra channels dropped, grey
  * replicated). Used by tests and comparisons. */
 int c5_image_read(const char *path, c5_image *img, c5_err *err);

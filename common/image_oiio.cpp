@@ -98,33 +98,61 @@ struct TempFile {
 
 enum class Fmt { PNG, EXR };
 
-int write_impl(const char *path, const c5_image *img, c5_err *err)
+// The parts of an output path and its format; refuses, naming `path`, what cannot be written
+// whatever the pixels: no or another extension, a folder that is missing, not a folder or
+// not writable.
+struct OutPath {
+    std::string dir, base, ext, lower;
+    Fmt fmt;
+};
+
+int out_path(const char *path, OutPath &o, c5_err *err)
 {
     if (!path || !*path)
         return c5_fail(err, "image: no output path given");
-    if (!img || !img->rgb || img->w < 1 || img->w > kMaxSide || img->h < 1 || img->h > kMaxSide)
-        return c5_fail(err, "%s: internal error: invalid image to write", path);
-
     const std::string p(path);
     const size_t slash = p.rfind('/');
-    const std::string dir = slash == std::string::npos ? std::string() : p.substr(0, slash + 1);
-    const std::string base = slash == std::string::npos ? p : p.substr(slash + 1);
-    const size_t dot = base.rfind('.');
+    o.dir = slash == std::string::npos ? std::string() : p.substr(0, slash + 1);
+    o.base = slash == std::string::npos ? p : p.substr(slash + 1);
+    const size_t dot = o.base.rfind('.');
     if (dot == std::string::npos)
         return c5_fail(err, "%s: missing image extension (use .png or .exr)", path);
-    const std::string ext = base.substr(dot);
-    std::string lower = ext;
-    for (char &c : lower)
+    o.ext = o.base.substr(dot);
+    o.lower = o.ext;
+    for (char &c : o.lower)
         if (c >= 'A' && c <= 'Z')
             c = static_cast<char>(c - 'A' + 'a');
-    Fmt fmt;
-    if (lower == ".png")
-        fmt = Fmt::PNG;
-    else if (lower == ".exr")
-        fmt = Fmt::EXR;
+    if (o.lower == ".png")
+        o.fmt = Fmt::PNG;
+    else if (o.lower == ".exr")
+        o.fmt = Fmt::EXR;
     else
         return c5_fail(err, "%s: unsupported image extension '%s' (use .png or .exr)", path,
-                       ext.c_str());
+                       o.ext.c_str());
+    const std::string why = dir_problem(o.dir);
+    if (!why.empty())
+        return c5_fail(err, "%s: cannot write: folder %s: %s", path,
+                       o.dir.empty() ? "." : o.dir.c_str(), why.c_str());
+    return 0;
+}
+
+// OpenImageIO's message names the temporary file; the user gave `path`.
+std::string user_named(std::string msg, const std::string &tmp, const char *path)
+{
+    for (size_t at; (at = msg.find(tmp)) != std::string::npos;)
+        msg.replace(at, tmp.size(), path);
+    return msg;
+}
+
+int write_impl(const char *path, const c5_image *img, c5_err *err)
+{
+    OutPath op;
+    if (out_path(path, op, err) != 0)
+        return -1;
+    if (!img || !img->rgb || img->w < 1 || img->w > kMaxSide || img->h < 1 || img->h > kMaxSide)
+        return c5_fail(err, "%s: internal error: invalid image to write", path);
+    const std::string &dir = op.dir, &base = op.base, &ext = op.ext, &lower = op.lower;
+    const Fmt fmt = op.fmt;
 
     const int w = img->w, h = img->h;
     const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h) * 3;
@@ -161,19 +189,20 @@ int write_impl(const char *path, const c5_image *img, c5_err *err)
 
     tmp.armed = true; // open() may create the file even when it fails
     if (!out->open(tmp.path, spec)) {
-        std::string e = first_line(out->geterror());
+        std::string e = user_named(first_line(out->geterror()), tmp.path, path);
         add_reason(e, "directory " + (dir.empty() ? std::string(".") : dir), dir_problem(dir));
         return c5_fail(err, "%s: cannot write: %s", path, e.c_str());
     }
     const bool ok = fmt == Fmt::PNG ? out->write_image(TypeDesc::UINT8, bytes.data())
                                     : out->write_image(TypeDesc::FLOAT, img->rgb);
     if (!ok) {
-        std::string e = first_line(out->geterror());
+        std::string e = user_named(first_line(out->geterror()), tmp.path, path);
         out->close();
         return c5_fail(err, "%s: cannot write: %s", path, e.c_str());
     }
     if (!out->close())
-        return c5_fail(err, "%s: cannot write: %s", path, first_line(out->geterror()).c_str());
+        return c5_fail(err, "%s: cannot write: %s", path,
+                       user_named(first_line(out->geterror()), tmp.path, path).c_str());
     out.reset();
 
     if (std::rename(tmp.path.c_str(), path) != 0) {
@@ -232,6 +261,16 @@ int read_impl(const char *path, c5_image *img, c5_err *err)
 }
 
 } // namespace
+
+extern "C" int c5_image_check_out(const char *path, c5_err *err)
+{
+    try {
+        OutPath op;
+        return out_path(path, op, err);
+    } catch (...) {
+        return c5_fail(err, "%s: cannot write: out of memory", path ? path : "image");
+    }
+}
 
 extern "C" int c5_image_write(const char *path, const c5_image *img, c5_err *err)
 {

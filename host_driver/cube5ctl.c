@@ -1,18 +1,20 @@
 /* cube5ctl: drives a cube5 board (real or emulated, it cannot tell) through the host driver.
- * Errors: one line "cube5ctl: <message>" on stderr, exit 1; usage errors exit 2. */
+ * Errors: one line "cube5ctl: error: <message>" on stderr; exit 2 for bad input or usage (an
+ * option, the scene, an output over an input), 1 for a failure while running (the board, the
+ * link, writing the image). */
 #include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
 
 #include "builtin_scenes.h"
 #include "c5drv.h"
 #include "image.h"
 #include "scene.h"
 #include "tlp.h"
+#include "volume_inputs.h"
 
 #define EXIT_FAIL 1
 #define EXIT_USAGE 2
@@ -21,6 +23,7 @@
 
 static const char usage[] =
     "usage: cube5ctl [--device VID:PID[:SERIAL]] [--timeout MS] COMMAND\n"
+    "       cube5ctl --help | --version\n"
     "  info                         the board's id, register map version and serial number\n"
     "  render SCENE -o OUT [--frame N] [--cells N|NxMxK] [--size WxH] [--json]\n"
     "                               renders a frame of SCENE (a built-in scene name or a .json\n"
@@ -36,17 +39,21 @@ typedef struct {
     int frame, cells[3], have_cells, w, h, json;
 } opts;
 
-static int fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int fail(const char *fmt, ...)
+/* One error line; returns the exit status: fail() for a failure while running (1),
+ * bad_input() for the scene or the output path (2). */
+static int failure(int status, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int failure(int status, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "cube5ctl: ");
+    fprintf(stderr, "cube5ctl: error: ");
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
-    return EXIT_FAIL;
+    return status;
 }
+#define fail(...) failure(EXIT_FAIL, __VA_ARGS__)
+#define bad_input(...) failure(EXIT_USAGE, __VA_ARGS__)
 
 /* s as a JSON string body: quotes, backslashes and control characters dropped (a serial
  * number holds none of them). */
@@ -59,7 +66,7 @@ static void json_safe(const char *s)
 
 static int usage_err(const char *what, const char *arg)
 {
-    fprintf(stderr, "cube5ctl: %s%s%s (see cube5ctl --help)\n", what, arg ? " " : "", arg ? arg : "");
+    fprintf(stderr, "cube5ctl: error: %s%s%s (see cube5ctl --help)\n", what, arg ? " " : "", arg ? arg : "");
     return EXIT_USAGE;
 }
 
@@ -125,7 +132,7 @@ static int parse_device(const char *s, opts *o)
     return 0;
 }
 
-/* Returns 0, or an exit status (usage errors) after printing. -1: --help printed. */
+/* Returns 0, or an exit status (usage errors) after printing. -1: --help or --version printed. */
 static int parse_args(int argc, char **argv, opts *o)
 {
     for (int i = 1; i < argc; i++) {
@@ -135,6 +142,9 @@ static int parse_args(int argc, char **argv, opts *o)
         int n;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(usage, stdout);
+            return -1;
+        } else if (!strcmp(a, "--version")) {
+            printf("cube5ctl %s\n", C5_VERSION);
             return -1;
         } else if (!strcmp(a, "--json")) {
             o->json = 1;
@@ -223,12 +233,6 @@ static char *read_file(const char *path, const char **why)
     return buf;
 }
 
-static int same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-}
-
 /* The scene's JSON (built-in or file) and the folder its relative volume paths start from. */
 static int scene_text(const char *arg, char **json, char *dir, size_t dcap)
 {
@@ -240,33 +244,38 @@ static int scene_text(const char *arg, char **json, char *dir, size_t dcap)
     }
     size_t n = strlen(arg);
     if (n < 5 || strcmp(arg + n - 5, ".json") != 0)
-        return fail("'%s' is neither a built-in scene nor a .json file", arg);
+        return bad_input("'%s' is neither a built-in scene nor a .json file", arg);
     const char *why = "";
     if (!(*json = read_file(arg, &why)))
-        return fail("%s: %s", arg, why);
+        return bad_input("%s: %s", arg, why);
     const char *slash = strrchr(arg, '/');
     snprintf(dir, dcap, "%.*s", slash ? (int)(slash - arg) + (slash == arg) : 1, slash ? arg : ".");
     return 0;
 }
 
-/* Refuses, before any work, an output that is the scene or a volume file, or not .png/.exr. */
+/* Refuses, before any work, an output that is not .png/.exr or is an input: the scene file, a
+ * volume file or a data file a NRRD header names (common/volume_inputs.h). */
 static int check_output(const opts *o, const char *json, const char *dir)
 {
     const char *dot = strrchr(o->out, '.');
     if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr")))
-        return fail("%s: unsupported image extension (use .png or .exr)", o->out);
-    if (same_file(o->out, o->scene))
-        return fail("%s: is the scene file; refusing to overwrite an input", o->out);
+        return bad_input("%s: unsupported image extension (use .png or .exr)", o->out);
     c5_scene *s = calloc(1, sizeof *s);
+    c5_file_list in = {0};
     c5_err err;
     if (!s)
         return fail("out of memory");
     int rc = 0;
-    if (c5_scene_parse(json, dir[0] ? dir : NULL, o->scene, s, &err) == 0)
-        for (int i = 0; i < s->n_volumes && !rc; i++)
-            if (s->volumes[i].kind == C5_SRC_FILE && same_file(o->out, s->volumes[i].path))
-                rc = fail("%s: is an input volume; refusing to overwrite an input", o->out);
+    if (dir[0] && c5_file_list_add(&in, o->scene, "the scene file", &err) != 0)
+        rc = fail("%s", err.msg);
     /* a scene that does not parse is reported by the driver's load with its own message */
+    else if (c5_scene_parse(json, dir[0] ? dir : NULL, o->scene, s, &err) == 0 &&
+             c5_scene_input_files(NULL, s, &in, &err) != 0)
+        rc = bad_input("%s", err.msg);
+    long i = rc ? -1 : c5_file_list_find(&in, o->out);
+    if (i >= 0)
+        rc = bad_input("%s: is %s (%s); refusing to overwrite an input", o->out, in.what[i], in.path[i]);
+    c5_file_list_free(&in);
     free(s);
     return rc;
 }
@@ -332,6 +341,8 @@ static int cmd_render(c5drv *d, const opts *o, const char *json, const char *dir
     if (rc != 0)
         return fail("%s", err.msg);
     print_counters(&c, o->json, 1);
+    if (!o->json)
+        printf("image %s\n", o->out);
     return 0;
 }
 
@@ -343,9 +354,9 @@ int main(int argc, char **argv)
         return rc < 0 ? 0 : rc;
     char *json = NULL, dir[4096] = "";
     if (!strcmp(o.cmd, "render") &&
-        (scene_text(o.scene, &json, dir, sizeof dir) || check_output(&o, json, dir))) {
+        ((rc = scene_text(o.scene, &json, dir, sizeof dir)) || (rc = check_output(&o, json, dir)))) {
         free(json);
-        return EXIT_FAIL;
+        return rc;
     }
     char msg[512];
     c5drv *d = NULL;

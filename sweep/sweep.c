@@ -390,15 +390,12 @@ done:
     return rc;
 }
 
-static void progress_line(FILE *f, const char *what, double s)
+int c5_sweep_reference_steps(const c5_sweep_ctx *c)
 {
-    if (f) {
-        fprintf(f, "[ref] %s ... %.2f s\n", what, s);
-        fflush(f);
-    }
+    return c->cast_ready ? 5 : 2;
 }
 
-int c5_sweep_reference(c5_sweep_ctx *c, double finest, FILE *progress, c5_err *err)
+int c5_sweep_reference(c5_sweep_ctx *c, double finest, c5_sweep_progress_fn progress, void *arg, c5_err *err)
 {
     if (!(finest > 0) || finest > c->base.step)
         finest = c->base.step;
@@ -415,7 +412,8 @@ int c5_sweep_reference(c5_sweep_ctx *c, double finest, FILE *progress, c5_err *e
         return -1;
     c->ref_wall_s = t;
     snprintf(what, sizeof what, "reference: %s step=%g et=1 bounces=%d", src, c->ref_step, c->ref_bounces);
-    progress_line(progress, what, t);
+    if (progress)
+        progress(arg, what, t);
     if (cref_at(c, c->ref_coarse_step, c->ref_et, c->ref_bounces, c->analytic, &coarse, &st, &t, err) != 0)
         return -1;
     int rc = c5_image_compare(&c->ref, &coarse, &c->ref_conv, err);
@@ -424,7 +422,8 @@ int c5_sweep_reference(c5_sweep_ctx *c, double finest, FILE *progress, c5_err *e
         return -1;
     snprintf(what, sizeof what, "convergence: %s step=%g against step=%g: RMSE %.3g", src, c->ref_coarse_step,
              c->ref_step, c->ref_conv.rmse);
-    progress_line(progress, what, t);
+    if (progress)
+        progress(arg, what, t);
     if (!c->cast_ready)
         return 0;
     c5_cast_stats cs;
@@ -432,7 +431,8 @@ int c5_sweep_reference(c5_sweep_ctx *c, double finest, FILE *progress, c5_err *e
     if (cast_at(c, C5_CAST_PLAIN, 1, c->cast_ref_step, 0, &c->cast_ref, &cs, &t, err) != 0)
         return -1;
     snprintf(what, sizeof what, "reference: cast plain step=%g, no early termination", c->cast_ref_step);
-    progress_line(progress, what, t);
+    if (progress)
+        progress(arg, what, t);
     if (cast_at(c, C5_CAST_PLAIN, 1, 2 * c->cast_ref_step, 0, &coarse, &cs, &t, err) != 0)
         return -1;
     rc = c5_image_compare(&c->cast_ref, &coarse, &c->cast_conv, err);
@@ -441,11 +441,13 @@ int c5_sweep_reference(c5_sweep_ctx *c, double finest, FILE *progress, c5_err *e
         return -1;
     snprintf(what, sizeof what, "convergence: cast plain step=%g against step=%g: RMSE %.3g", 2 * c->cast_ref_step,
              c->cast_ref_step, c->cast_conv.rmse);
-    progress_line(progress, what, t);
+    if (progress)
+        progress(arg, what, t);
     if (cast_at(c, C5_CAST_PLAIN, 1, c->base.step, 1, &c->cast_plain, &cs, &t, err) != 0)
         return -1;
     snprintf(what, sizeof what, "cast plain step=%g (the image every k must give)", c->base.step);
-    progress_line(progress, what, t);
+    if (progress)
+        progress(arg, what, t);
     return 0;
 }
 

@@ -128,8 +128,11 @@ int c5_sweep_init(c5_sweep_ctx *c, const c5_scene *s, const c5_supervol *sv, int
 /* Renders the references: cref (or the analytic truth) at finest / C5_SWEEP_REF_DIV and at
  * twice that (the convergence check), and when the caster is ready its plain reference the
  * same way and its plain image at base.step. `finest`: the smallest step in voxels the
- * sweep renders. Progress lines go to `progress` (NULL: none). */
-int c5_sweep_reference(c5_sweep_ctx *c, double finest, FILE *progress, c5_err *err);
+ * sweep renders. After each of its c5_sweep_reference_steps() renders, `progress` (when not
+ * NULL) gets what was rendered and its host seconds. */
+typedef void (*c5_sweep_progress_fn)(void *arg, const char *what, double s);
+int c5_sweep_reference_steps(const c5_sweep_ctx *c);
+int c5_sweep_reference(c5_sweep_ctx *c, double finest, c5_sweep_progress_fn progress, void *arg, c5_err *err);
 /* One run: renders the point with r and measures it against the reference. Returns -1 only
  * for an error of the sweep itself (out of memory); a renderer that refuses the point gives
  * out->ok = 0 and 0. */

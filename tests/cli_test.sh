@@ -21,6 +21,8 @@ expect() {
         bad "$name" "stderr lacks /$pat/" "$err"
     elif [ "$want" -ne 0 ] && [ "$(wc -l <<<"$err")" -ne 1 ]; then
         bad "$name" "error is not one line" "$err"
+    elif [ "$want" -ne 0 ] && ! grep -q '^cube5: error: ' <<<"$err"; then
+        bad "$name" "error does not read 'cube5: error: ...'" "$err"
     else
         ok "$name"
     fi
@@ -303,7 +305,7 @@ expect cast_no_volume_scene 2 "has no volume to cast" -- "$cube5" cast "$tmp/nov
 # cube5 sweep (docs/sweep.md): the CSV, the PNG, the JSON, progress on stderr only, the
 # refusal to overwrite, the analytic reference of a Marschner-Lobb scene, and bad input.
 expect sweep_help 0 "" -- "$cube5" sweep --help
-if "$cube5" sweep default --size 16 --knob step=1,2 --knob k=1,4 --out "$tmp/sw" --json \
+if "$cube5" sweep default --size 16 --knob step=1,2 --knob k=1,4 --out "$tmp/sw" --json --progress \
     >"$tmp/sw.json" 2>"$tmp/sw.err"; then ok sweep_runs; else bad sweep_runs "exit $?" "$(cat "$tmp/sw.err")"; fi
 # header + step x {cref, model} x 2 values + k x {cast} x 2 values
 if [ "$(wc -l <"$tmp/sw/sweep.csv")" = 7 ] && head -n 1 "$tmp/sw/sweep.csv" | grep -q \
@@ -333,8 +335,11 @@ assert all(rows[i]["pareto_host"] for i in d["pareto_host"])
 assert all(rows[i]["renderer"] == "model" for i in d["pareto_board"])
 PY
 then ok sweep_json; else bad sweep_json "$(head -c 600 "$tmp/sw.json")"; fi
-if grep -q '^\[1/6\] step=1 cref \.\.\. ' "$tmp/sw.err" && grep -q '^\[6/6\] k=4 cast' "$tmp/sw.err" &&
-    ! grep -q '^\[' "$tmp/sw.json"; then ok sweep_progress_on_stderr; else bad sweep_progress_on_stderr "$(cat "$tmp/sw.err")"; fi
+# 5 reference renders (cref's two, the caster's three), then the 6 rows
+if grep -q '^cube5 sweep: \[1/11\] reference: cref ' "$tmp/sw.err" && grep -q '^cube5 sweep: \[6/11\] step=1 cref: ' "$tmp/sw.err" &&
+    grep -q '^cube5 sweep: \[11/11\] k=4 cast' "$tmp/sw.err" && ! grep -q 'cube5 sweep: \[' "$tmp/sw.json"; then
+    ok sweep_progress_on_stderr
+else bad sweep_progress_on_stderr "$(cat "$tmp/sw.err")"; fi
 cp "$tmp/sw/sweep.csv" "$tmp/sw_keep.csv"
 expect sweep_refuses_overwrite 2 "sweep.csv: exists; refusing to overwrite" -- \
     "$cube5" sweep default --size 16 --knob et=1 --out "$tmp/sw"
@@ -369,6 +374,134 @@ if [ ! -e "$tmp/swbad" ]; then ok sweep_bad_input_writes_nothing; else bad sweep
 mkdir -p "$tmp/nobin"
 expect sweep_without_gnuplot 1 "gnuplot with the pngcairo terminal is needed" -- \
     env PATH="$tmp/nobin" "$cube5" sweep default --size 8 --knob et=1 --out "$tmp/swnp"
+
+# ---- Nothing the user gave is overwritten (tests/data/repro/) -------------------------------
+# Every path a command writes is checked against the scene file, each volume and the data
+# files a NRRD header names, before anything is written: exit 2 and the input unchanged.
+at() { mkdir -p "$tmp/$1" && cd "$tmp/$1"; } # the reproducers use names relative to their folder
+filler() { head -c "${2:-32768}" /dev/zero | tr '\0' '@' >"$1"; } # FILE [BYTES]
+unchanged() { # NAME FILE SUM
+    if [ "$(sha256sum <"$2")" = "$3" ]; then ok "$1"; else bad "$1" "$2 was overwritten"; fi
+}
+at of && cp "$OLDPWD/tests/data/repro/overwrite_frames/scene.json" . && filler img_0000.png
+sum=$(sha256sum <img_0000.png)
+expect frames_refuse_input_volume 2 "img_0000.png: is volume 0 .*refusing to overwrite an input" -- \
+    "$cube5" render scene.json --size 16x16 -o img.png
+unchanged frames_input_volume_kept img_0000.png "$sum"
+[ ! -e img_0001.png ] && ok frames_none_written || bad frames_none_written "img_0001.png written"
+expect frames_other_name_ok 0 "" -- "$cube5" render scene.json --size 8x8 -o out.png
+[ -s out_0000.png ] && [ -s out_0001.png ] && ok frames_numbered_written || bad frames_numbered_written "$(ls)"
+cd - >/dev/null
+
+at od && cp "$OLDPWD/tests/data/repro/overwrite_nhdr_datafile/vol.nhdr" . && filler data.png
+sum=$(sha256sum <data.png)
+expect nhdr_refuse_data_file 2 "data.png: is a data file of vol.nhdr .*refusing to overwrite an input" -- \
+    "$cube5" render default --size 16x16 --volume vol.nhdr -o data.png
+unchanged nhdr_data_file_kept data.png "$sum"
+ln data.png hard.png
+expect nhdr_refuse_hard_link 2 "hard.png: is a data file of vol.nhdr" -- \
+    "$cube5" render default --size 8x8 --volume vol.nhdr -o hard.png
+expect compare_diff_refuse_data_file 2 "is a data file of vol.nhdr" -- \
+    "$cube5" compare default --size 8x8 --volume vol.nhdr --diff data.png
+expect cast_refuse_data_file 2 "is a data file of vol.nhdr" -- "$cube5" cast vol.nhdr --views 1 --size 8 -o data.png
+expect cast_save_raw_refuse_data_file 2 "is a data file of vol.nhdr" -- \
+    "$cube5" cast vol.nhdr --views 1 --size 8 --save-raw data.png
+unchanged nhdr_data_file_kept_by_all data.png "$sum"
+# "data file: LIST" and the printf-style "%d MIN MAX STEP" form, names from the header's folder
+mkdir -p sub && filler s1.png 16384 && filler s2.png 16384 && head -c 16384 /dev/zero >sub/p001.png && filler sub/p003.png 16384
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 128 128 2\nencoding: raw\ndata file: LIST\ns1.png\ns2.png\n' >list.nhdr
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 128 128 2\nencoding: raw\ndata file: sub/p%%03d.png 1 3 2 2\n' >fmt.nhdr
+sum=$(sha256sum <s2.png)
+expect nhdr_list_refuse_data_file 2 "s2.png: is a data file of list.nhdr" -- \
+    "$cube5" render default --size 8x8 --volume list.nhdr -o s2.png
+unchanged nhdr_list_data_file_kept s2.png "$sum"
+sum=$(sha256sum <sub/p003.png)
+expect nhdr_format_refuse_data_file 2 "p003.png: is a data file of .*fmt.nhdr" -- \
+    "$cube5" render default --size 8x8 --volume "$tmp/od/fmt.nhdr" -o "$tmp/od/sub/p003.png"
+unchanged nhdr_format_data_file_kept sub/p003.png "$sum"
+expect nhdr_format_other_name_ok 0 "" -- "$cube5" render default --size 8x8 --volume fmt.nhdr -o sub/p002.png
+cd - >/dev/null
+
+# sweep: --force replaces its own files, never an input
+at swin && head -c 1000 /dev/zero >sweep.csv
+printf '{"volumes": [{"file": "sweep.csv", "dims": [10, 10, 10], "type": "uint8"}], "transfer_function": {"opacity": [[0,0],[255,1]], "color": [[0,1,1,1]]},
+  "camera": {"eye": [30,30,30], "target": [5,5,5], "width": 8, "height": 8}}' >csvvol.json
+cd - >/dev/null
+expect sweep_refuse_input 2 "sweep.csv: is volume 0 .*refusing to overwrite an input" -- \
+    "$cube5" sweep "$tmp/swin/csvvol.json" --knob et=1 --out "$tmp/swin" --force
+[ "$(head -c 1000 /dev/zero | sha256sum)" = "$(sha256sum <"$tmp/swin/sweep.csv")" ] && ok sweep_input_kept ||
+    bad sweep_input_kept "sweep.csv changed"
+# vectors: an earlier set's files are removed before new ones are written; one that a scene
+# reads is refused before the folder is touched
+"$cube5" vectors --scene none --count 1 --out "$tmp/vset" >/dev/null 2>&1
+first=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["files"][0]["file"])' "$tmp/vset/manifest.json")
+size=$(stat -c %s "$tmp/vset/$first")
+filler "$tmp/vset/$first" "$size" # the user's bytes now, not what the generator would write again
+sum=$(sha256sum <"$tmp/vset/$first")
+printf '{"volumes": [{"file": "%s", "dims": [%d, 1, 1], "type": "uint8"}], "transfer_function": {"opacity": [[0,0],[255,1]], "color": [[0,1,1,1]]},
+  "camera": {"eye": [30,30,30], "target": [5,0,0], "width": 8, "height": 8}}' "$tmp/vset/$first" "$size" >"$tmp/vin.json"
+expect vectors_refuse_folder_with_input 2 "vset: holds volume 0 .*refusing to write into a folder with an input" -- \
+    "$cube5" vectors --scene "$tmp/vin.json" --count 1 --out "$tmp/vset"
+[ -f "$tmp/vset/$first" ] && unchanged vectors_input_kept "$tmp/vset/$first" "$sum" || bad vectors_input_kept "removed"
+
+# ---- -o into a missing folder: refused before the work, naming the user's path --------------
+for c in "render default --size 8x8 -o $tmp/nodir/x.png" "compare default --size 8x8 --diff $tmp/nodir/d.exr" \
+    "cast phantom:ml:8 --views 1 --size 8 -o $tmp/nodir/c.png"; do
+    # shellcheck disable=SC2086
+    expect "missing_folder_${c%% *}" 2 "$tmp/nodir/[a-z]\.(png|exr): cannot write: folder $tmp/nodir/: No such file" -- "$cube5" $c
+done
+if "$cube5" render default --size 8x8 -o "$tmp/nodir/x.png" 2>&1 | grep -q '\.tmp-'; then
+    bad missing_folder_no_temp_name
+else ok missing_folder_no_temp_name; fi
+
+# ---- schedule: why a frame runs Max Work -----------------------------------------------------
+printf '{"volumes": [{"generator": "marschner_lobb", "dims": [16, 16, 16]}], "transfer_function": {"opacity": [[0,0],[255,1]], "color": [[0,1,1,1]]},
+  "camera": {"eye": [40,40,40], "target": [80,80,80], "width": 8, "height": 8}}' >"$tmp/away.json"
+followed() { "$cube5" schedule "$@" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["frames"][1]["followed"])'; }
+[ "$(followed "$tmp/away.json")" = "maxwork (previous tree empty)" ] && ok schedule_previous_tree_empty ||
+    bad schedule_previous_tree_empty "$(followed "$tmp/away.json")"
+[ "$(followed default --size 16x16 --tree-nodes 1)" = "maxwork (previous tree overflowed)" ] &&
+    ok schedule_previous_tree_overflowed || bad schedule_previous_tree_overflowed "$(followed default --size 16x16 --tree-nodes 1)"
+
+# ---- Conventions (README): --version, help CMD, progress on stderr only ----------------------
+[ "$("$cube5" --version)" = "cube5 $(cat VERSION)" ] && ok version_from_VERSION || bad version_from_VERSION "$("$cube5" --version)"
+for c in render compare schedule sweep vectors cast scenes; do
+    if [ "$("$cube5" help $c)" = "$("$cube5" $c --help)" ] && [ -n "$("$cube5" help $c)" ]; then ok "help_$c"; else bad "help_$c"; fi
+done
+expect help_unknown_command 2 "unknown command 'nosuch'" -- "$cube5" help nosuch
+expect progress_not_for_scenes 2 "'--progress'" -- "$cube5" scenes --progress
+# progress: one line per step with --progress (no terminal here), nothing without it, never on stdout
+progress() { # NAME PATTERN -- ARGS...: stderr holds PATTERN, stdout none of it, and without --progress stderr is empty
+    local name=$1 pat=$2
+    shift 3
+    "$cube5" "$@" --progress >"$tmp/p.out" 2>"$tmp/p.err"
+    local rc=$?
+    if [ "$rc" -ne 0 ] || ! grep -qE "$pat" "$tmp/p.err" || grep -q "cube5 $1: \[" "$tmp/p.out"; then
+        bad "progress_$name" "exit $rc" "$(cat "$tmp/p.err")"
+    elif [ -n "$("$cube5" "$@" 2>&1 >/dev/null)" ]; then
+        bad "progress_$name" "stderr not empty without --progress"
+    else
+        ok "progress_$name"
+    fi
+}
+progress render "^cube5 render: \[3/3\] frame 2: $tmp/pr_0002.png \([0-9.]+ s\)$" -- render brain_mirrors --size 8x8 --frames 3 -o "$tmp/pr.png"
+progress render_json "^cube5 render: \[2/2\] frame 1 " -- render brain_mirrors --size 8x8 --frames 2 --json
+python3 -c 'import json,sys; json.load(open(sys.argv[1]))' "$tmp/p.out" && ok progress_json_stdout_is_json || bad progress_json_stdout_is_json
+progress compare "^cube5 compare: \[2/2\] rtl model: " -- compare default --size 8x8 --json
+progress schedule "^cube5 schedule: \[2/2\] frame 1: " -- schedule default --size 8x8
+progress vectors "^cube5 vectors: \[[0-9]+/[0-9]+\] scene default" -- vectors --scene default --size 8x8 --count 1 --out "$tmp/pv"
+progress cast "^cube5 cast: \[2/2\] view 1: " -- cast phantom:ml:8 --views 2 --size 8
+# on a terminal: quick runs stay quiet; with --progress each step redraws the one line
+if script -qec "\"$cube5\" render default --size 8x8 >/dev/null" /dev/null | grep -q 'cube5 render: \['; then
+    bad progress_tty_quiet_when_quick
+else ok progress_tty_quiet_when_quick; fi
+if script -qec "\"$cube5\" render brain_mirrors --size 8x8 --frames 2 --progress >/dev/null" /dev/null |
+    grep -q $'\r\033\\[Kcube5 render: \\[2/2\\]'; then ok progress_tty_redraws; else bad progress_tty_redraws; fi
+# the summary names the files written
+"$cube5" render brain_mirrors --size 8x8 --frames 6 -o "$tmp/sn.png" | grep -q "images   6 files, $tmp/sn_0000.png ... $tmp/sn_0005.png" &&
+    ok summary_names_frames || bad summary_names_frames
+"$cube5" cast phantom:ml:8 --views 1 --size 8 -o "$tmp/cs.png" --save-raw "$tmp/cs.raw" | grep -q "image $tmp/cs.png" &&
+    ok summary_names_cast_files || bad summary_names_cast_files
 
 summary
 [ "$failed" -eq 0 ]

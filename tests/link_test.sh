@@ -67,7 +67,7 @@ for args in "run --bogus -- true" "run --fault nope -- true" "run --fault stall:
     # shellcheck disable=SC2086
     err=$("$board" $args 2>&1 >/dev/null)
     rc=$?
-    if [ "$rc" -eq 2 ] && grep -q "cube5-board:" <<<"$err" && grep -q usage <<<"$err"; then
+    if [ "$rc" -eq 2 ] && grep -q "^cube5-board: error: " <<<"$err" && grep -q usage <<<"$err"; then
         ok "cube5-board usage error: ${args:-(nothing)}"
     else
         bad "cube5-board usage error: ${args:-(nothing)}" "exit $rc" "$err"
@@ -75,6 +75,16 @@ for args in "run --bogus -- true" "run --fault nope -- true" "run --fault stall:
 done
 
 grep -q -- "--fault" <<<"$("$board" --help)" && ok "cube5-board --help" || bad "cube5-board --help"
+
+# The conventions shared with cube5 (README, "Conventions"): --version from VERSION, errors
+# as "TOOL: error: ...", exit 2 for bad input or usage.
+version=$(cat VERSION)
+for tool in "$board" "$build/cube5ctl"; do
+    out=$("$tool" --version 2>&1)
+    rc=$?
+    [ "$rc" -eq 0 ] && [ "$out" = "$(basename "$tool") $version" ] && ok "$(basename "$tool") --version: $out" ||
+        bad "$(basename "$tool") --version" "exit $rc: $out (VERSION: $version)"
+done
 
 "$board" run -- sh -c 'case "$LD_PRELOAD" in *umockdev*) [ -d "$UMOCKDEV_DIR" ];; *) false;; esac'
 rc=$?
@@ -195,7 +205,7 @@ while IFS='|' read -r fault want; do
     "$board" run --fault "$fault" -- "$ctl" --timeout 1500 render default --cells 2 --size 32x32 -o "$tmp/f.png" \
         >/dev/null 2>"$tmp/err"
     rc=$?
-    if [ "$rc" -eq 1 ] && grep -q "^cube5ctl: $want" "$tmp/err"; then
+    if [ "$rc" -eq 1 ] && grep -q "^cube5ctl: error: $want" "$tmp/err"; then
         ok "cube5ctl with --fault $fault: $want"
     else
         bad "cube5ctl with --fault $fault" "exit $rc, '$want' expected: $(cat "$tmp/err")"
@@ -209,9 +219,35 @@ corrupt:reg_completion:5|protocol error
 EOF_FAULTS
 [ -f "$tmp/f.png" ] && bad "a failed frame left an image" "$tmp/f.png" || ok "no image written after a failed frame"
 
+# Bad input is refused before any board is looked for: exit 2, one "cube5ctl: error:" line;
+# an output over an input (here a NRRD header's detached data file) is never written.
+ctl_input() { # NAME PATTERN -- ARGS...
+    local name=$1 pat=$2
+    shift 3
+    "$ctl" "$@" >/dev/null 2>"$tmp/err"
+    local rc=$?
+    if [ "$rc" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -qE "^cube5ctl: error: .*$pat" "$tmp/err"; then
+        ok "cube5ctl $name: exit 2, $pat"
+    else
+        bad "cube5ctl $name" "exit $rc: $(cat "$tmp/err")"
+    fi
+}
+ctl_input unknown_option "unknown option" -- --bogus
+ctl_input unknown_scene "neither a built-in scene" -- render nosuch -o "$tmp/x.png"
+ctl_input bad_extension "unsupported image extension" -- render default -o "$tmp/x.txt"
+cp tests/data/repro/overwrite_nhdr_datafile/vol.nhdr "$tmp/"
+head -c 32768 /dev/zero | tr '\0' '@' >"$tmp/data.png"
+printf '{"volumes": [{"file": "vol.nhdr"}], "transfer_function": {"opacity": [[0,0],[255,1]], "color": [[0,1,1,1]]},
+  "camera": {"eye": [80,80,80], "target": [16,16,16], "width": 8, "height": 8}}' >"$tmp/nhdr.json"
+sum=$(sha256sum <"$tmp/data.png")
+ctl_input output_is_nrrd_data_file "is a data file of .*vol.nhdr .*refusing to overwrite an input" -- \
+    render "$tmp/nhdr.json" -o "$tmp/data.png"
+[ "$(sha256sum <"$tmp/data.png")" = "$sum" ] && ok "cube5ctl left the NRRD data file as it was" ||
+    bad "cube5ctl overwrote the NRRD data file"
+
 "$ctl" info >/dev/null 2>"$tmp/err"
 rc=$?
-[ "$rc" -eq 1 ] && grep -q "no board 1209:0001" "$tmp/err" && ok "cube5ctl without a board: exit 1, no board 1209:0001" ||
+[ "$rc" -eq 1 ] && grep -q "^cube5ctl: error: .*no board 1209:0001" "$tmp/err" && ok "cube5ctl without a board: exit 1, no board 1209:0001" ||
     bad "cube5ctl without a board" "exit $rc: $(cat "$tmp/err")"
 
 summary

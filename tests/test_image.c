@@ -294,6 +294,10 @@ TEST(image_missing_directory)
         CHECK_MSG(strncmp(err.msg, p, strlen(p)) == 0 && err.msg[strlen(p)] == ':',
                   "message \"%s\" should start with \"%s:\"", err.msg, p);
         CHECK(strchr(err.msg, '\n') == NULL);
+        /* The user's path only: never the temporary file the writer would have made. */
+        CHECK_MSG(strstr(err.msg, ".tmp-") == NULL && strstr(err.msg, "folder ") != NULL, "%s", err.msg);
+        CHECK_INT(c5_image_check_out(p, &err), -1);
+        CHECK_MSG(strstr(err.msg, ".tmp-") == NULL && strstr(err.msg, "No such file") != NULL, "%s", err.msg);
         CHECK_INT(dir_count(NULL, 0, NULL), 0);
         c5_image_free(&img);
     }

@@ -142,7 +142,7 @@ static void error_falls(const char *json, const char *what)
     CHECK_MSG(c5_scene_parse(c5t_json(json), NULL, what, &s, &err) == 0, "%s", err.msg);
     CHECK_MSG(c5_supervol_build(&s, &sv, &err) == 0, "%s", err.msg);
     CHECK_MSG(c5_sweep_init(&c, &s, &sv, 2, 1, &err) == 0, "%s", err.msg);
-    CHECK_MSG(c5_sweep_reference(&c, 0.5, NULL, &err) == 0, "%s", err.msg);
+    CHECK_MSG(c5_sweep_reference(&c, 0.5, NULL, NULL, &err) == 0, "%s", err.msg);
     CHECK(c.ref_step == 0.5 / C5_SWEEP_REF_DIV && c.ref_coarse_step == 2 * c.ref_step);
     const double steps[] = {2, 1, 0.5};
     double prev = INFINITY;

@@ -1,0 +1,43 @@
+#include "progress.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <unistd.h>
+
+#include "clock.h"
+
+int c5_progress_requested;
+
+/* On a terminal, nothing before this many seconds: a quick run prints no progress at all. */
+#define C5_PROGRESS_QUIET_S 1.0
+
+void c5_progress_begin(c5_progress *p, const char *cmd, int total)
+{
+    p->mode = isatty(STDERR_FILENO) ? 1 : c5_progress_requested ? 2 : 0;
+    p->cmd = cmd;
+    p->total = total;
+    p->t0 = c5_now_s();
+    p->drawn = 0;
+}
+
+void c5_progress_step(c5_progress *p, int done, const char *fmt, ...)
+{
+    double t = c5_now_s() - p->t0;
+    if (!p->mode || (p->mode == 1 && !c5_progress_requested && t < C5_PROGRESS_QUIET_S))
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "%scube5 %s: [%d/%d] ", p->mode == 1 ? "\r\033[K" : "", p->cmd, done, p->total);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, " (%.1f s)%s", t, p->mode == 1 ? "" : "\n");
+    va_end(ap);
+    fflush(stderr);
+    p->drawn = p->mode == 1;
+}
+
+void c5_progress_end(c5_progress *p)
+{
+    if (p->drawn)
+        fputs("\r\033[K", stderr);
+    p->drawn = 0;
+}

@@ -1,0 +1,30 @@
+/* Progress of a long run, on stderr only (stdout keeps the summary or the --json object).
+ * Shown when stderr is a terminal (one line redrawn in place, from the first second on, so
+ * that short runs stay quiet) or with --progress (one line per step, at once: for logs and
+ * for tests, which have no terminal). Lines read "cube5 CMD: [I/N] WHAT (T s)". */
+#ifndef C5_CLI_PROGRESS_H
+#define C5_CLI_PROGRESS_H
+
+/* The line every long command's --help gives for it. */
+#define C5_PROGRESS_HELP                                                                                         \
+    "  --progress        progress on stderr, one line per step (shown anyway, redrawn in\n"                       \
+    "                    place, when stderr is a terminal; never on stdout)\n"
+
+/* Set by main when the command line holds --progress (taken out before the command parses). */
+extern int c5_progress_requested;
+
+typedef struct {
+    int mode;        /* 0 off, 1 terminal (redrawn), 2 one line per step */
+    const char *cmd; /* "render", ... */
+    int total;
+    double t0;
+    int drawn; /* a terminal line is on screen */
+} c5_progress;
+
+void c5_progress_begin(c5_progress *p, const char *cmd, int total);
+/* Step `done` of the total (1-based) has finished; WHAT is printf-style. */
+void c5_progress_step(c5_progress *p, int done, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* Clears a terminal line, so that what follows on stderr starts on a clean line. */
+void c5_progress_end(c5_progress *p);
+
+#endif
