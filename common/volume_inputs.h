@@ -9,11 +9,7 @@
 #include "err.h"
 #include "scene.h"
 
-/* More data files than this in one header is refused: a 3-D volume within the loader's
- * limits never needs them, and the list is built before any voxel is read. */
-#define C5_NRRD_MAX_DATA_FILES 65536
-
-/* A list of input paths, each with what it is for messages ("volume 0", "a data file of
+/* A list of input paths, each with what it is for messages ("volume 0", "the data file of
  * vol.nhdr"). */
 typedef struct {
     char **path, **what;
@@ -26,12 +22,10 @@ void c5_file_list_free(c5_file_list *l);
  * hard link), or -1; a path or an entry that does not exist matches nothing. */
 long c5_file_list_find(const c5_file_list *l, const char *path);
 
-/* Adds `path` (described as `what`) and, when it is a .nrrd/.nhdr, every data file its header
- * names: the single "data file:", each name of "data file: LIST", and each number of the
- * printf-style "data file: NAME%d MIN MAX STEP" form, relative names resolved against the
- * header's folder as Teem resolves them. The header is read by Teem without its data. A
- * header Teem cannot read adds no data files: the volume load that follows refuses it, with
- * Teem's reason, before any output is written. */
+/* Adds `path` (described as `what`) and, when it is a .nrrd/.nhdr, the detached data file its
+ * header names, resolved against the header's folder as Teem resolves it. The header goes
+ * through c5_nrrd_precheck (never Teem): a header it refuses is refused here with its
+ * message, as the volume load would refuse it, before any output is written. */
 int c5_volume_input_files(const char *path, const char *what, c5_file_list *l, c5_err *err);
 
 /* The scene file (scene_path; NULL for a built-in scene) and each file volume's files. */

@@ -189,10 +189,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (rc == C5DRV_OK)
             expect_status(d, rc = c5drv_wait_frame(d, 2000));
         if (rc == C5DRV_OK) {
-            c5_image img;
+            c5drv_image img;
             expect_status(d, rc = c5drv_read_frame(d, &img));
             if (rc == C5DRV_OK)
-                c5_image_free(&img);
+                c5drv_image_free(&img);
         }
         c5drv_counters c;
         expect_status(d, c5drv_read_counters(d, &c));

@@ -240,7 +240,7 @@ head -c 32768 /dev/zero | tr '\0' '@' >"$tmp/data.png"
 printf '{"volumes": [{"file": "vol.nhdr"}], "transfer_function": {"opacity": [[0,0],[255,1]], "color": [[0,1,1,1]]},
   "camera": {"eye": [80,80,80], "target": [16,16,16], "width": 8, "height": 8}}' >"$tmp/nhdr.json"
 sum=$(sha256sum <"$tmp/data.png")
-ctl_input output_is_nrrd_data_file "is a data file of .*vol.nhdr .*refusing to overwrite an input" -- \
+ctl_input output_is_nrrd_data_file "is the data file of .*vol.nhdr .*refusing to overwrite an input" -- \
     render "$tmp/nhdr.json" -o "$tmp/data.png"
 [ "$(sha256sum <"$tmp/data.png")" = "$sum" ] && ok "cube5ctl left the NRRD data file as it was" ||
     bad "cube5ctl overwrote the NRRD data file"
