@@ -268,6 +268,8 @@ int c5_cmd_render(int argc, char **argv)
             err = (c5_err){"--frames: the scene has no camera_path"};
             goto fail;
         }
+        if (c5_scene_check_path(&s, label, &err) != 0)
+            goto fail;
     }
     if (a.out && c5_cli_check_output(a.out, a.scene_arg, &s, &err) != 0)
         goto fail;

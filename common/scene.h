@@ -18,6 +18,10 @@
 #define C5_MAX_IMAGE_DIM 4096
 #define C5_MAX_FRAMES 10000
 #define C5_MAX_BOUNCES 16
+/* Samples along the grid's diagonal at the render step, at most: a ray's sampling work is
+ * bounded (2^20 is about 1000 samples per voxel across the largest board grid, 512^3);
+ * c5_supervol_build refuses a scene past it (docs/scene-format.md). */
+#define C5_MAX_RAY_SAMPLES (1 << 20)
 
 /* ---- volumes ---------------------------------------------------------------------- */
 
@@ -158,5 +162,9 @@ int c5_scene_load_file(const char *path, c5_scene *out, c5_err *err);
 /* The camera of frame `frame` (0-based) of the scene's path, or the fixed camera. */
 c5_camera c5_scene_camera_at(const c5_scene *s, int frame);
 int c5_scene_frames(const c5_scene *s);
+/* 0, or -1 with "WHAT: camera_path: frame F of N: ..." when the camera of some frame
+ * cannot frame a view: keys that are each valid can blend into the eye on the target or an
+ * up parallel to the view. The parser calls it; so must whoever changes path.frames. */
+int c5_scene_check_path(const c5_scene *s, const char *what, c5_err *err);
 
 #endif

@@ -336,29 +336,29 @@ TEST(scene_negative_sizes)
                 "must be in [1, 65535], got 0");
     CHECK_FAILS("{" CAM ", 'grid': {'dims': [70000, 1, 1]}}", "grid.dims[0]", "must be in [1, 65535], got 70000");
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'sphere', 'center': [0, 0, 0], 'radius': -1}]}",
-                "surfaces[0].radius", "must be > 0, got -1");
+                "surfaces[0].radius", "must be in [1e-06, 1000000], got -1");
     CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'width': -5}}", "camera.width",
                 "must be in [1, 4096], got -5");
     CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'height': 5000}}", "camera.height",
                 "must be in [1, 4096], got 5000");
-    CHECK_FAILS("{" CAM ", 'grid': {'spacing': [1, 0, 1]}}", "grid.spacing[1]", "must be > 0, got 0");
-    CHECK_FAILS("{" CAM ", 'grid': {'size': -2}}", "grid.size", "must be > 0, got -2");
+    CHECK_FAILS("{" CAM ", 'grid': {'spacing': [1, 0, 1]}}", "grid.spacing[1]", "must be in [1e-06, 1000000], got 0");
+    CHECK_FAILS("{" CAM ", 'grid': {'size': -2}}", "grid.size", "must be in [1e-06, 1000000], got -2");
     CHECK_FAILS("{" CAM ", 'volumes': [{'generator': 'sphere', 'dims': [4, 4, 4], 'radius': 1.5}], " TF "}",
                 "volumes[0].radius", "must be in (0, 1], got 1.5");
     CHECK_FAILS("{" CAM ", 'volumes': [{'generator': 'ramp', 'dims': [4, 4, 4], 'offset': [0, -1, 0]}], " TF "}",
                 "volumes[0].offset[1]", "got -1");
     CHECK_FAILS("{" CAM ", 'lights': [{'type': 'point', 'position': [0, 0, 0], 'intensity': -1}]}",
-                "lights[0].intensity", "must be >= 0, got -1");
+                "lights[0].intensity", "must be in [0, 1000], got -1");
 }
 
 TEST(scene_zero_vectors)
 {
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'plane', 'point': [0, 0, 0], 'normal': [0, 0, 0]}]}",
-                "surfaces[0].normal", "must be non-zero, got [0, 0, 0]");
+                "surfaces[0].normal", "must have a length of at least 1e-06 (shorter counts as zero), got [0, 0, 0]");
     CHECK_FAILS("{" CAM ", 'lights': [{'type': 'directional', 'direction': [0, 0, 0]}]}", "lights[0].direction",
-                "must be non-zero");
+                "must have a length of at least 1e-06");
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'rect', 'corner': [0, 0, 0], 'u': [0, 0, 0], 'v': [0, 1, 0]}]}",
-                "surfaces[0].u", "must be non-zero");
+                "surfaces[0].u", "must have a length of at least 1e-06");
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'rect', 'corner': [0, 0, 0], 'u': [1, 0, 0], 'v': [1, 1, 0]}]}",
                 "surfaces[0].v", "must be perpendicular to u");
 }
@@ -411,10 +411,10 @@ TEST(scene_tf_rules)
     CHECK_FAILS("{" CAM ", 'transfer_function': {'opacity': [], 'color': [[0, 1, 1, 1]]}}",
                 "transfer_function.opacity", "needs at least 1 entry, got 0");
     CHECK_FAILS("{" CAM ", 'transfer_function': {'opacity': [[0, 1]], 'color': [[0, 1, 1, 1]], 'unit_distance': 0}}",
-                "transfer_function.unit_distance", "must be > 0, got 0");
+                "transfer_function.unit_distance", "must be in [1e-06, 1000000], got 0");
     CHECK_FAILS("{" CAM ", 'transfer_function': {'opacity': [[0, 1]], 'color': [[0, 1, 1, 1]],"
                 "'shading': {'specular_power': 0.5}}}", "transfer_function.shading.specular_power",
-                "must be >= 1, got 0.5");
+                "must be in [1, 10000], got 0.5");
 }
 
 TEST(scene_reflectivity_plus_transparency)
@@ -482,12 +482,12 @@ TEST(scene_real_for_integer)
 TEST(scene_camera_geometry)
 {
     CHECK_FAILS("{'camera': {'eye': [0, 0, 5], 'target': [0, 0, 0]}}", "camera.up",
-                "must not be zero or parallel to target - eye");
+                "must not be parallel to target - eye");
     CHECK_FAILS("{'camera': {'eye': [1, 1, 1], 'target': [2, 2, 2], 'up': [-3, -3, -3]}}", "camera.up",
                 "parallel");
     CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'up': [0, 0, 0]}}", "camera.up", "zero");
     CHECK_FAILS("{'camera': {'eye': [1, 2, 3], 'target': [1, 2, 3]}}", "camera.target",
-                "must differ from eye, got [1, 2, 3]");
+                "must be at least 1e-06 from eye, got [1, 2, 3]");
     CHECK_FAILS("{" CAM ", 'camera_path': {'frames': 2, 'keys': [{'eye': [1, 0, 0], 'target': [0, 0, 0]},"
                 "{'eye': [0, 0, 1], 'target': [0, 0, 0]}]}}", "camera_path.keys[1].up", "parallel");
 }
