@@ -471,7 +471,7 @@ int c5_cmd_sweep(int argc, char **argv)
             goto fail;
         }
     }
-    if (c5_supervol_build(&s, &sv, &err) != 0)
+    if (c5_model_check_scene(&s, NULL, label, &err) != 0 || c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
     if (!a.n_knobs) {
         c5_sweep_point base;
