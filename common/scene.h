@@ -138,6 +138,8 @@ typedef struct {
 
 typedef struct {
     char name[128];
+    char source[1100];     /* the parser's WHAT (a file path, "built-in scene NAME"): later
+                              checks (c5_supervol_build) name the scene with it */
     int n_volumes;
     c5_volume_desc volumes[C5_MAX_VOLUMES];
     c5_grid_desc grid;

@@ -790,6 +790,7 @@ static int parse_scene(ctx *c, json_t *root, c5_scene *s)
     if (name && strlen(name) >= sizeof s->name)
         return fail(c, "", "name", "too long (at most %zu bytes), got \"%.40s...\"", sizeof s->name - 1,
                     name);
+    snprintf(s->source, sizeof s->source, "%s", c->what);
     if (name)
         snprintf(s->name, sizeof s->name, "%s", name);
     else

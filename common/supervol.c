@@ -139,9 +139,10 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
     double step = s->render.step > 0 ? s->render.step : c5_supervol_min_spacing(out);
     double samples = v3_len(ext) / step;
     if (!(samples <= C5_MAX_RAY_SAMPLES)) {
-        c5_fail(err, "%s: a ray across the grid (%g world units) takes %g samples of %g; at most %d (a larger "
+        c5_fail(err, "%s%s%s: a ray across the grid (%g world units) takes %g samples of %g; at most %d (a larger "
                 "render.step, or grid.spacing components closer to each other)",
-                s->render.step > 0 ? "render.step" : "grid.spacing", v3_len(ext), samples, step, C5_MAX_RAY_SAMPLES);
+                s->source, *s->source ? ": " : "", s->render.step > 0 ? "render.step" : "grid.spacing", v3_len(ext),
+                samples, step, C5_MAX_RAY_SAMPLES);
         goto done;
     }
     rc = 0;

@@ -58,6 +58,13 @@ expect path_ok_at_2_frames 0 "" -- "$cube5" render "$tmp/through.json"
 expect path_frames_option 2 "through.json: camera_path: frame 2 of 5: the eye is on the target" -- \
     "$cube5" render "$tmp/through.json" --frames 5 -o "$tmp/out/t.png"
 
+# Samples per ray: a step or spacing within its range, too fine for the grid's diagonal.
+printf '{"volumes": [{"generator": "constant", "dims": [8,8,8]}], "transfer_function": {"opacity": [[0,0]],
+  "color": [[0,1,1,1]]}, "camera": {"eye": [4,4,40], "target": [4,4,4], "up": [0,1,0], "width": 4, "height": 4},
+  "render": {"step": 1e-6}}' >"$tmp/step.json"
+expect samples_per_ray 2 "step.json: render\.step: a ray across the grid .* 1\.38564e\+07 samples .*at most 1048576" -- \
+    "$cube5" render "$tmp/step.json" -o "$out"
+
 # Light factors that made cref write +Inf into an EXR with exit 0.
 base='"camera": {"eye": [0,0,10], "target": [0,0,0], "up": [0,1,0], "width": 4, "height": 4}'
 sphere='"surfaces": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": %s}]'

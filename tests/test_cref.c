@@ -277,8 +277,8 @@ TEST(supervol_refuses_unbounded_samples_per_ray)
                        " \"camera\": {\"eye\": [4, 4, 40], \"target\": [4, 4, 4], \"up\": [0, 1, 0]}%s}";
     const struct {
         const char *extra, *key;
-    } cases[] = {{", \"render\": {\"step\": 1e-6}", "render.step: a ray across the grid"},
-                 {", \"grid\": {\"spacing\": [1e-6, 1, 1]}", "grid.spacing: a ray across the grid"}};
+    } cases[] = {{", \"render\": {\"step\": 1e-6}", "t: render.step: a ray across the grid"},
+                 {", \"grid\": {\"spacing\": [1e-6, 1, 1]}", "t: grid.spacing: a ray across the grid"}};
     char json[1024];
     for (size_t i = 0; i < 2; i++) {
         snprintf(json, sizeof json, base, cases[i].extra);
