@@ -294,6 +294,47 @@ TEST(supervol_refuses_unbounded_samples_per_ray)
     c5_supervol_free(&sv);
 }
 
+/* Every factor at the top of its range (docs/scene-format.md, "Valid ranges"), 8 shadowing
+ * lights, refraction at both ends of the ior range, two facing mirrors and 16 bounces: every
+ * pixel is finite. The ranges exist for this; a light of 1e300 once wrote +Inf. */
+TEST(cref_range_ends_give_finite_pixels)
+{
+    char lights[2048] = "", json[8192];
+    for (int i = 0; i < 8; i++) {
+        size_t n = strlen(lights);
+        snprintf(lights + n, sizeof lights - n, "%s{\"type\": \"point\", \"position\": [%d, 9, 30],"
+                 " \"intensity\": 1000, \"shadows\": true}", i ? ", " : "", 2 * i - 7);
+    }
+    snprintf(json, sizeof json,
+             "{\"volumes\": [{\"generator\": \"ramp\", \"dims\": [8, 8, 8]}],"
+             " \"transfer_function\": {\"opacity\": [[0, 0], [255, 0.2]], \"color\": [[0, 1, 1, 1]],"
+             "  \"shading\": {\"ambient\": 1000, \"diffuse\": 1000, \"specular\": 1000, \"specular_power\": 1}},"
+             " \"lights\": [%s],"
+             " \"surfaces\": ["
+             "  {\"type\": \"sphere\", \"center\": [2, 4, 12], \"radius\": 2, \"material\": {\"transparency\": 1,"
+             "   \"ior\": 1000}},"
+             "  {\"type\": \"sphere\", \"center\": [6, 4, 12], \"radius\": 2, \"material\": {\"transparency\": 0.5,"
+             "   \"reflectivity\": 0.5, \"ior\": 0.001}},"
+             "  {\"type\": \"plane\", \"point\": [-20, 0, 0], \"normal\": [1, 0, 0], \"material\": {\"reflectivity\": 1}},"
+             "  {\"type\": \"plane\", \"point\": [28, 0, 0], \"normal\": [-1, 0, 0], \"material\": {\"reflectivity\": 1}},"
+             "  {\"type\": \"plane\", \"point\": [0, 0, -5], \"normal\": [0, 0, 1], \"material\": {\"ambient\": 1000,"
+             "   \"diffuse\": 1000}}],"
+             " \"camera\": {\"eye\": [4, -30, 20], \"target\": [4, 4, 4], \"width\": 24, \"height\": 24, \"fov\": 60},"
+             " \"render\": {\"max_bounces\": 16, \"min_weight\": 0, \"background\": [1000, 1000, 1000]}}",
+             lights);
+    c5_image img;
+    c5_cref_stats st;
+    CHECK_INT(render_json(json, 2, NULL, &img, &st), 0);
+    double peak = 0;
+    for (int i = 0; i < img.w * img.h * 3; i++) {
+        CHECK_MSG(isfinite(img.rgb[i]), "value %d is %g", i, (double)img.rgb[i]);
+        peak = fmax(peak, img.rgb[i]);
+    }
+    printf("    largest channel %g; %llu refracted rays\n", peak, (unsigned long long)st.rays[C5_RAY_REFRACT]);
+    CHECK(st.rays[C5_RAY_REFRACT] > 0);
+    c5_image_free(&img);
+}
+
 /* A white plane z = 0 under a light straight above, seen from the side, with a sphere
  * between the plane's centre and the light. */
 static const char *shadow_scene =
