@@ -59,7 +59,7 @@ typedef struct {
     int has_center;        /* 1: `center` given, origin derived from it; 0: `origin` */
     c5_vec3 origin;        /* world position of the grid's low corner; default (0,0,0) */
     c5_vec3 center;        /* world position of the grid's centre */
-    c5_vec3 spacing;       /* voxel size, default (1,1,1); every component > 0 */
+    c5_vec3 spacing;       /* voxel size, default (1,1,1); every component in [1e-6, 1e6] */
     double size;           /* > 0: scale spacing uniformly so the largest world extent of the
                               grid is `size` (a replaced volume keeps the scene's framing) */
     size_t dims[3];        /* default 0: the bounding box of the placed volumes */
@@ -95,7 +95,7 @@ typedef struct {
     double diffuse;      /* default 0.9 */
     double reflectivity; /* 0..1, default 0 */
     double transparency; /* 0..1, default 0; reflectivity + transparency <= 1 */
-    double ior;          /* > 0, default 1.5 */
+    double ior;          /* [0.001, 1000], default 1.5 (docs/scene-format.md, "Valid ranges") */
 } c5_material;
 
 typedef enum { C5_SURF_PLANE, C5_SURF_RECT, C5_SURF_SPHERE } c5_surface_kind;
