@@ -5,6 +5,7 @@
 #include <jansson.h>
 
 #include "board.h"
+#include "model_limits.h"
 #include "err.h"
 #include "scene.h"
 #include "supervol.h"

@@ -1,12 +1,22 @@
 /* Eye-ray directions (camera.h). */
 #include "camera.h"
 
+const char *c5_camera_problem(const c5_camera *cam)
+{
+    c5_vec3 f = v3_sub(cam->target, cam->eye);
+    if (!(v3_len(f) > 0))
+        return "the eye is on the target";
+    if (!(v3_len(v3_cross(f, cam->up)) > 1e-9 * v3_len(f) * v3_len(cam->up)))
+        return "up is zero or parallel to the view direction (target - eye)";
+    return NULL;
+}
+
 int c5_camera_basis_make(const c5_camera *cam, int w, int h, int frame, c5_camera_basis *b, c5_err *err)
 {
     c5_vec3 f = v3_sub(cam->target, cam->eye);
-    if (!(v3_len(v3_cross(f, cam->up)) > 1e-9 * v3_len(f) * v3_len(cam->up)))
-        return c5_fail(err, "frame %d: camera up is parallel to the view direction (or the eye is on the target)",
-                       frame);
+    const char *problem = c5_camera_problem(cam);
+    if (problem)
+        return c5_fail(err, "frame %d: camera: %s", frame, problem);
     b->eye = cam->eye;
     b->f = v3_norm(f);
     b->right = v3_norm(v3_cross(b->f, cam->up));

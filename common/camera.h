@@ -11,6 +11,10 @@ typedef struct {
     int w, h;
 } c5_camera_basis;
 
+/* Why the camera cannot frame a view (the eye on the target, up zero or parallel to the
+ * view direction), or NULL when it can. The scene parser asks it of every frame of a
+ * camera path, so a render never meets a camera that c5_camera_basis_make refuses. */
+const char *c5_camera_problem(const c5_camera *cam);
 /* 0, or -1 with a message when up is parallel to the view (a path can blend two keys'
  * up vectors into one) or the eye is on the target. */
 int c5_camera_basis_make(const c5_camera *cam, int w, int h, int frame, c5_camera_basis *b, c5_err *err);

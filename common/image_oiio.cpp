@@ -4,9 +4,11 @@
 // Writing: the format follows the extension, case-insensitive.
 //   .png  8-bit RGB, no gamma. Each float v is clamped to [0,1] and quantised as
 //         v8 = floor(v*255 + 0.5), evaluated in double precision from the float value
-//         (round half up). +Inf -> 255, -Inf -> 0.
+//         (round half up).
 //   .exr  32-bit float RGB, values written exactly (zip compression, lossless).
-// A NaN anywhere is an error for both formats and nothing is written. The file is written
+// A NaN or an infinity anywhere is an error for both formats and nothing is written: the
+// renderers keep every pixel finite (docs/scene-format.md, "Valid ranges"), so one that is
+// not is a defect, never an image to hand on. The file is written
 // to a temporary ".NAME.tmp-PID.EXT" in the same directory and then rename()d over PATH,
 // so a failed write never leaves a partial file (the temporary is removed on failure).
 //
@@ -57,7 +59,7 @@ unsigned char quantise8(float v)
 {
     double d = v;
     if (!(d > 0.0))
-        return 0; // also -0.0 and -Inf; NaN is refused before we get here
+        return 0; // also -0.0; NaN and infinities are refused before we get here
     if (d >= 1.0)
         return 255;
     return static_cast<unsigned char>(std::floor(d * 255.0 + 0.5));
@@ -157,9 +159,10 @@ int write_impl(const char *path, const c5_image *img, c5_err *err)
     const int w = img->w, h = img->h;
     const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h) * 3;
     for (size_t i = 0; i < n; i++)
-        if (std::isnan(img->rgb[i])) {
+        if (!std::isfinite(img->rgb[i])) {
             const size_t px = i / 3;
-            return c5_fail(err, "%s: image has NaN at pixel (%d,%d)", path,
+            return c5_fail(err, "%s: image has %s at pixel (%d,%d)", path,
+                           std::isnan(img->rgb[i]) ? "NaN" : img->rgb[i] > 0 ? "+Inf" : "-Inf",
                            static_cast<int>(px % static_cast<size_t>(w)),
                            static_cast<int>(px / static_cast<size_t>(w)));
         }

@@ -18,6 +18,10 @@
 #define C5_MAX_IMAGE_DIM 4096
 #define C5_MAX_FRAMES 10000
 #define C5_MAX_BOUNCES 16
+/* Samples along the grid's diagonal at the render step, at most: a ray's sampling work is
+ * bounded (2^20 is about 1000 samples per voxel across the largest board grid, 512^3);
+ * c5_supervol_build refuses a scene past it (docs/scene-format.md). */
+#define C5_MAX_RAY_SAMPLES (1 << 20)
 
 /* ---- volumes ---------------------------------------------------------------------- */
 
@@ -55,7 +59,7 @@ typedef struct {
     int has_center;        /* 1: `center` given, origin derived from it; 0: `origin` */
     c5_vec3 origin;        /* world position of the grid's low corner; default (0,0,0) */
     c5_vec3 center;        /* world position of the grid's centre */
-    c5_vec3 spacing;       /* voxel size, default (1,1,1); every component > 0 */
+    c5_vec3 spacing;       /* voxel size, default (1,1,1); every component in [1e-6, 1e6] */
     int has_spacing;       /* 1: `spacing` given in the scene (it wins over a file's own) */
     double size;           /* > 0: scale spacing uniformly so the largest world extent of the
                               grid is `size` (a replaced volume keeps the scene's framing) */
@@ -92,7 +96,7 @@ typedef struct {
     double diffuse;      /* default 0.9 */
     double reflectivity; /* 0..1, default 0 */
     double transparency; /* 0..1, default 0; reflectivity + transparency <= 1 */
-    double ior;          /* > 0, default 1.5 */
+    double ior;          /* [0.001, 1000], default 1.5 (docs/scene-format.md, "Valid ranges") */
 } c5_material;
 
 typedef enum { C5_SURF_PLANE, C5_SURF_RECT, C5_SURF_SPHERE } c5_surface_kind;
@@ -135,6 +139,8 @@ typedef struct {
 
 typedef struct {
     char name[128];
+    char source[1100];     /* the parser's WHAT (a file path, "built-in scene NAME"): later
+                              checks (c5_supervol_build) name the scene with it */
     int n_volumes;
     c5_volume_desc volumes[C5_MAX_VOLUMES];
     c5_grid_desc grid;
@@ -159,5 +165,9 @@ int c5_scene_load_file(const char *path, c5_scene *out, c5_err *err);
 /* The camera of frame `frame` (0-based) of the scene's path, or the fixed camera. */
 c5_camera c5_scene_camera_at(const c5_scene *s, int frame);
 int c5_scene_frames(const c5_scene *s);
+/* 0, or -1 with "WHAT: camera_path: frame F of N: ..." when the camera of some frame
+ * cannot frame a view: keys that are each valid can blend into the eye on the target or an
+ * up parallel to the view. The parser calls it; so must whoever changes path.frames. */
+int c5_scene_check_path(const c5_scene *s, const char *what, c5_err *err);
 
 #endif

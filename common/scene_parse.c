@@ -6,6 +6,8 @@
  * success. */
 #include "scene.h"
 
+#include "camera.h"
+
 #include <errno.h>
 #include <jansson.h>
 #include <limits.h>
@@ -30,11 +32,19 @@ typedef struct {
     int lo_open, hi_open;
 } range;
 
-#define ANY ((range){-INFINITY, INFINITY, 0, 0})
-#define POS ((range){0, INFINITY, 1, 0})    /* > 0 */
-#define NONNEG ((range){0, INFINITY, 0, 0}) /* >= 0 */
 #define UNIT ((range){0, 1, 0, 0})          /* [0, 1] */
 #define BYTE ((range){0, 255, 0, 0})        /* [0, 255] */
+/* The ranges of docs/scene-format.md ("Valid ranges"). World positions stay within 1e6 and
+ * lengths at or above 1e-6, so a position keeps about 13 of double's 53 bits below the
+ * smallest length; light factors stay within 1e3, so no pixel sum comes near float's
+ * largest value (about 3.4e38) whatever the bounce and light counts. */
+#define C5_MAX_COORD 1e6
+#define C5_MIN_LENGTH 1e-6
+#define COORD ((range){-C5_MAX_COORD, C5_MAX_COORD, 0, 0})
+#define LENGTH ((range){C5_MIN_LENGTH, C5_MAX_COORD, 0, 0})
+#define FACTOR ((range){0, 1e3, 0, 0})      /* intensities, shading factors, background */
+#define IOR ((range){1e-3, 1e3, 0, 0})      /* eta^2 stays finite in refraction */
+#define GEN_PARAM ((range){0, 1e3, 1, 0})   /* f_m: (0, 1e3] */
 
 enum { OPT = 0, REQ = 1 };
 
@@ -317,13 +327,30 @@ static int elem_obj(ctx *c, json_t *arr, const char *path, const char *key, size
     return 0;
 }
 
-/* A non-zero vector, normalised. */
+/* The length of v without underflow or overflow: scaled by its largest component first
+ * (v3_len squares, so [1e-300, 0, 0] would read as length 0). */
+static double robust_len(c5_vec3 v)
+{
+    double m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+    return m > 0 ? m * v3_len(v3_scale(v, 1 / m)) : 0;
+}
+
+/* A direction: "non-zero" means a length of at least C5_MIN_LENGTH, the smallest length
+ * the format accepts anywhere (docs/scene-format.md, "Directions"). */
+static int check_dir_len(ctx *c, const char *path, const char *key, c5_vec3 v)
+{
+    double l = robust_len(v);
+    if (!(l >= C5_MIN_LENGTH))
+        return fail(c, path, key, "must have a length of at least %g (shorter counts as zero), got " VFMT
+                    " of length %g", C5_MIN_LENGTH, VARGS(v), l);
+    return 0;
+}
+
+/* A direction vector, normalised. */
 static int get_dir(ctx *c, json_t *obj, const char *path, const char *key, c5_vec3 *out)
 {
-    if (get_vec(c, obj, path, key, ANY, REQ, v3(0, 0, 0), out))
+    if (get_vec(c, obj, path, key, COORD, REQ, v3(0, 0, 0), out) || check_dir_len(c, path, key, *out))
         return -1;
-    if (!(v3_len(*out) > 0))
-        return fail(c, path, key, "must be non-zero, got " VFMT, VARGS(*out));
     *out = v3_norm(*out);
     return 0;
 }
@@ -347,10 +374,10 @@ static int parse_grid(ctx *c, json_t *root, c5_grid_desc *g)
         return fail(c, p, "center", "not allowed together with grid.origin (give one of them)");
     g->has_center = json_object_get(o, "center") != NULL;
     g->has_spacing = json_object_get(o, "spacing") != NULL;
-    if (get_vec(c, o, p, "origin", ANY, OPT, v3(0, 0, 0), &g->origin) ||
-        get_vec(c, o, p, "center", ANY, OPT, v3(0, 0, 0), &g->center) ||
-        get_vec(c, o, p, "spacing", POS, OPT, v3(1, 1, 1), &g->spacing) ||
-        get_num(c, o, p, "size", POS, OPT, 0, &g->size) ||
+    if (get_vec(c, o, p, "origin", COORD, OPT, v3(0, 0, 0), &g->origin) ||
+        get_vec(c, o, p, "center", COORD, OPT, v3(0, 0, 0), &g->center) ||
+        get_vec(c, o, p, "spacing", LENGTH, OPT, v3(1, 1, 1), &g->spacing) ||
+        get_num(c, o, p, "size", LENGTH, OPT, 0, &g->size) ||
         get_int3(c, o, p, "dims", 1, C5_VOLUME_MAX_DIM, OPT, 0, dims) ||
         get_int(c, o, p, "fill", 0, 255, OPT, 0, &fill))
         return -1;
@@ -401,8 +428,8 @@ static int parse_generator(ctx *c, json_t *o, const char *p, c5_volume_desc *v)
         v->gen_dims[i] = (size_t)dims[i];
     switch (v->generator) {
     case C5_GEN_MARSCHNER_LOBB:
-        return get_num(c, o, p, "f_m", POS, OPT, 6, &v->f_m) ||
-               get_num(c, o, p, "alpha", NONNEG, OPT, 0.25, &v->alpha);
+        return get_num(c, o, p, "f_m", GEN_PARAM, OPT, 6, &v->f_m) ||
+               get_num(c, o, p, "alpha", FACTOR, OPT, 0.25, &v->alpha);
     case C5_GEN_BLOBS:
         if (get_int(c, o, p, "count", 1, 256, OPT, 12, &n))
             return -1;
@@ -451,7 +478,7 @@ static int parse_file_volume(ctx *c, json_t *o, const char *p, c5_volume_desc *v
     if (w) {
         if (type == 0)
             return fail(c, p, "window", "only for uint16 volumes, but type is \"uint8\"");
-        if (check_nums(c, p, "window", w, 2, ANY, v->window))
+        if (check_nums(c, p, "window", w, 2, COORD, v->window))
             return -1;
         if (!(v->window[0] < v->window[1]))
             return fail(c, p, "window", "must have lo < hi, got [%.15g, %.15g]", v->window[0], v->window[1]);
@@ -542,14 +569,14 @@ static int parse_tf(ctx *c, json_t *root, c5_scene *s)
     if (parse_points(c, o, "color", 4, pts, &tf->n_color))
         return -1;
     memcpy(tf->color, pts, (size_t)tf->n_color * sizeof tf->color[0]);
-    if (get_num(c, o, p, "unit_distance", POS, OPT, 0, &tf->unit_distance) ||
+    if (get_num(c, o, p, "unit_distance", LENGTH, OPT, 0, &tf->unit_distance) ||
         get_obj(c, o, p, "shading", OPT, &sh))
         return -1;
     if (sh && (check_keys(c, sh, sp, shading_keys, NULL, NULL) ||
-               get_num(c, sh, sp, "ambient", NONNEG, OPT, 0.3, &tf->ambient) ||
-               get_num(c, sh, sp, "diffuse", NONNEG, OPT, 0.7, &tf->diffuse) ||
-               get_num(c, sh, sp, "specular", NONNEG, OPT, 0.2, &tf->specular) ||
-               get_num(c, sh, sp, "specular_power", (range){1, INFINITY, 0, 0}, OPT, 20,
+               get_num(c, sh, sp, "ambient", FACTOR, OPT, 0.3, &tf->ambient) ||
+               get_num(c, sh, sp, "diffuse", FACTOR, OPT, 0.7, &tf->diffuse) ||
+               get_num(c, sh, sp, "specular", FACTOR, OPT, 0.2, &tf->specular) ||
+               get_num(c, sh, sp, "specular_power", (range){1, 1e4, 0, 0}, OPT, 20,
                        &tf->specular_power)))
         return -1;
     return 0;
@@ -571,9 +598,9 @@ static int parse_lights(ctx *c, json_t *root, c5_scene *s)
         if (elem_obj(c, arr, "", "lights", i, p, sizeof p, &o) || check_keys(c, o, p, keys, NULL, NULL) ||
             get_enum(c, o, p, "type", types, REQ, 0, &t) ||
             check_keys(c, o, p, keys, allowed[t], t ? "directional lights" : "point lights") ||
-            (t == 0 ? get_vec(c, o, p, "position", ANY, REQ, v3(0, 0, 0), &l->position)
+            (t == 0 ? get_vec(c, o, p, "position", COORD, REQ, v3(0, 0, 0), &l->position)
                     : get_dir(c, o, p, "direction", &l->direction)) ||
-            get_num(c, o, p, "intensity", NONNEG, OPT, 1, &l->intensity) ||
+            get_num(c, o, p, "intensity", FACTOR, OPT, 1, &l->intensity) ||
             get_bool(c, o, p, "shadows", 0, &l->shadows))
             return -1;
         l->kind = t ? C5_LIGHT_DIRECTIONAL : C5_LIGHT_POINT;
@@ -596,11 +623,11 @@ static int parse_material(ctx *c, json_t *surf, const char *sp, c5_material *m)
         return 0;
     if (check_keys(c, o, p, keys, NULL, NULL) ||
         get_vec(c, o, p, "color", UNIT, OPT, m->color, &m->color) ||
-        get_num(c, o, p, "ambient", NONNEG, OPT, m->ambient, &m->ambient) ||
-        get_num(c, o, p, "diffuse", NONNEG, OPT, m->diffuse, &m->diffuse) ||
+        get_num(c, o, p, "ambient", FACTOR, OPT, m->ambient, &m->ambient) ||
+        get_num(c, o, p, "diffuse", FACTOR, OPT, m->diffuse, &m->diffuse) ||
         get_num(c, o, p, "reflectivity", UNIT, OPT, 0, &m->reflectivity) ||
         get_num(c, o, p, "transparency", UNIT, OPT, 0, &m->transparency) ||
-        get_num(c, o, p, "ior", POS, OPT, 1.5, &m->ior))
+        get_num(c, o, p, "ior", IOR, OPT, 1.5, &m->ior))
         return -1;
     if (m->reflectivity + m->transparency > 1)
         return fail(c, p, "transparency", "reflectivity + transparency must be <= 1, got %.15g + %.15g",
@@ -629,26 +656,24 @@ static int parse_surfaces(ctx *c, json_t *root, c5_scene *s)
             return -1;
         f->kind = (c5_surface_kind)t;
         if (f->kind == C5_SURF_PLANE) {
-            if (get_vec(c, o, p, "point", ANY, REQ, v3(0, 0, 0), &f->point) ||
+            if (get_vec(c, o, p, "point", COORD, REQ, v3(0, 0, 0), &f->point) ||
                 get_dir(c, o, p, "normal", &f->normal))
                 return -1;
         } else if (f->kind == C5_SURF_RECT) {
-            if (get_vec(c, o, p, "corner", ANY, REQ, v3(0, 0, 0), &f->point) ||
-                get_vec(c, o, p, "u", ANY, REQ, v3(0, 0, 0), &f->u) ||
-                get_vec(c, o, p, "v", ANY, REQ, v3(0, 0, 0), &f->v))
+            if (get_vec(c, o, p, "corner", COORD, REQ, v3(0, 0, 0), &f->point) ||
+                get_vec(c, o, p, "u", COORD, REQ, v3(0, 0, 0), &f->u) ||
+                get_vec(c, o, p, "v", COORD, REQ, v3(0, 0, 0), &f->v))
+                return -1;
+            if (check_dir_len(c, p, "u", f->u) || check_dir_len(c, p, "v", f->v))
                 return -1;
             double lu = v3_len(f->u), lv = v3_len(f->v);
-            if (!(lu > 0))
-                return fail(c, p, "u", "must be non-zero, got " VFMT, VARGS(f->u));
-            if (!(lv > 0))
-                return fail(c, p, "v", "must be non-zero, got " VFMT, VARGS(f->v));
             if (fabs(v3_dot(f->u, f->v)) > 1e-9 * lu * lv)
                 return fail(c, p, "v", "must be perpendicular to u, got u = " VFMT ", v = " VFMT,
                             VARGS(f->u), VARGS(f->v));
             f->normal = v3_norm(v3_cross(f->u, f->v));
         } else {
-            if (get_vec(c, o, p, "center", ANY, REQ, v3(0, 0, 0), &f->point) ||
-                get_num(c, o, p, "radius", POS, REQ, 0, &f->radius))
+            if (get_vec(c, o, p, "center", COORD, REQ, v3(0, 0, 0), &f->point) ||
+                get_num(c, o, p, "radius", LENGTH, REQ, 0, &f->radius))
                 return -1;
         }
         if (parse_material(c, o, p, &f->mat))
@@ -661,16 +686,19 @@ static int parse_surfaces(ctx *c, json_t *root, c5_scene *s)
 /* eye, target, up, fov of the camera or of a path key; missing up/fov from `def`. */
 static int parse_view(ctx *c, json_t *o, const char *p, const c5_camera *def, c5_camera *cam)
 {
-    if (get_vec(c, o, p, "eye", ANY, REQ, v3(0, 0, 0), &cam->eye) ||
-        get_vec(c, o, p, "target", ANY, REQ, v3(0, 0, 0), &cam->target) ||
-        get_vec(c, o, p, "up", ANY, OPT, def->up, &cam->up) ||
+    if (get_vec(c, o, p, "eye", COORD, REQ, v3(0, 0, 0), &cam->eye) ||
+        get_vec(c, o, p, "target", COORD, REQ, v3(0, 0, 0), &cam->target) ||
+        get_vec(c, o, p, "up", COORD, OPT, def->up, &cam->up) ||
         get_num(c, o, p, "fov", (range){0, 180, 1, 1}, OPT, def->fov_deg, &cam->fov_deg))
         return -1;
     c5_vec3 d = v3_sub(cam->target, cam->eye);
-    if (!(v3_len(d) > 0))
-        return fail(c, p, "target", "must differ from eye, got " VFMT " for both", VARGS(cam->eye));
-    if (!(v3_len(v3_cross(d, cam->up)) > 1e-9 * v3_len(d) * v3_len(cam->up)))
-        return fail(c, p, "up", "must not be zero or parallel to target - eye " VFMT ", got " VFMT, VARGS(d),
+    if (!(robust_len(d) >= C5_MIN_LENGTH))
+        return fail(c, p, "target", "must be at least %g from eye, got " VFMT " and eye " VFMT, C5_MIN_LENGTH,
+                    VARGS(cam->target), VARGS(cam->eye));
+    if (check_dir_len(c, p, "up", cam->up))
+        return -1;
+    if (c5_camera_problem(cam))
+        return fail(c, p, "up", "must not be parallel to target - eye " VFMT ", got " VFMT, VARGS(d),
                     VARGS(cam->up));
     return 0;
 }
@@ -705,7 +733,7 @@ static int parse_camera(ctx *c, json_t *root, c5_scene *s)
             return -1;
     s->path.frames = (int)frames;
     s->path.n_keys = (int)json_array_size(arr);
-    return 0;
+    return c5_scene_check_path(s, c->what, c->err);
 }
 
 static int parse_render(ctx *c, json_t *root, c5_render_settings *r)
@@ -717,11 +745,11 @@ static int parse_render(ctx *c, json_t *root, c5_render_settings *r)
     long long bounces;
     /* An absent section reads as an empty one: json_object_get(NULL, key) is NULL. */
     if (get_obj(c, root, "", p, OPT, &o) || (o && check_keys(c, o, p, keys, NULL, NULL)) ||
-        get_num(c, o, p, "step", POS, OPT, 0, &r->step) ||
+        get_num(c, o, p, "step", LENGTH, OPT, 0, &r->step) ||
         get_num(c, o, p, "max_opacity", (range){0, 1, 1, 0}, OPT, 0.99, &r->max_opacity) ||
         get_int(c, o, p, "max_bounces", 0, C5_MAX_BOUNCES, OPT, 3, &bounces) ||
         get_num(c, o, p, "min_weight", (range){0, 1, 0, 1}, OPT, 1.0 / 256, &r->min_weight) ||
-        get_vec(c, o, p, "background", NONNEG, OPT, v3(0, 0, 0), &r->background) ||
+        get_vec(c, o, p, "background", FACTOR, OPT, v3(0, 0, 0), &r->background) ||
         get_bool(c, o, p, "shading", 1, &r->shading))
         return -1;
     r->max_bounces = (int)bounces;
@@ -763,6 +791,7 @@ static int parse_scene(ctx *c, json_t *root, c5_scene *s)
     if (name && strlen(name) >= sizeof s->name)
         return fail(c, "", "name", "too long (at most %zu bytes), got \"%.40s...\"", sizeof s->name - 1,
                     name);
+    snprintf(s->source, sizeof s->source, "%s", c->what);
     if (name)
         snprintf(s->name, sizeof s->name, "%s", name);
     else
@@ -854,6 +883,20 @@ done:
 }
 
 int c5_scene_frames(const c5_scene *s) { return s->path.n_keys > 0 ? s->path.frames : 1; }
+
+int c5_scene_check_path(const c5_scene *s, const char *what, c5_err *err)
+{
+    int n = c5_scene_frames(s);
+    for (int f = 0; f < n; f++) {
+        c5_camera cam = c5_scene_camera_at(s, f);
+        const char *problem = c5_camera_problem(&cam);
+        if (problem)
+            return c5_fail(err, "%s: camera_path: frame %d of %d: %s (eye " VFMT ", target " VFMT ", up " VFMT
+                           "); every frame between the keys must frame a view", what, f, n, problem,
+                           VARGS(cam.eye), VARGS(cam.target), VARGS(cam.up));
+    }
+    return 0;
+}
 
 /* a*(1-f) + b*f: exactly a at f = 0 and exactly b at f = 1. */
 static double lerp(double a, double b, double f) { return a * (1 - f) + b * f; }

@@ -180,6 +180,19 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
                           out->dims[2] * out->spacing.z / 2);
         out->origin = v3_sub(s->grid.center, half);
     }
+    /* Bounded work per ray: the step (render.step, else the smallest spacing) against the
+     * diagonal. A tiny step, or one spacing far below the others, would ask for ~1e11
+     * samples per ray. */
+    c5_vec3 ext = v3(out->dims[0] * out->spacing.x, out->dims[1] * out->spacing.y, out->dims[2] * out->spacing.z);
+    double step = s->render.step > 0 ? s->render.step : c5_supervol_min_spacing(out);
+    double samples = v3_len(ext) / step;
+    if (!(samples <= C5_MAX_RAY_SAMPLES)) {
+        c5_fail(err, "%s%s%s: a ray across the grid (%g world units) takes %g samples of %g; at most %d (a larger "
+                "render.step, or grid.spacing components closer to each other)",
+                s->source, *s->source ? ": " : "", s->render.step > 0 ? "render.step" : "grid.spacing", v3_len(ext),
+                samples, step, C5_MAX_RAY_SAMPLES);
+        goto done;
+    }
     rc = 0;
 done:
     for (int i = 0; i < s->n_volumes; i++)

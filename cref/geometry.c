@@ -90,8 +90,15 @@ int C5R(refract)(c5_rvec3 d, c5_rvec3 n, c5_real eta, c5_rvec3 *out)
 {
     c5_real cos_i = -rv3_dot(d, n);
     c5_real k = 1 - eta * eta * (1 - cos_i * cos_i);
-    if (k < 0)
+    /* A k that is not >= 0 (negative, or NaN when eta^2 overflows and meets a zero sine)
+     * is total internal reflection, and so is a direction that does not normalise to a
+     * finite unit vector: no NaN ray leaves a surface, whatever eta is. */
+    if (!(k >= 0))
         return 0;
-    *out = rv3_norm(rv3_add(rv3_scale(d, eta), rv3_scale(n, eta * cos_i - sqrt(k))));
+    c5_rvec3 t = rv3_add(rv3_scale(d, eta), rv3_scale(n, eta * cos_i - sqrt(k)));
+    c5_real len = rv3_len(t);
+    if (!(len > 0 && isfinite(len)))
+        return 0;
+    *out = rv3_scale(t, 1 / len);
     return 1;
 }

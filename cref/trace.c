@@ -133,8 +133,14 @@ static int march(const c5_trace_ctx *c, const c5_ray *r, c5_real tend, c5_real *
     int is_shadow = r->type == C5_RAY_SHADOW;
     double max_opacity = c->s->render.max_opacity;
     c5_rvec3 view = rv3_scale(r->d, -1);
-    for (c5_real k = kfirst < 0 ? 0 : kfirst; k <= klast; k++) {
-        c5_real t = k * c->step;
+    /* An integer count, not a floating k: k++ stops changing k past 2^53, and a loop on it
+     * never ends. c5_supervol_build refuses grids whose diagonal is more than
+     * C5_MAX_RAY_SAMPLES steps, so the cap only holds against a degenerate ray (a NaN
+     * span gives no samples). */
+    c5_real k0 = kfirst < 0 ? 0 : kfirst, span = klast - k0;
+    long long last = span >= 0 ? (span < C5_MAX_RAY_SAMPLES ? (long long)span : C5_MAX_RAY_SAMPLES) : -1;
+    for (long long i = 0; i <= last; i++) {
+        c5_real t = (k0 + i) * c->step;
         if (t >= tend)
             break;
         c5_rvec3 p = rv3_madd(r->o, r->d, t);

@@ -7,10 +7,10 @@
 #include "c5_layouts.h"
 #include "cells.h"
 #include "hostmem.h"
+#include "model_limits.h"
 #include "regs.h"
 #include "supervol.h"
 
-#define C5_BOARD_MAX_IMAGE 512 /* image_size: 9-bit dest_u/dest_v (docs/register-map.md) */
 
 static size_t pad4(size_t n) { return (n + 3) & ~(size_t)3; }
 
@@ -88,14 +88,6 @@ static int build_cells(c5_hostmem *m, const c5_supervol *sv, const c5_cells *c, 
     return rc;
 }
 
-static int check_image(const c5_scene *s, c5_err *err)
-{
-    if (s->render.width > C5_BOARD_MAX_IMAGE || s->render.height > C5_BOARD_MAX_IMAGE)
-        return c5_fail(err, "image %dx%d: the board renders at most %dx%d (9-bit pixel addresses)", s->render.width,
-                       s->render.height, C5_BOARD_MAX_IMAGE, C5_BOARD_MAX_IMAGE);
-    return 0;
-}
-
 int c5_hostmem_load(c5_hostmem *m, const char *json, const char *base_dir, const char *what, const int cells[3],
                     int width, int height, c5_err *err)
 {
@@ -115,7 +107,8 @@ int c5_hostmem_load(c5_hostmem *m, const char *json, const char *base_dir, const
         m->scene->render.width = width;
     if (height > 0)
         m->scene->render.height = height;
-    if (check_image(m->scene, err) != 0 || c5_supervol_build(m->scene, &sv, err) != 0)
+    /* The model's field-width limits before any volume is read or generated. */
+    if (c5_model_check_scene(m->scene, cells, m->scene->source, err) != 0 || c5_supervol_build(m->scene, &sv, err) != 0)
         goto out;
     m->width = m->scene->render.width;
     m->height = m->scene->render.height;

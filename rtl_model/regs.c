@@ -49,7 +49,7 @@ int c5_regs_geom_point(c5_vec3 p, const c5_supervol *sv, int64_t out[3], const c
     double g[3] = {(p.x - sv->origin.x) / smin, (p.y - sv->origin.y) / smin, (p.z - sv->origin.z) / smin};
     for (int a = 0; a < 3; a++) {
         if (!(fabs(g[a]) < 8000))
-            return c5_fail(err, "%s lies %.0f grid steps from the grid origin; the model's geometry (geom_coord "
+            return c5_fail(err, "%s lies %g grid steps from the grid origin; the model's geometry (geom_coord "
                                 "SQ13.15) reaches 8000",
                            what, fabs(g[a]));
         out[a] = c5_regs_fx(g[a], GEOM_F, -GEOM_MAX, GEOM_MAX - 1);
@@ -126,7 +126,7 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
             diag += pow(sv->dims[a] * sp[a], 2);
         }
         if (sqrt(diag) / step + 2 > C5_LIFE_MAX)
-            return c5_fail(err, "the grid's diagonal is %.0f samples long: the packet's lifetime (12 bits) counts "
+            return c5_fail(err, "the grid's diagonal is %g samples long: the packet's lifetime (12 bits) counts "
                                 "up to %u (use a larger render.step)",
                            sqrt(diag) / step, C5_LIFE_MAX);
         r->step_g = c5_regs_fx(step / smin, 20, 1, ((int64_t)16 << 20) - 1);

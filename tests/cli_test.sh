@@ -191,7 +191,7 @@ fi
 for v in 0 -1 2x2 999 x 2x2x2x2 ""; do
     expect "compare_bad_cells_'$v'" 2 "--cells: expected N or NxMxK" -- "$cube5" compare default --size 8x8 --cells "$v"
 done
-expect compare_cells_beyond_grid 2 "--cells: .*grid has only 10 voxels" -- "$cube5" compare "$tmp/ok.json" --cells 11
+expect compare_cells_beyond_grid 2 "--cells: .*grid has only 10 voxels" -- "$cube5" compare "$tmp/ok.json" --cells 11x1x1
 expect compare_cells_missing 2 "--cells: missing value" -- "$cube5" compare default --cells
 expect compare_bad_frame 2 "--frame: the scene has 1 frame" -- "$cube5" compare default --frame 1
 expect compare_bad_gain 2 "--gain: expected a number" -- "$cube5" compare default --gain 0

@@ -1,6 +1,8 @@
 /* cref against hand-computed values, analytic truth and its own invariants. */
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "builtin_scenes.h"
 #include "cref.h"
@@ -198,6 +200,141 @@ TEST(cref_reflect_refract_directions)
     CHECK(fabs(t.z) < 1e-2);
 }
 
+/* Whatever eta is, refraction gives a finite unit direction or total internal reflection
+ * (0): an eta whose square overflows once made a NaN direction that cref then marched
+ * forever. */
+TEST(cref_refract_never_returns_nan)
+{
+    const double etas[] = {1e16, 1e300, 1e-300, INFINITY, 1.5};
+    const c5_vec3 n = v3(0, 0, 1), ds[] = {v3(0, 0, -1), v3_norm(v3(1, 0, -1)), v3_norm(v3(1e-9, 0, -1))};
+    for (size_t e = 0; e < sizeof etas / sizeof etas[0]; e++)
+        for (size_t i = 0; i < sizeof ds / sizeof ds[0]; i++) {
+            c5_vec3 t = v3(0, 0, 0);
+            if (!c5_refract(ds[i], n, etas[e], &t))
+                continue;
+            CHECK_MSG(isfinite(t.x) && isfinite(t.y) && isfinite(t.z) && fabs(v3_len(t) - 1) < 1e-12,
+                      "eta %g, d %zu: direction [%g, %g, %g]", etas[e], i, t.x, t.y, t.z);
+        }
+}
+
+/* Runs fn(arg) in a child process and reports whether it ended within `seconds`: a test
+ * of "never hangs" fails instead of hanging the suite. */
+static int ends_within(int (*fn)(void *), void *arg, unsigned seconds)
+{
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid < 0)
+        return 0;
+    if (pid == 0) {
+        alarm(seconds);
+        _exit(fn(arg) == 0 ? 0 : 1);
+    }
+    int status;
+    if (waitpid(pid, &status, 0) != pid)
+        return 0;
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+/* One pixel of the scene with its first spacing set to 1e-30 behind the parser's back: a
+ * double sample counter k starting near 3e31 never grew (k + 1 == k), and march never ended. */
+static int render_tiny_spacing(void *unused)
+{
+    (void)unused;
+    static c5_scene s;
+    c5_err err;
+    c5_supervol sv;
+    const char *json = "{\"volumes\": [{\"generator\": \"constant\", \"dims\": [8, 8, 8], \"value\": 0}],"
+                       " \"transfer_function\": {\"opacity\": [[0, 0]], \"color\": [[0, 1, 1, 1]]},"
+                       " \"camera\": {\"eye\": [0, 4, 40], \"target\": [0, 4, 4], \"up\": [0, 1, 0],"
+                       " \"width\": 1, \"height\": 1}}";
+    if (c5_scene_parse(json, NULL, "t", &s, &err) != 0 || c5_supervol_build(&s, &sv, &err) != 0)
+        return -1;
+    sv.spacing.x = 1e-30;
+    c5_image img;
+    c5_cref_stats st;
+    c5_cref_opts o = {1, NULL};
+    int rc = c5_cref_render(&s, &sv, 0, &o, &img, &st, &err);
+    int finite = rc == 0 && isfinite(img.rgb[0]) && isfinite(img.rgb[1]) && isfinite(img.rgb[2]);
+    c5_image_free(&img);
+    c5_supervol_free(&sv);
+    return finite ? 0 : -1;
+}
+
+TEST(cref_march_ends_on_a_tiny_spacing)
+{
+    CHECK_MSG(ends_within(render_tiny_spacing, NULL, 60), "the render did not end within 60 s (or failed)");
+}
+
+/* c5_supervol_build refuses a grid whose diagonal is more than C5_MAX_RAY_SAMPLES steps,
+ * naming the key that sets the step. */
+TEST(supervol_refuses_unbounded_samples_per_ray)
+{
+    static c5_scene s;
+    c5_err err;
+    c5_supervol sv;
+    const char *base = "{\"volumes\": [{\"generator\": \"constant\", \"dims\": [8, 8, 8]}],"
+                       " \"transfer_function\": {\"opacity\": [[0, 0]], \"color\": [[0, 1, 1, 1]]},"
+                       " \"camera\": {\"eye\": [4, 4, 40], \"target\": [4, 4, 4], \"up\": [0, 1, 0]}%s}";
+    const struct {
+        const char *extra, *key;
+    } cases[] = {{", \"render\": {\"step\": 1e-6}", "t: render.step: a ray across the grid"},
+                 {", \"grid\": {\"spacing\": [1e-6, 1, 1]}", "t: grid.spacing: a ray across the grid"}};
+    char json[1024];
+    for (size_t i = 0; i < 2; i++) {
+        snprintf(json, sizeof json, base, cases[i].extra);
+        CHECK_MSG(c5_scene_parse(json, NULL, "t", &s, &err) == 0, "%s", err.msg);
+        CHECK_INT(c5_supervol_build(&s, &sv, &err), -1);
+        CHECK_HAS(err.msg, cases[i].key);
+        CHECK_HAS(err.msg, "at most 1048576");
+    }
+    /* At the limit's side that is allowed: step 1e-4 across a diagonal of 13.9 is 1.4e5. */
+    snprintf(json, sizeof json, base, ", \"render\": {\"step\": 1e-4}");
+    CHECK_MSG(c5_scene_parse(json, NULL, "t", &s, &err) == 0, "%s", err.msg);
+    CHECK_MSG(c5_supervol_build(&s, &sv, &err) == 0, "%s", err.msg);
+    c5_supervol_free(&sv);
+}
+
+/* Every factor at the top of its range (docs/scene-format.md, "Valid ranges"), 8 shadowing
+ * lights, refraction at both ends of the ior range, two facing mirrors and 16 bounces: every
+ * pixel is finite. The ranges exist for this; a light of 1e300 once wrote +Inf. */
+TEST(cref_range_ends_give_finite_pixels)
+{
+    char lights[2048] = "", json[8192];
+    for (int i = 0; i < 8; i++) {
+        size_t n = strlen(lights);
+        snprintf(lights + n, sizeof lights - n, "%s{\"type\": \"point\", \"position\": [%d, 9, 30],"
+                 " \"intensity\": 1000, \"shadows\": true}", i ? ", " : "", 2 * i - 7);
+    }
+    snprintf(json, sizeof json,
+             "{\"volumes\": [{\"generator\": \"ramp\", \"dims\": [8, 8, 8]}],"
+             " \"transfer_function\": {\"opacity\": [[0, 0], [255, 0.2]], \"color\": [[0, 1, 1, 1]],"
+             "  \"shading\": {\"ambient\": 1000, \"diffuse\": 1000, \"specular\": 1000, \"specular_power\": 1}},"
+             " \"lights\": [%s],"
+             " \"surfaces\": ["
+             "  {\"type\": \"sphere\", \"center\": [2, 4, 12], \"radius\": 2, \"material\": {\"transparency\": 1,"
+             "   \"ior\": 1000}},"
+             "  {\"type\": \"sphere\", \"center\": [6, 4, 12], \"radius\": 2, \"material\": {\"transparency\": 0.5,"
+             "   \"reflectivity\": 0.5, \"ior\": 0.001}},"
+             "  {\"type\": \"plane\", \"point\": [-20, 0, 0], \"normal\": [1, 0, 0], \"material\": {\"reflectivity\": 1}},"
+             "  {\"type\": \"plane\", \"point\": [28, 0, 0], \"normal\": [-1, 0, 0], \"material\": {\"reflectivity\": 1}},"
+             "  {\"type\": \"plane\", \"point\": [0, 0, -5], \"normal\": [0, 0, 1], \"material\": {\"ambient\": 1000,"
+             "   \"diffuse\": 1000}}],"
+             " \"camera\": {\"eye\": [4, -30, 20], \"target\": [4, 4, 4], \"width\": 24, \"height\": 24, \"fov\": 60},"
+             " \"render\": {\"max_bounces\": 16, \"min_weight\": 0, \"background\": [1000, 1000, 1000]}}",
+             lights);
+    c5_image img;
+    c5_cref_stats st;
+    CHECK_INT(render_json(json, 2, NULL, &img, &st), 0);
+    double peak = 0;
+    for (int i = 0; i < img.w * img.h * 3; i++) {
+        CHECK_MSG(isfinite(img.rgb[i]), "value %d is %g", i, (double)img.rgb[i]);
+        peak = fmax(peak, img.rgb[i]);
+    }
+    printf("    largest channel %g; %llu refracted rays\n", peak, (unsigned long long)st.rays[C5_RAY_REFRACT]);
+    CHECK(st.rays[C5_RAY_REFRACT] > 0);
+    c5_image_free(&img);
+}
+
 /* A white plane z = 0 under a light straight above, seen from the side, with a sphere
  * between the plane's centre and the light. */
 static const char *shadow_scene =
@@ -393,14 +530,18 @@ TEST(cref_marschner_lobb_error_falls_with_step)
 
 TEST(cref_degenerate_path_camera_is_an_error)
 {
-    /* Opposite up vectors blend to zero half way along the path. */
+    /* Opposite up vectors blend to zero half way along the path. The parser refuses that
+     * path at 3 frames (test scene_path_degenerate_between_keys); at 2 it is valid, and a
+     * caller that sets 3 frames itself past c5_scene_check_path still gets an error. */
     const char *json = "{\"camera\": {\"eye\": [10, 0, 0], \"target\": [0, 0, 0]},"
-                       " \"camera_path\": {\"frames\": 3, \"keys\": [{\"eye\": [10, 0, 0], \"target\": [0, 0, 0],"
+                       " \"camera_path\": {\"frames\": 2, \"keys\": [{\"eye\": [10, 0, 0], \"target\": [0, 0, 0],"
                        " \"up\": [0, 0, 1]}, {\"eye\": [10, 0, 0], \"target\": [0, 0, 0], \"up\": [0, 0, -1]}]}}";
     static c5_scene s;
     c5_err err;
     c5_supervol sv;
     CHECK(c5_scene_parse(json, NULL, "t", &s, &err) == 0);
+    s.path.frames = 3;
+    CHECK(c5_scene_check_path(&s, "t", &err) != 0);
     CHECK(c5_supervol_build(&s, &sv, &err) == 0);
     c5_image img;
     c5_cref_stats st;
@@ -408,5 +549,5 @@ TEST(cref_degenerate_path_camera_is_an_error)
     CHECK(c5_cref_render(&s, &sv, 0, &o, &img, &st, &err) == 0);
     c5_image_free(&img);
     CHECK(c5_cref_render(&s, &sv, 1, &o, &img, &st, &err) != 0);
-    CHECK_HAS(err.msg, "frame 1: camera up is parallel");
+    CHECK_HAS(err.msg, "frame 1: camera: up is zero or parallel");
 }

@@ -336,29 +336,29 @@ TEST(scene_negative_sizes)
                 "must be in [1, 65535], got 0");
     CHECK_FAILS("{" CAM ", 'grid': {'dims': [70000, 1, 1]}}", "grid.dims[0]", "must be in [1, 65535], got 70000");
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'sphere', 'center': [0, 0, 0], 'radius': -1}]}",
-                "surfaces[0].radius", "must be > 0, got -1");
+                "surfaces[0].radius", "must be in [1e-06, 1000000], got -1");
     CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'width': -5}}", "camera.width",
                 "must be in [1, 4096], got -5");
     CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'height': 5000}}", "camera.height",
                 "must be in [1, 4096], got 5000");
-    CHECK_FAILS("{" CAM ", 'grid': {'spacing': [1, 0, 1]}}", "grid.spacing[1]", "must be > 0, got 0");
-    CHECK_FAILS("{" CAM ", 'grid': {'size': -2}}", "grid.size", "must be > 0, got -2");
+    CHECK_FAILS("{" CAM ", 'grid': {'spacing': [1, 0, 1]}}", "grid.spacing[1]", "must be in [1e-06, 1000000], got 0");
+    CHECK_FAILS("{" CAM ", 'grid': {'size': -2}}", "grid.size", "must be in [1e-06, 1000000], got -2");
     CHECK_FAILS("{" CAM ", 'volumes': [{'generator': 'sphere', 'dims': [4, 4, 4], 'radius': 1.5}], " TF "}",
                 "volumes[0].radius", "must be in (0, 1], got 1.5");
     CHECK_FAILS("{" CAM ", 'volumes': [{'generator': 'ramp', 'dims': [4, 4, 4], 'offset': [0, -1, 0]}], " TF "}",
                 "volumes[0].offset[1]", "got -1");
     CHECK_FAILS("{" CAM ", 'lights': [{'type': 'point', 'position': [0, 0, 0], 'intensity': -1}]}",
-                "lights[0].intensity", "must be >= 0, got -1");
+                "lights[0].intensity", "must be in [0, 1000], got -1");
 }
 
 TEST(scene_zero_vectors)
 {
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'plane', 'point': [0, 0, 0], 'normal': [0, 0, 0]}]}",
-                "surfaces[0].normal", "must be non-zero, got [0, 0, 0]");
+                "surfaces[0].normal", "must have a length of at least 1e-06 (shorter counts as zero), got [0, 0, 0]");
     CHECK_FAILS("{" CAM ", 'lights': [{'type': 'directional', 'direction': [0, 0, 0]}]}", "lights[0].direction",
-                "must be non-zero");
+                "must have a length of at least 1e-06");
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'rect', 'corner': [0, 0, 0], 'u': [0, 0, 0], 'v': [0, 1, 0]}]}",
-                "surfaces[0].u", "must be non-zero");
+                "surfaces[0].u", "must have a length of at least 1e-06");
     CHECK_FAILS("{" CAM ", 'surfaces': [{'type': 'rect', 'corner': [0, 0, 0], 'u': [1, 0, 0], 'v': [1, 1, 0]}]}",
                 "surfaces[0].v", "must be perpendicular to u");
 }
@@ -411,10 +411,10 @@ TEST(scene_tf_rules)
     CHECK_FAILS("{" CAM ", 'transfer_function': {'opacity': [], 'color': [[0, 1, 1, 1]]}}",
                 "transfer_function.opacity", "needs at least 1 entry, got 0");
     CHECK_FAILS("{" CAM ", 'transfer_function': {'opacity': [[0, 1]], 'color': [[0, 1, 1, 1]], 'unit_distance': 0}}",
-                "transfer_function.unit_distance", "must be > 0, got 0");
+                "transfer_function.unit_distance", "must be in [1e-06, 1000000], got 0");
     CHECK_FAILS("{" CAM ", 'transfer_function': {'opacity': [[0, 1]], 'color': [[0, 1, 1, 1]],"
                 "'shading': {'specular_power': 0.5}}}", "transfer_function.shading.specular_power",
-                "must be >= 1, got 0.5");
+                "must be in [1, 10000], got 0.5");
 }
 
 TEST(scene_reflectivity_plus_transparency)
@@ -482,12 +482,12 @@ TEST(scene_real_for_integer)
 TEST(scene_camera_geometry)
 {
     CHECK_FAILS("{'camera': {'eye': [0, 0, 5], 'target': [0, 0, 0]}}", "camera.up",
-                "must not be zero or parallel to target - eye");
+                "must not be parallel to target - eye");
     CHECK_FAILS("{'camera': {'eye': [1, 1, 1], 'target': [2, 2, 2], 'up': [-3, -3, -3]}}", "camera.up",
                 "parallel");
     CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'up': [0, 0, 0]}}", "camera.up", "zero");
     CHECK_FAILS("{'camera': {'eye': [1, 2, 3], 'target': [1, 2, 3]}}", "camera.target",
-                "must differ from eye, got [1, 2, 3]");
+                "must be at least 1e-06 from eye, got [1, 2, 3]");
     CHECK_FAILS("{" CAM ", 'camera_path': {'frames': 2, 'keys': [{'eye': [1, 0, 0], 'target': [0, 0, 0]},"
                 "{'eye': [0, 0, 1], 'target': [0, 0, 0]}]}}", "camera_path.keys[1].up", "parallel");
 }
@@ -587,4 +587,79 @@ TEST(scene_load_file_too_big)
     CHECK_INT(c5_scene_load_file(path, &scene, &e), -1);
     CHECK_HAS(e.msg, path);
     CHECK_HAS(e.msg, "16 MiB");
+}
+
+/* Every number has a range (docs/scene-format.md, "Valid ranges"); the values that made
+ * cref hang or write +Inf are refused at parse time, and the message prints them with %g,
+ * not 300 digits. */
+TEST(scene_valid_ranges)
+{
+#define SPHERE(mat) "'surfaces': [{'type': 'sphere', 'center': [0, 0, 0], 'radius': 1, 'material': " mat "}]"
+    CHECK_FAILS("{" CAM ", " SPHERE("{'transparency': 1, 'ior': 1e16}") "}", "surfaces[0].material.ior",
+                "must be in [0.001, 1000], got 1e+16");
+    CHECK_FAILS("{" CAM ", " SPHERE("{'transparency': 1, 'ior': 1e300}") "}", "surfaces[0].material.ior",
+                "got 1e+300");
+    CHECK_FAILS("{" CAM ", " SPHERE("{'ambient': 1e300}") "}", "surfaces[0].material.ambient",
+                "must be in [0, 1000], got 1e+300");
+    CHECK_FAILS("{" CAM ", 'render': {'step': 1e-12}}", "render.step", "must be in [1e-06, 1000000], got 1e-12");
+    CHECK_FAILS("{" CAM ", 'grid': {'spacing': [1e-30, 1, 1]}}", "grid.spacing[0]", "got 1e-30");
+    CHECK_FAILS("{" CAM ", 'render': {'background': [0, 1e300, 0]}}", "render.background[1]",
+                "must be in [0, 1000], got 1e+300");
+    CHECK_FAILS("{" CAM ", 'lights': [{'type': 'point', 'position': [0, 0, 9], 'intensity': 1e300}]}",
+                "lights[0].intensity", "must be in [0, 1000], got 1e+300");
+    CHECK_FAILS("{" CAM ", 'transfer_function': {'opacity': [[0, 1]], 'color': [[0, 1, 1, 1]],"
+                " 'shading': {'ambient': 1e300}}}", "transfer_function.shading.ambient", "got 1e+300");
+    CHECK_FAILS("{'camera': {'eye': [1e300, 0, 0], 'target': [0, 0, 0]}}", "camera.eye[0]",
+                "must be in [-1000000, 1000000], got 1e+300");
+    CHECK_FAILS("{" CAM ", 'lights': [{'type': 'point', 'position': [0, -2e6, 0]}]}", "lights[0].position[1]",
+                "got -2000000");
+    /* The ends of each range are accepted. */
+    c5_err e;
+    CHECK_MSG(parse("{'camera': {'eye': [1e6, 0, 0], 'target': [-1e6, 0, 0]}, 'render': {'step': 1e-6,"
+                    " 'background': [1000, 0, 0]}, 'lights': [{'type': 'point', 'position': [0, 0, 1e6],"
+                    " 'intensity': 1000}], " SPHERE("{'transparency': 1, 'ior': 1000, 'ambient': 1000}") "}",
+                    &e) == 0,
+              "%s", e.msg);
+#undef SPHERE
+}
+
+/* A direction is zero when its length is below 1e-6 (computed without underflow): the
+ * message gives the length instead of calling [1e-300, 0, -1e-300] "zero"; a short but
+ * valid direction is normalised exactly like a long one. */
+TEST(scene_direction_length)
+{
+    CHECK_FAILS("{" CAM ", 'lights': [{'type': 'directional', 'direction': [1e-300, 0, -1e-300]}]}",
+                "lights[0].direction", "must have a length of at least 1e-06 (shorter counts as zero), got "
+                "[1e-300, 0, -1e-300] of length 1.41421e-300");
+    CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [0, 0, 0], 'up': [0, 0, 1e-7]}}", "camera.up",
+                "of length 1e-07");
+    CHECK_FAILS("{'camera': {'eye': [5, 0, 0], 'target': [5, 0, 1e-7]}}", "camera.target",
+                "must be at least 1e-06 from eye");
+    c5_err e;
+    CHECK_MSG(parse("{" CAM ", 'lights': [{'type': 'directional', 'direction': [1e-6, 0, -1e-6]}]}", &e) == 0, "%s",
+              e.msg);
+    CHECK_VEC(scene.lights[0].direction, sqrt(0.5), 0, -sqrt(0.5));
+}
+
+/* Keys that are each valid can blend into a camera that frames nothing: up vectors that
+ * cancel (the reproducer partial_output_path_up_flip.json) or an eye that passes through
+ * the target. The parser refuses the scene, naming the frame, before any frame is drawn. */
+TEST(scene_path_degenerate_between_keys)
+{
+    CHECK_FAILS("{'camera': {'eye': [4, -4, 2], 'target': [0, 0, 0]}, 'camera_path': {'frames': 3, 'keys': ["
+                "{'eye': [4, -4, 2], 'target': [0, 0, 0], 'up': [0, 0, 1]},"
+                "{'eye': [4, -4, 2], 'target': [0, 0, 0], 'up': [0, 0, -1]}]}}",
+                "camera_path: frame 1 of 3", "up is zero or parallel to the view direction");
+    CHECK_FAILS("{" CAM ", 'camera_path': {'frames': 5, 'keys': ["
+                "{'eye': [2, 0, 0], 'target': [0, 0, 0]}, {'eye': [-2, 0, 0], 'target': [0, 0, 0]}]}}",
+                "camera_path: frame 2 of 5", "the eye is on the target");
+    /* Two frames of the same keys only visit the keys: valid. */
+    c5_err e;
+    CHECK_MSG(parse("{" CAM ", 'camera_path': {'frames': 2, 'keys': ["
+                    "{'eye': [2, 0, 0], 'target': [0, 0, 0]}, {'eye': [-2, 0, 0], 'target': [0, 0, 0]}]}}",
+                    &e) == 0,
+              "%s", e.msg);
+    scene.path.frames = 5;
+    CHECK_INT(c5_scene_check_path(&scene, "t.json", &e), -1);
+    CHECK_HAS(e.msg, "t.json: camera_path: frame 2 of 5");
 }
