@@ -26,7 +26,7 @@ fi
 CC=${FUZZ_CC:-clang}
 
 # ---- Teem's source, from Debian's source package (never committed) --------------------------
-teem_src=$(ls -d "$out"/teem-src/teem-*/ 2>/dev/null | head -n 1 || true)
+teem_src=$(ls -d "$out"/teem-src/teem-*/ 2>/dev/null | sed -n 1p || true)
 if [ -z "$teem_src" ]; then
     # A private sources list: the system's apt configuration stays as it is.
     mkdir -p "$out/teem-src/lists/partial"
@@ -42,7 +42,7 @@ EOF
     apt-get "${apt_opts[@]}" update
     (cd "$out/teem-src" && apt-get "${apt_opts[@]}" source --download-only teem)
     tar -C "$out/teem-src" -xf "$out"/teem-src/teem_*.orig.tar.*
-    teem_src=$(ls -d "$out"/teem-src/teem-*/ | head -n 1)
+    teem_src=$(ls -d "$out"/teem-src/teem-*/ | sed -n 1p)
 fi
 
 SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -g -O1"
@@ -78,7 +78,7 @@ mkdir -p "$out/obj"
 lib_objs=()
 for f in common/*.c cref/*.c rtl_model/*.c host_driver/core.c host_driver/frame.c host_driver/hostmem.c; do
     o="$out/obj/$(echo "${f%.c}" | tr / _).o"
-    if [ ! -f "$o" ] || [ "$f" -nt "$o" ] || [ -n "$(find common cref rtl_model host_driver "$build/gen" -name '*.h' -newer "$o" | head -n 1)" ]; then
+    if [ ! -f "$o" ] || [ "$f" -nt "$o" ] || [ -n "$(find common cref rtl_model host_driver "$build/gen" -name '*.h' -newer "$o" | sed -n 1p)" ]; then
         $CC "${cflags[@]}" -c "$f" -o "$o"
     fi
     lib_objs+=("$o")
