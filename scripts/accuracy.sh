@@ -7,6 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 out=docs/accuracy
+command -v gnuplot >/dev/null || bash scripts/setup-deps.sh gnuplot-nox   # sweep.png
 run() { # NAME SCENE [ARGS...]
     local name=$1 scene=$2
     shift 2

@@ -29,6 +29,7 @@ run_suite bash tests/regmap_test.sh
 run_suite bash tests/vectors_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
 run_suite bash tests/link_test.sh "$build"
+run_suite bash tests/deps_test.sh "$build"
 rm -f "$log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The set-up profiles (scripts/deps/) hold what the programs need: every shared library a
+# program links comes from a package that its profile's packages bring in (apt's dependency
+# closure), so `make demo` on a fresh machine installs enough for build/cube5 and the demo,
+# and the test profile enough for the driver and the emulated board. Usage: deps_test.sh BUILD
+set -uo pipefail
+build=${1:-build}
+. "$(dirname "$0")/lib.sh"
+list() { sed -e 's/#.*//' "$@" | tr -s ' \t' '\n' | sed '/^$/d'; }
+
+# closure PROFILE-FILE...: every package the profile installs, dependencies included.
+closure() {
+    # shellcheck disable=SC2046
+    apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks \
+        --no-replaces --no-enhances $(list "$@") 2>/dev/null | sed -n 's/^\([^ <][^ ]*\)$/\1/p' |
+        sed 's/:.*//' | sort -u
+}
+# owners PATH...: "PACKAGE PATH" for each path a package holds, in one dpkg call (each call reads
+# the whole database). Every path also in its /usr-merged spelling: dpkg knows one of them.
+owners() {
+    local f all=()
+    for f in "$@"; do all+=("$f" "${f#/usr}"); done
+    dpkg -S "${all[@]}" 2>/dev/null | sed -E 's/^([^:,]+)[^ ]* (.*)$/\1 \2/'
+}
+# covered NAME PROGRAM PROFILE-FILE...: every library PROGRAM loads (ldd: the direct ones and
+# theirs) comes from a package of the profiles' closure.
+covered() {
+    local name=$1 prog=$2 libs pkgs own missing="" path pkg
+    shift 2
+    [ -x "$prog" ] || { bad "$name" "no $prog: build first"; return; }
+    pkgs=$(closure "$@")
+    libs=$(ldd "$prog" | awk '$3 ~ /^\// { print $3 }' | xargs realpath) || { bad "$name" "ldd $prog failed"; return; }
+    # shellcheck disable=SC2086
+    own=$(owners $libs)
+    for path in $libs; do
+        pkg=$(awk -v p="$path" '$2 == p || "/usr" $2 == p { print $1; exit }' <<<"$own")
+        if [ -z "$pkg" ]; then missing+=" $path (no package holds it)"
+        elif ! grep -qx "$pkg" <<<"$pkgs"; then missing+=" $path ($pkg)"; fi
+    done
+    if [ -z "$missing" ]; then ok "$name"; else bad "$name" "not brought in by $*:$missing"; fi
+}
+
+if ! command -v dpkg >/dev/null || ! command -v apt-cache >/dev/null; then
+    bad deps_debian "dpkg and apt-cache are needed (the set-up is for Debian/Ubuntu)"
+    summary
+fi
+covered demo_profile_covers_cube5 "$build/cube5" scripts/deps/demo.txt
+covered test_profile_covers_cube5ctl "$build/cube5ctl" scripts/deps/demo.txt scripts/deps/test.txt
+covered test_profile_covers_cube5_board "$build/cube5-board" scripts/deps/demo.txt scripts/deps/test.txt
+summary
