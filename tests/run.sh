@@ -31,6 +31,7 @@ run_suite bash tests/fingerprint_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
 run_suite bash tests/link_test.sh "$build"
 run_suite bash tests/deps_test.sh "$build"
+run_suite bash tests/readme_test.sh "$build"
 rm -f "$log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
