@@ -5,14 +5,25 @@
 #   setup-deps.sh test        demo.txt and scripts/deps/test.txt: `make test` (the Makefile)
 #   setup-deps.sh PKG...      those packages (bench-peer.sh, fpga-report.sh, results.sh and
 #                             accuracy.sh install their own extras this way)
+#   setup-deps.sh --list demo|test   prints the profile's packages, one a line (tests/deps_test.sh)
 set -euo pipefail
 deps="$(dirname "$0")/deps"
 list() { sed -e 's/#.*//' "$@" | tr -s ' \t' '\n' | sed '/^$/d'; }
-case "${1:-demo}" in
-    demo) mapfile -t pkgs < <(list "$deps/demo.txt") ;;
-    test) mapfile -t pkgs < <(list "$deps/demo.txt" "$deps/test.txt") ;;
-    *) pkgs=("$@") ;;
-esac
+profile() { # demo|test: the package lists it installs
+    case $1 in demo) echo "$deps/demo.txt" ;; test) echo "$deps/demo.txt $deps/test.txt" ;; *) return 1 ;; esac
+}
+if [ "${1:-}" = --list ]; then
+    files=$(profile "${2:-}") || { echo "setup-deps: --list demo|test" >&2; exit 2; }
+    # shellcheck disable=SC2086
+    list $files
+    exit 0
+fi
+if files=$(profile "${1:-demo}"); then
+    # shellcheck disable=SC2086
+    mapfile -t pkgs < <(list $files)
+else
+    pkgs=("$@")
+fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

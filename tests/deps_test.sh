@@ -6,13 +6,12 @@
 set -uo pipefail
 build=${1:-build}
 . "$(dirname "$0")/lib.sh"
-list() { sed -e 's/#.*//' "$@" | tr -s ' \t' '\n' | sed '/^$/d'; }
 
-# closure PROFILE-FILE...: every package the profile installs, dependencies included.
+# closure PROFILE: every package the profile installs, dependencies included.
 closure() {
     # shellcheck disable=SC2046
     apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks \
-        --no-replaces --no-enhances $(list "$@") 2>/dev/null | sed -n 's/^\([^ <][^ ]*\)$/\1/p' |
+        --no-replaces --no-enhances $(bash scripts/setup-deps.sh --list "$1") 2>/dev/null | sed -n 's/^\([^ <][^ ]*\)$/\1/p' |
         sed 's/:.*//' | sort -u
 }
 # owners PATH...: "PACKAGE PATH" for each path a package holds, in one dpkg call (each call reads
@@ -22,13 +21,12 @@ owners() {
     for f in "$@"; do all+=("$f" "${f#/usr}"); done
     dpkg -S "${all[@]}" 2>/dev/null | sed -E 's/^([^:,]+)[^ ]* (.*)$/\1 \2/'
 }
-# covered NAME PROGRAM PROFILE-FILE...: every library PROGRAM loads (ldd: the direct ones and
+# covered NAME PROGRAM PROFILE: every library PROGRAM loads (ldd: the direct ones and
 # theirs) comes from a package of the profiles' closure.
 covered() {
-    local name=$1 prog=$2 libs pkgs own missing="" path pkg
-    shift 2
+    local name=$1 prog=$2 profile=$3 libs pkgs own missing="" path pkg
     [ -x "$prog" ] || { bad "$name" "no $prog: build first"; return; }
-    pkgs=$(closure "$@")
+    pkgs=$(closure "$profile")
     libs=$(ldd "$prog" | awk '$3 ~ /^\// { print $3 }' | xargs realpath) || { bad "$name" "ldd $prog failed"; return; }
     # shellcheck disable=SC2086
     own=$(owners $libs)
@@ -37,14 +35,14 @@ covered() {
         if [ -z "$pkg" ]; then missing+=" $path (no package holds it)"
         elif ! grep -qx "$pkg" <<<"$pkgs"; then missing+=" $path ($pkg)"; fi
     done
-    if [ -z "$missing" ]; then ok "$name"; else bad "$name" "not brought in by $*:$missing"; fi
+    if [ -z "$missing" ]; then ok "$name"; else bad "$name" "not brought in by the $profile profile (scripts/deps/):$missing"; fi
 }
 
 if ! command -v dpkg >/dev/null || ! command -v apt-cache >/dev/null; then
     bad deps_debian "dpkg and apt-cache are needed (the set-up is for Debian/Ubuntu)"
     summary
 fi
-covered demo_profile_covers_cube5 "$build/cube5" scripts/deps/demo.txt
-covered test_profile_covers_cube5ctl "$build/cube5ctl" scripts/deps/demo.txt scripts/deps/test.txt
-covered test_profile_covers_cube5_board "$build/cube5-board" scripts/deps/demo.txt scripts/deps/test.txt
+covered demo_profile_covers_cube5 "$build/cube5" demo
+covered test_profile_covers_cube5ctl "$build/cube5ctl" test
+covered test_profile_covers_cube5_board "$build/cube5-board" test
 summary
