@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The set-up profiles (scripts/deps/) hold what the programs need: every shared library a
 # program links, and every system header its sources include, comes from a package that its
-# profile's packages bring in (apt's dependency closure), so `make demo` on a fresh machine installs enough for build/cube5 and the demo,
-# and the test profile enough for the driver and the emulated board. Usage: deps_test.sh BUILD
+# profile's packages bring in (apt's dependency closure), so `make demo` on a fresh machine
+# installs enough for build/cube5 and the demo, and the test profile enough for the driver and
+# the emulated board. Usage: deps_test.sh BUILD
 set -uo pipefail
 build=${1:-build}
 . "$(dirname "$0")/lib.sh"
