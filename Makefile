@@ -40,7 +40,8 @@ CREFL_OBJ := $(CREFL_SRC:cref/%.c=$(BUILD)/cref-long/%.o)
 LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o) $(BUILD)/gen/builtin_scenes.o $(CREFL_OBJ)
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
-DEPS_OK  := build/.deps-demo   # the demo profile
+# Stamps of the set-up profiles (scripts/setup-deps.sh): demo, and test on top of it.
+DEPS_OK   := build/.deps-demo
 DEPS_TEST := build/.deps-test
 # Bit layouts: spec/layouts.toml is the one source; these are generated from it.
 LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
