@@ -1,5 +1,7 @@
 # cube5 build. Everything lands in $(BUILD) (build/ by default; build/asan for `make asan`).
-# The first build runs scripts/setup-deps.sh, which apt-get installs what is missing.
+# The first build runs scripts/setup-deps.sh, which apt-get installs what is missing: the demo
+# profile (scripts/deps/demo.txt) for build/cube5, the test profile (deps/test.txt) for the
+# driver, the emulated board and `make test`.
 
 BUILD    ?= build
 CC       ?= gcc
@@ -18,7 +20,7 @@ LIB_SRC  := $(wildcard common/*.c cref/*.c cref/cast/*.c rtl_model/*.c vectors/g
 # The host link (docs/host-protocol.md): the driver library on libusb and the emulated board
 # on umockdev, each its own library so that a driver user never links umockdev. The pkg-config
 # calls are deferred (=, +=) to when a rule runs: on a fresh machine the packages arrive with
-# $(DEPS_OK), after this file was read.
+# $(DEPS_TEST), after this file was read.
 USB_PKGS := libusb-1.0 umockdev-1.0
 CPPFLAGS += -Ihost_driver -Iboard_emu $(shell pkg-config --cflags $(USB_PKGS) 2>/dev/null)
 USB_LIBS  = $(shell pkg-config --libs libusb-1.0 2>/dev/null)
@@ -38,7 +40,9 @@ CREFL_OBJ := $(CREFL_SRC:cref/%.c=$(BUILD)/cref-long/%.o)
 LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o) $(BUILD)/gen/builtin_scenes.o $(CREFL_OBJ)
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
-DEPS_OK  := build/.deps-ok
+# Stamps of the set-up profiles (scripts/setup-deps.sh): demo, and test on top of it.
+DEPS_OK   := build/.deps-demo
+DEPS_TEST := build/.deps-test
 # Bit layouts: spec/layouts.toml is the one source; these are generated from it.
 LAYOUTS_H   := $(BUILD)/gen/c5_layouts.h
 LAYOUTS_VHD := $(BUILD)/gen/c5_layouts_pkg.vhd
@@ -56,10 +60,14 @@ FUZZ_NAMES  := scene volume tlp driver
 FUZZ_REPLAY := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay-%)
 all: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
 
-deps: $(DEPS_OK)
-$(DEPS_OK): scripts/setup-deps.sh
+deps: $(DEPS_TEST)
+$(DEPS_OK): scripts/setup-deps.sh scripts/deps/demo.txt
 	@mkdir -p $(@D)
-	bash scripts/setup-deps.sh
+	bash scripts/setup-deps.sh demo
+	@touch $@
+# After the demo profile, so that two apt-get never run at once under make -j.
+$(DEPS_TEST): scripts/setup-deps.sh scripts/deps/demo.txt scripts/deps/test.txt | $(DEPS_OK)
+	bash scripts/setup-deps.sh test
 	@touch $@
 
 # Order-only on the generated headers (layouts, register map): it exists before any source can include it; the .d
@@ -119,6 +127,10 @@ $(BUILD)/libc5emu.a: $(EMU_SRC:%.c=$(BUILD)/%.o)
 	@rm -f $@
 	ar rcs $@ $^
 
+# The driver and the emulated board need libusb and umockdev: the test profile.
+$(DRV_SRC:%.c=$(BUILD)/%.o) $(EMU_SRC:%.c=$(BUILD)/%.o) $(LINK_SRC:%.c=$(BUILD)/%.o) \
+  $(BUILD)/host_driver/cube5ctl.o $(BUILD)/board_emu/cube5_board.o: | $(DEPS_TEST)
+
 $(BUILD)/cube5ctl: $(BUILD)/host_driver/cube5ctl.o $(BUILD)/libc5drv.a $(BUILD)/libcube5.a
 	$(CXX) $(LDFLAGS) $^ $(USB_LIBS) $(LDLIBS) -o $@
 
@@ -159,7 +171,7 @@ demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
+test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) | $(DEPS_TEST)
 	bash tests/run.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.

@@ -1,19 +1,25 @@
 #!/usr/bin/env bash
 # Regenerates docs/accuracy/: the error-against-time sweeps that docs/accuracy.md quotes
-# (`make accuracy`, about 2 minutes on 2 cores). Each folder gets the sweep's sweep.csv,
-# sweep.png and its text table sweep.txt. Host times vary from run to run; errors, sample
-# counts and board times do not.
+# (`make accuracy`, about 2 minutes on 2 cores). Each sweep's own output (sweep.csv, sweep.png,
+# sweep.txt, with host times) goes to BUILD/accuracy/NAME, untracked: host times vary from
+# run to run. docs/accuracy/NAME gets its deterministic part (errors, sample counts, board
+# times; scripts/accuracy_tracked.py) and docs/accuracy/model-fingerprint the board model's
+# fingerprint (scripts/model-fingerprint.sh), so that a second run changes no tracked file.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 out=docs/accuracy
+command -v gnuplot >/dev/null || bash scripts/setup-deps.sh gnuplot-nox   # sweep.png
 run() { # NAME SCENE [ARGS...]
     local name=$1 scene=$2
     shift 2
-    mkdir -p "$out/$name"
+    local full="$build/accuracy/$name"
+    mkdir -p "$full"
     echo "accuracy: $name" >&2
-    "$build/cube5" sweep "$scene" --out "$out/$name" --force "$@" >"$out/$name/sweep.txt"
+    "$build/cube5" sweep "$scene" --out "$full" --force "$@" >"$full/sweep.txt"
+    python3 scripts/accuracy_tracked.py "$full" "$out/$name"
 }
+bash scripts/model-fingerprint.sh "$build" > "$out/model-fingerprint"
 run default default
 run clouds_lake clouds_lake
 run marschner_lobb "$out/marschner_lobb.json"

@@ -28,8 +28,10 @@ PNR_CAPACITIES=(32 16)   # tried largest first; the first that places is reporte
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
      fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd)
 
+# The synthesis tools are not in `make test`'s profile (scripts/deps/): installed here when missing.
+bash scripts/setup-deps.sh ghdl ghdl-mcode yosys nextpnr-ice40 fpga-icestorm
 for tool in ghdl yosys nextpnr-ice40; do
-    command -v "$tool" >/dev/null || { echo "fpga-report: $tool missing: run scripts/setup-deps.sh" >&2; exit 1; }
+    command -v "$tool" >/dev/null || { echo "fpga-report: $tool missing" >&2; exit 1; }
 done
 [ -f "$pkg" ] || { echo "fpga-report: $pkg missing: run make" >&2; exit 1; }
 rm -rf "$out"

@@ -40,6 +40,8 @@ for c in 2 3; do
   run "anim_brain_mirrors_c$c" brain_mirrors --cells "$c" --size 256x256 --exact-states 0
 done
 
+# The model these figures came from (tests/fingerprint_test.sh compares it with the model's).
+bash scripts/model-fingerprint.sh "$BUILD" > "$OUT/model-fingerprint"
 python3 scripts/results_tables.py "$RAW" "$OUT"
 (cd "$OUT" && gnuplot "$OLDPWD/scripts/results_plots.gp")
 echo "results: wrote $OUT/README.md and the plots in $OUT" >&2

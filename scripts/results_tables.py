@@ -29,6 +29,10 @@ w("`cube5 schedule` in `raw/`; do not edit by hand. How the runs are set up and 
 w("columns mean: docs/cell-tree.md. The machine's speed does not enter any figure here except")
 w("the host times.")
 w("")
+with open(os.path.join(out, "model-fingerprint")) as f:
+    w("Board model fingerprint `%s` (`model-fingerprint` here; scripts/model-fingerprint.sh):" % f.read().strip())
+    w("tests/fingerprint_test.sh fails when the model's bits have changed since; then run `make results`.")
+    w("")
 
 # ---- Figure 6 ----------------------------------------------------------------------------
 w("## Figure 6: cell fetches, Max Work against the Cell Tree, and the bounds")

@@ -1,23 +1,29 @@
 #!/usr/bin/env bash
-# Installs the Debian/Ubuntu packages cube5 needs, only those missing. Called by the
-# Makefile before the first build; safe to run again. Uses sudo when not root.
-# With arguments, installs those packages instead (e.g. python3-vtk9 for `make bench-peer`).
+# Installs the Debian/Ubuntu packages of a profile, only those missing; safe to run again.
+# Uses sudo when not root.
+#   setup-deps.sh demo        scripts/deps/demo.txt: build/cube5 and `make demo` (the Makefile)
+#   setup-deps.sh test        demo.txt and scripts/deps/test.txt: `make test` (the Makefile)
+#   setup-deps.sh PKG...      those packages (bench-peer.sh, fpga-report.sh, results.sh and
+#                             accuracy.sh install their own extras this way)
+#   setup-deps.sh --list demo|test   prints the profile's packages, one a line (tests/deps_test.sh)
 set -euo pipefail
-pkgs=(build-essential g++ pkg-config zlib1g-dev
-      python3               # test and bench scripts read JSON with it
-      libjansson-dev        # scene files (JSON)
-      libteem-dev           # NRRD volumes (Teem's nrrd)
-      libopenimageio-dev    # PNG / EXR output (OpenImageIO)
-      libusb-1.0-0-dev      # the host driver's USB transport (host_driver/)
-      umockdev libumockdev-dev # the emulated board as a USB device (board_emu/, tests/link_test.sh)
-      groff-base            # tests/man_test.sh renders man/*.1 with groff
-      gnuplot-nox           # cube5 sweep draws sweep.png with it (pngcairo; tests/cli_test.sh), make results
-      ghdl ghdl-mcode       # VHDL-2008 simulation and --synth of fpga/ (mcode: the backend
-                            # that runs in place, no compiler needed; tests/fpga_test.sh)
-      yosys                 # synthesis for iCE40 (make fpga-report)
-      nextpnr-ice40         # place and route, Fmax (make fpga-report)
-      fpga-icestorm)        # iCE40 tools (icepack, icetime) beside nextpnr (make fpga-report)
-[ $# -eq 0 ] || pkgs=("$@")
+deps="$(dirname "$0")/deps"
+list() { sed -e 's/#.*//' "$@" | tr -s ' \t' '\n' | sed '/^$/d'; }
+profile() { # demo|test: the package lists it installs
+    case $1 in demo) echo "$deps/demo.txt" ;; test) echo "$deps/demo.txt $deps/test.txt" ;; *) return 1 ;; esac
+}
+if [ "${1:-}" = --list ]; then
+    files=$(profile "${2:-}") || { echo "setup-deps: --list demo|test" >&2; exit 2; }
+    # shellcheck disable=SC2086
+    list $files
+    exit 0
+fi
+if files=$(profile "${1:-demo}"); then
+    # shellcheck disable=SC2086
+    mapfile -t pkgs < <(list $files)
+else
+    pkgs=("$@")
+fi
 missing=()
 for p in "${pkgs[@]}"; do
   [ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null)" = "install ok installed" ] || missing+=("$p")

@@ -28,6 +28,7 @@ run_suite bash tests/prefetch_test.sh "$build"
 run_suite bash tests/layouts_test.sh
 run_suite bash tests/regmap_test.sh
 run_suite bash tests/vectors_test.sh "$build"
+run_suite bash tests/fingerprint_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
 run_suite bash tests/link_test.sh "$build"
 run_suite bash tests/pipefail_lint_test.sh
@@ -35,6 +36,8 @@ run_suite bash tests/man_test.sh "$build"
 run_suite bash tests/install_test.sh "$build"
 run_suite bash tests/fuzz_replay_test.sh "$build"
 run_suite bash tests/volume_inputs_test.sh "$build"
+run_suite bash tests/deps_test.sh "$build"
+run_suite bash tests/readme_test.sh "$build"
 rm -f "$log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
