@@ -5,9 +5,12 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <strings.h>
 
 #include "ray.h"
 #include "regs.h"
+#include "nrrd_precheck.h"
 #include "volume.h"
 
 /* A factor stored as UQ4.12 (shading, light and material factors): values below 16. */
@@ -23,7 +26,23 @@ static int factor(double v, double max, const char *what, const char *key, const
     return 0;
 }
 
-/* The grid's voxels per axis where the scene fixes them; 0 where a file decides. */
+/* A NRRD header's sizes, read by the precheck (never Teem) without loading the data; -1 for
+ * anything else or a header the load will refuse with its own message. */
+static int nrrd_dims(const char *path, size_t d[3])
+{
+    size_t n = strlen(path);
+    if (n < 5 || (strcasecmp(path + n - 5, ".nrrd") != 0 && strcasecmp(path + n - 5, ".nhdr") != 0))
+        return -1;
+    c5_nrrd_header h;
+    c5_err ignored;
+    if (c5_nrrd_precheck_info(path, &h, &ignored) != 0)
+        return -1;
+    memcpy(d, h.dims, sizeof h.dims);
+    return 0;
+}
+
+/* The grid's voxels per axis where the scene or a volume's header fixes them; 0 where only
+ * a file's contents decide. */
 static void known_grid(const c5_scene *s, size_t dims[3], int *from_volume)
 {
     *from_volume = -1;
@@ -41,7 +60,7 @@ static void known_grid(const c5_scene *s, size_t dims[3], int *from_volume)
         else if (v->raw.dims[0])
             for (int a = 0; a < 3; a++)
                 d[a] = v->raw.dims[a];
-        else if (c5_scivis_name(v->path, d, &t) != 0)
+        else if (c5_scivis_name(v->path, d, &t) != 0 && nrrd_dims(v->path, d) != 0)
             continue;
         for (int a = 0; a < 3; a++)
             if (d[a] && (size_t)v->offset[a] + d[a] > dims[a]) {

@@ -118,6 +118,13 @@ printf '{"volumes": [{"generator": "blobs", "dims": [1024, 1024, 1024]}], "trans
   "width": 4, "height": 4}}' >"$tmp/big.json"
 expect model_grid_before_generation 2 "big.json: volumes\[0\] \(dims \+ offset\): a grid of 1024 voxels .*UQ9\.15" -- \
     "$cube5" render "$tmp/big.json" --model rtl
+# The same from a NRRD header's sizes, read by the precheck before the data (a sparse 1 GiB
+# data file: reading it first would be refused later with the set-up's message instead).
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 1024 1024 1024\nencoding: raw\ndata file: big.raw\n' >"$tmp/big.nhdr"
+truncate -s 1G "$tmp/big.raw"
+expect model_nrrd_grid_before_read 2 "default: volumes\[0\] \(dims \+ offset\): a grid of 1024 voxels .*UQ9\.15" -- \
+    "$cube5" render default --model rtl --volume "$tmp/big.nhdr"
+rm -f "$tmp/big.raw"
 # Limits that need the built grid: %g numbers, exit 2, the file named.
 printf '{"volumes": [{"generator": "ramp", "dims": [8,8,8]}], "lights": [{"type": "point", "position": [900000,0,0]}],
   "transfer_function": {"opacity": [[0,0]], "color": [[0,1,1,1]]},
