@@ -282,9 +282,11 @@ static int check_output(const opts *o, const char *json, const char *dir)
 
 static int drv_err(c5drv *d, int rc)
 {
-    /* the error's class first (what a script matches), then what happened */
+    /* the error's class first (what a script matches), then what happened; a scene the
+     * driver cannot load (a bad file, a limit of the board's fields) is bad input */
     const char *m = c5drv_message(d);
-    return m && m[0] ? fail("%s: %s", c5drv_strerror(rc), m) : fail("%s", c5drv_strerror(rc));
+    int status = rc == C5DRV_E_SCENE ? EXIT_USAGE : EXIT_FAIL;
+    return m && m[0] ? failure(status, "%s: %s", c5drv_strerror(rc), m) : failure(status, "%s", c5drv_strerror(rc));
 }
 
 static void print_counters(const c5drv_counters *c, int json, int driver_side)

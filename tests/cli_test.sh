@@ -15,17 +15,7 @@ expect() {
     local err status
     err=$("$@" 2>&1 >/dev/null)
     status=$?
-    if [ "$status" -ne "$want" ]; then
-        bad "$name" "exit $status, expected $want" "$err"
-    elif [ -n "$pat" ] && ! grep -qE -- "$pat" <<<"$err"; then
-        bad "$name" "stderr lacks /$pat/" "$err"
-    elif [ "$want" -ne 0 ] && [ "$(wc -l <<<"$err")" -ne 1 ]; then
-        bad "$name" "error is not one line" "$err"
-    elif [ "$want" -ne 0 ] && ! grep -q '^cube5: error: ' <<<"$err"; then
-        bad "$name" "error does not read 'cube5: error: ...'" "$err"
-    else
-        ok "$name"
-    fi
+    judge "$name" "$want" "$status" "$err" "$pat" && ok "$name"
 }
 
 head -c 1000 /dev/zero >"$tmp/vol_10x10x10_uint8.raw"

@@ -9,3 +9,22 @@ summary() { echo "SUMMARY passed=$passed failed=$failed"; [ "$failed" -eq 0 ]; e
 # first: under pipefail, `ldd BIN | grep -q` fails whenever grep quits before ldd has written
 # everything (ldd dies of SIGPIPE; tests/pipefail_lint_test.sh keeps that pattern out).
 links_asan() { local libs; libs=$(ldd "$1" 2>/dev/null) && grep -q libasan <<<"$libs"; }
+# judge NAME WANT STATUS ERR PATTERN: ok when the exit status is WANT and the ERE PATTERN
+# (if any) is in ERR; a failure's ERR must also be one line "TOOL: error: ..." (TOOL is
+# $judge_tool, default cube5). Returns 1 after reporting the first problem, 0 unreported,
+# so a suite can add its own checks before calling ok.
+judge() {
+    local name=$1 want=$2 status=$3 err=$4 pat=$5
+    if [ "$status" -ne "$want" ]; then
+        bad "$name" "exit $status, expected $want (124: did not end in time)" "$err"
+    elif [ -n "$pat" ] && ! grep -qE -- "$pat" <<<"$err"; then
+        bad "$name" "stderr lacks /$pat/" "$err"
+    elif [ "$want" -ne 0 ] && [ "$(wc -l <<<"$err")" -ne 1 ]; then
+        bad "$name" "error is not one line" "$err"
+    elif [ "$want" -ne 0 ] && ! grep -q "^${judge_tool:-cube5}: error: " <<<"$err"; then
+        bad "$name" "error does not read '${judge_tool:-cube5}: error: ...'" "$err"
+    else
+        return 0
+    fi
+    return 1
+}

@@ -19,13 +19,7 @@ refused() {
     local err status
     err=$(cd "$tmp" && timeout 20 "$cube5" "$@" 2>&1 >/dev/null)
     status=$?
-    if [ "$status" -ne 2 ]; then
-        bad "$name" "exit $status, expected 2 (124: hung)" "$err"
-    elif ! grep -qE -- "^cube5: error: .*$pat" <<<"$err" || [ "$(wc -l <<<"$err")" -ne 1 ]; then
-        bad "$name" "stderr is not one line matching /$pat/" "$err"
-    else
-        ok "$name"
-    fi
+    judge "$name" 2 "$status" "$err" "$pat" && ok "$name"
 }
 
 vol() { refused "$1" "$2" -- render default --size 8x8 --volume "$repro/$1"; }
