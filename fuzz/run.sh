@@ -19,10 +19,7 @@ mkdir -p "$out"
 need=()
 command -v clang >/dev/null || need+=(clang)
 ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 || need+=(libclang-rt-14-dev)
-if [ ${#need[@]} -gt 0 ]; then
-    sudo=; [ "$(id -u)" -eq 0 ] || sudo=sudo
-    $sudo apt-get install -y "${need[@]}"
-fi
+[ ${#need[@]} -eq 0 ] || bash scripts/setup-deps.sh "${need[@]}"
 CC=${FUZZ_CC:-clang}
 
 # ---- Teem's source, from Debian's source package (never committed) --------------------------
