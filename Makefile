@@ -158,6 +158,8 @@ $(BUILD)/tests/cast-nosimd: $(NOSIMD_OBJ) $(BUILD)/tests/harness.o $(BUILD)/libc
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
+# Kept, not deleted as intermediates of the pattern rule (every make would rebuild them).
+.SECONDARY: $(FUZZ_NAMES:%=$(BUILD)/fuzz/fuzz_%.o) $(BUILD)/fuzz/replay_main.o
 $(BUILD)/fuzz/replay-%: $(BUILD)/fuzz/fuzz_%.o $(BUILD)/fuzz/replay_main.o $(BUILD)/libc5drv.a $(BUILD)/libcube5.a
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
