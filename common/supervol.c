@@ -162,15 +162,6 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
         c5_fail(err, "grid: %zux%zux%zu voxels is too large", out->dims[0], out->dims[1], out->dims[2]);
         goto done;
     }
-    out->v = malloc(n);
-    if (!out->v) {
-        c5_fail(err, "grid: out of memory for %zu voxels", n);
-        goto done;
-    }
-    memset(out->v, (int)s->grid.fill, n);
-    for (int i = 0; i < s->n_volumes; i++)
-        paste(out, src[i], dims[i], s->volumes[i].offset);
-
     if (s->grid.size > 0) {
         c5_vec3 ext = v3(out->dims[0] * out->spacing.x, out->dims[1] * out->spacing.y, out->dims[2] * out->spacing.z);
         out->spacing = v3_scale(out->spacing, s->grid.size / v3_maxc(ext));
@@ -187,12 +178,26 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
     double step = s->render.step > 0 ? s->render.step : c5_supervol_min_spacing(out);
     double samples = v3_len(ext) / step;
     if (!(samples <= C5_MAX_RAY_SAMPLES)) {
+        /* name what set the step: the scene's render.step, else the spacing, which is the
+         * scene's grid.spacing or a volume file's own */
+        char key[200] = "render.step";
+        if (!(s->render.step > 0))
+            snprintf(key, sizeof key, "%s%s", strcmp(out->spacing_source, "scene") ? "the spacing of " : "grid.",
+                     strcmp(out->spacing_source, "scene") ? out->spacing_source : "spacing");
         c5_fail(err, "%s%s%s: a ray across the grid (%g world units) takes %g samples of %g; at most %d (a larger "
-                "render.step, or grid.spacing components closer to each other)",
-                s->source, *s->source ? ": " : "", s->render.step > 0 ? "render.step" : "grid.spacing", v3_len(ext),
-                samples, step, C5_MAX_RAY_SAMPLES);
+                "render.step, or spacing components closer to each other)",
+                s->source, *s->source ? ": " : "", key, v3_len(ext), samples, step, C5_MAX_RAY_SAMPLES);
         goto done;
     }
+    out->v = malloc(n);
+    if (!out->v) {
+        c5_fail(err, "grid: out of memory for %zu voxels", n);
+        goto done;
+    }
+    memset(out->v, (int)s->grid.fill, n);
+    for (int i = 0; i < s->n_volumes; i++)
+        paste(out, src[i], dims[i], s->volumes[i].offset);
+
     rc = 0;
 done:
     for (int i = 0; i < s->n_volumes; i++)

@@ -117,6 +117,11 @@ truncate -s 1G "$tmp/big.raw"
 expect model_nrrd_grid_before_read 2 "default: volumes\[0\] \(dims \+ offset\): a grid of 1024 voxels .*UQ9\.15" -- \
     "$cube5" render default --model rtl --volume "$tmp/big.nhdr"
 rm -f "$tmp/big.raw"
+# A step that a NRRD's own spacings set: the message names the file, not grid.spacing.
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nspacings: 1e-30 1 1\nencoding: raw\ndata file: sp.raw\n' >"$tmp/sp.nhdr"
+head -c 64 /dev/zero >"$tmp/sp.raw"
+expect samples_per_ray_file_spacing 2 "default: the spacing of file sp\.nhdr: a ray across the grid .* at most 1048576" -- \
+    "$cube5" render default --size 8x8 --volume "$tmp/sp.nhdr" -o "$tmp/out/sp.png"
 # Limits that need the built grid: %g numbers, exit 2, the file named.
 printf '{"volumes": [{"generator": "ramp", "dims": [8,8,8]}], "lights": [{"type": "point", "position": [900000,0,0]}],
   "transfer_function": {"opacity": [[0,0]], "color": [[0,1,1,1]]},
