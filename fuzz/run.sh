@@ -7,7 +7,7 @@
 #   FUZZ_BUILD_ONLY=1  build, do not run
 # Teem's reader (air, biff, nrrd) is built here from Debian's source package with the same
 # sanitizers, so that the fuzzer sees inside it; the product keeps linking Debian's libteem.
-# New inputs go to BUILD/fuzz/work/NAME; the committed seeds in fuzz/corpus/NAME are read only.
+# New inputs go to BUILD/fuzz/grown/NAME; the committed seeds in fuzz/corpus/NAME are read only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -101,12 +101,12 @@ echo "fuzz: built $(for n in $names; do printf '%s ' "$out/fuzz-$n"; done)"
 if [ -n "${FUZZ_RUNS:-}" ]; then limit=(-runs="$FUZZ_RUNS"); else limit=(-max_total_time="${FUZZ_SECONDS:-60}"); fi
 status=0
 for n in $names; do
-    mkdir -p "$out/work/$n"
+    mkdir -p "$out/grown/$n"
     log="$out/fuzz-$n.log"
     echo "fuzz: $n (${limit[*]}), log $log"
     # -timeout: an input that takes over 10 s is a finding (a hang); -rss_limit_mb: so is 2 GB.
     if ! "$out/fuzz-$n" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-        -artifact_prefix="$out/artifact-$n-" "$out/work/$n" "fuzz/corpus/$n" >"$log" 2>&1; then
+        -artifact_prefix="$out/artifact-$n-" "$out/grown/$n" "fuzz/corpus/$n" >"$log" 2>&1; then
         echo "fuzz: $n FOUND something: see $log and $out/artifact-$n-*"
         status=1
     fi
