@@ -85,4 +85,19 @@ check demo_profile_covers_cube5_headers demo headers \
 # shellcheck disable=SC2046
 check test_profile_covers_driver_headers test headers \
     $(headers jansson OpenImageIO libusb-1.0 umockdev-1.0 -- host_driver board_emu tests)
+# What each target asks for on a fresh tree (a copy of the tracked files, no build/): `make
+# demo` runs the demo profile only, `make test` the test profile too (make -n: nothing runs).
+fresh="$tmp/fresh"
+mkdir -p "$fresh" && git ls-files -z | xargs -0 cp --parents -t "$fresh" 2>/dev/null
+plan_demo=$(cd "$fresh" && make -n demo 2>&1)
+plan_test=$(cd "$fresh" && make -n test 2>&1)
+if ! grep -q "setup-deps.sh demo" <<<"$plan_demo"; then
+    bad demo_installs_demo_profile_only "make -n demo runs no 'setup-deps.sh demo'" "$plan_demo"
+elif grep -q "setup-deps.sh test" <<<"$plan_demo"; then
+    bad demo_installs_demo_profile_only "make -n demo runs 'setup-deps.sh test'"
+else
+    ok demo_installs_demo_profile_only
+fi
+grep -q "setup-deps.sh test" <<<"$plan_test" && ok test_installs_test_profile ||
+    bad test_installs_test_profile "make -n test runs no 'setup-deps.sh test'"
 summary
