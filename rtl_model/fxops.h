@@ -71,6 +71,17 @@ static inline int64_t c5_div_he(__int128 n, __int128 d)
 /* floor(sqrt(x)) for x >= 0, exact (the digit-by-digit result, found from a double guess). */
 static inline uint64_t c5_isqrt(unsigned __int128 x)
 {
+    /* Below 2^62 the same search in 64 bits (r <= 2^31, so (r + 1)^2 < 2^63): the 128-bit
+     * conversion to double and the 128-bit products are libgcc calls and wide multiplies
+     * in every normal the shading computes. */
+    if (x < ((unsigned __int128)1 << 62)) {
+        uint64_t x64 = (uint64_t)x, r = (uint64_t)__builtin_sqrt((double)x64);
+        while (r * r > x64)
+            r--;
+        while ((r + 1) * (r + 1) <= x64)
+            r++;
+        return r;
+    }
     uint64_t r = (uint64_t)__builtin_sqrt((double)x);
     while ((unsigned __int128)r * r > x)
         r--;
