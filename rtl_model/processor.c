@@ -239,7 +239,9 @@ static void cache_access(c5_proc *p, const int64_t pos[3])
     }
 }
 
-void c5_trav_step(const c5_trav_in *in, c5_trav_out *o)
+/* The body of c5_trav_step, inline in c5_proc_run's per-sample loop (an out-of-line
+ * call with its two structs was ~5 % of the model's instructions). */
+static inline __attribute__((always_inline)) void trav_step(const c5_trav_in *in, c5_trav_out *o)
 {
     for (int a = 0; a < 3; a++)
         o->pos[a] = in->pos[a];
@@ -270,6 +272,8 @@ void c5_trav_step(const c5_trav_in *in, c5_trav_out *o)
     o->action = C5_TRAV_SAMPLE;
     advance(o->pos, &o->lifetime, in->S, 1);
 }
+
+void c5_trav_step(const c5_trav_in *in, c5_trav_out *o) { trav_step(in, o); }
 
 /* The empty flag of the 8^3 block holding pos, 0 outside the grid. */
 static int block_empty_at(const c5_cells *cl, const int dims[3], const int64_t pos[3])
@@ -370,7 +374,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             ti.pos[a] = ray->pos[a];
         ti.lifetime = ray->lifetime;
         ti.block_empty = block_empty_at(cl, r->dims, ray->pos);
-        c5_trav_step(&ti, &to);
+        trav_step(&ti, &to);
         if (tp && tp->traverse)
             tp->traverse(tp->ctx, &ti, &to);
         if (to.action == C5_TRAV_LEAVE)

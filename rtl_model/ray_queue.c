@@ -78,63 +78,75 @@ static inline void level1(const c5_rq_slot *c, const c5_rq_slot *p, c5_rq_slot *
 }
 
 /* No pop: every carry meets its stage, the larger moves one stage on. Stages with neither
- * a carry arriving nor one leaving keep their registers and are skipped. */
+ * a carry arriving nor one leaving keep their registers and are skipped. The registers are
+ * read into locals once (the pointers may alias for the compiler), stage 0 (the insert
+ * port) is peeled, and a run of stages without a carry is skipped in one scan: the model's
+ * hottest loop, the result register for register that of one stage at a time. */
 static void edge_hold(c5_rq *q, const c5_rq_slot *ins, uint32_t in_flight)
 {
     uint32_t n = q->cfg.capacity;
     uint32_t last = q->len < n ? q->len : n - 1; /* carries exist at stages <= len only */
+    c5_rq_slot *held = q->held, *carry = q->carry;
     c5_rq_slot moving = EMPTY;                   /* carry'[i], produced by stage i-1 */
-    for (uint32_t i = 0; i <= last; i++) {
-        const c5_rq_slot *c = i == 0 ? ins : &q->carry[i];
-        if (!c->valid && !moving.valid) {
+    if (ins->valid) {
+        c5_rq_slot c = *ins, p = held[0], lo, hi;
+        level1(&c, &p, &lo, &hi);
+        held[0] = lo;
+        moving = hi;
+    }
+    for (uint32_t i = 1; i <= last; i++) {
+        if (!moving.valid) {
             if (in_flight == 0)
                 break; /* nothing further down moves */
-            continue;
+            while (i <= last && !carry[i].valid)
+                i++;
+            if (i > last)
+                break;
         }
-        if (i > 0)
-            in_flight -= c->valid;
-        c5_rq_slot lo, hi;
-        level1(c, &q->held[i], &lo, &hi);
-        q->held[i] = lo;
-        if (i > 0)
-            q->carry[i] = moving;
+        c5_rq_slot c = carry[i], p = held[i], lo, hi;
+        in_flight -= c.valid;
+        level1(&c, &p, &lo, &hi);
+        held[i] = lo;
+        carry[i] = moving;
         moving = hi;
     }
     /* moving is now empty: the last visited stage was either stage len, which has no held
      * element, or the end of a full line (count <= capacity: nothing falls off the end). */
-    if (q->len < n && q->held[q->len].valid)
+    if (q->len < n && held[q->len].valid)
         q->len++;
 }
 
 /* Pop: held[0] leaves, the line shifts up while every carry still meets one element. Past
- * the last carry the line only shifts. */
+ * the last carry the line only shifts. Locals as in edge_hold. */
 static void edge_pop(c5_rq *q, const c5_rq_slot *ins, uint32_t in_flight)
 {
     uint32_t n = q->cfg.capacity, len = q->len; /* len >= 1 */
+    c5_rq_slot *held = q->held, *carry = q->carry;
     c5_rq_slot hi = *ins;                        /* hi[0]: the insert of this cycle */
     for (uint32_t i = 0; i < len; i++) {
         if (in_flight == 0 && !hi.valid) { /* held'[j] = held[j+1] from here on */
-            memmove(q->held + i, q->held + i + 1, (len - 1 - i) * sizeof *q->held);
-            q->held[len - 1] = EMPTY;
+            memmove(held + i, held + i + 1, (len - 1 - i) * sizeof *held);
+            held[len - 1] = EMPTY;
             break;
         }
         c5_rq_slot lo1 = EMPTY, hi1 = EMPTY; /* level 1 at stage i+1 */
         if (i + 1 < n) {
-            in_flight -= q->carry[i + 1].valid;
-            level1(&q->carry[i + 1], &q->held[i + 1], &lo1, &hi1);
+            c5_rq_slot c = carry[i + 1], p = held[i + 1];
+            in_flight -= c.valid;
+            level1(&c, &p, &lo1, &hi1);
         }
         if (goes_first(&hi, &lo1)) {
             hi.fresh = 0;
-            q->held[i] = hi;
-            q->carry[i + 1] = lo1; /* lo1 is never fresh */
+            held[i] = hi;
+            carry[i + 1] = lo1; /* lo1 is never fresh */
         } else {
-            q->held[i] = lo1;
-            q->carry[i + 1] = hi;
+            held[i] = lo1;
+            carry[i + 1] = hi;
         }
         hi = hi1;
     }
     /* held[len] (if any) and carry[len+1] stay empty: stage len had no held element. */
-    if (!q->held[len - 1].valid)
+    if (!held[len - 1].valid)
         q->len--;
 }
 

@@ -29,11 +29,33 @@ static inline int clampi(int v, int lo, int hi) { return v < lo ? lo : v > hi ? 
 static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
                              c5_corners *k)
 {
-    int c[3][2], lo[3][2], hi[3][2];
+    int c[3][2], lo[3][2], hi[3][2], i3[3], inner = 1;
     for (int a = 0; a < 3; a++) {
         int64_t x = pos[a] - (1 << (C5_POS_F - 1)); /* voxel centres at integers */
         int i = (int)(x >> C5_POS_F);
         k->frac[a] = x & ((1 << C5_POS_F) - 1);     /* voxel_frac UQ0.15 */
+        i3[a] = i;
+        /* Every index this sample reads (i - 1 .. i + 2 with the gradient, i .. i + 1
+         * without) inside the grid: no clamp changes one. */
+        inner &= want_grad ? i >= 1 && i + 2 <= r->dims[a] - 1 : i >= 0 && i + 1 <= r->dims[a] - 1;
+    }
+    const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
+    if (inner) {
+        /* The same reads as below with the clamps left out (the model's hot path). */
+        const uint8_t *b = m->v + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz;
+        const uint8_t *p[8] = {b, b + sx, b + sy, b + sx + sy, b + sz, b + sx + sz, b + sy + sz, b + sx + sy + sz};
+        for (int j = 0; j < 8; j++)
+            k->v[j] = p[j][0];
+        if (want_grad)
+            for (int j = 0; j < 8; j++) {
+                k->d[0][j] = p[j][sx] - p[j][-sx];
+                k->d[1][j] = p[j][sy] - p[j][-sy];
+                k->d[2][j] = p[j][sz] - p[j][-sz];
+            }
+        return;
+    }
+    for (int a = 0; a < 3; a++) {
+        int i = i3[a];
         for (int kk = 0; kk < 2; kk++) {
             int g = clampi(i + kk, 0, r->dims[a] - 1);
             c[a][kk] = g - m->org[a];
@@ -41,7 +63,6 @@ static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const in
             hi[a][kk] = clampi(g + 1, 0, r->dims[a] - 1) - m->org[a];
         }
     }
-    const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
     for (int kz = 0; kz < 2; kz++)
         for (int ky = 0; ky < 2; ky++)
             for (int kx = 0; kx < 2; kx++) {
@@ -61,32 +82,40 @@ static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const in
 /* The 8 trilinear weights (45 fraction bits) of the fractions, corner k = kx + 2 ky + 4 kz. */
 static inline void c5_tri_weights(const int64_t frac[3], int64_t wt[8])
 {
-    int64_t w[3][2];
-    for (int a = 0; a < 3; a++) {
-        w[a][0] = (1 << C5_POS_F) - frac[a];
-        w[a][1] = frac[a];
-    }
-    for (int j = 0; j < 8; j++)
-        wt[j] = w[0][j & 1] * w[1][(j >> 1) & 1] * w[2][j >> 2];
+    /* Written out: (w_x w_y) w_z, the products of the loop over j in the same order,
+     * with the four x-y products formed once instead of twice. */
+    const int64_t one = 1 << C5_POS_F;
+    const int64_t x0 = one - frac[0], x1 = frac[0], y0 = one - frac[1], y1 = frac[1];
+    const int64_t z0 = one - frac[2], z1 = frac[2];
+    const int64_t xy0 = x0 * y0, xy1 = x1 * y0, xy2 = x0 * y1, xy3 = x1 * y1;
+    wt[0] = xy0 * z0;
+    wt[1] = xy1 * z0;
+    wt[2] = xy2 * z0;
+    wt[3] = xy3 * z0;
+    wt[4] = xy0 * z1;
+    wt[5] = xy1 * z1;
+    wt[6] = xy2 * z1;
+    wt[7] = xy3 * z1;
+}
+
+/* sum_j wt[j] v[j], exact (|wt v| < 2^53, eight terms), written out: the sum is the same
+ * integer in any order, and -O2 leaves the loop rolled. */
+static inline int64_t c5_dot8(const int64_t wt[8], const int32_t v[8])
+{
+    return ((wt[0] * v[0] + wt[1] * v[1]) + (wt[2] * v[2] + wt[3] * v[3])) +
+           ((wt[4] * v[4] + wt[5] * v[5]) + (wt[6] * v[6] + wt[7] * v[7]));
 }
 
 /* The blends on precomputed weights (the model computes them once for both). */
 static inline int64_t c5_interp_blend_w(const int64_t wt[8], const int32_t v[8])
 {
-    int64_t s = 0;
-    for (int j = 0; j < 8; j++)
-        s += wt[j] * v[j];
-    return c5_rshift_he(s, 45 - 8);
+    return c5_rshift_he(c5_dot8(wt, v), 45 - 8);
 }
 
 static inline void c5_grad_blend_w(const int64_t wt[8], const int32_t d[3][8], const int64_t gs[3], int64_t grad[3])
 {
-    for (int a = 0; a < 3; a++) {
-        int64_t s = 0;
-        for (int j = 0; j < 8; j++)
-            s += wt[j] * d[a][j];
-        grad[a] = c5_rshift_he(c5_rshift_he(s, 45 - 8) * gs[a], 15);
-    }
+    for (int a = 0; a < 3; a++)
+        grad[a] = c5_rshift_he(c5_rshift_he(c5_dot8(wt, d[a]), 45 - 8) * gs[a], 15);
 }
 
 /* Block "interp": the trilinear blend of the corners (voxels 0..255) with the fractions

@@ -3,6 +3,9 @@
 # and by the board model (one thread, 1 and 8 cells; Morton and FIFO queue keys), and the
 # model against cref (cube5 compare), and the same frame through the host driver over libusb
 # to the emulated board (cell upload MB/s, frames per second over the emulated link).
+# The model's host throughput is stated per core: M sample positions (taken or leaped) per
+# second of its one thread; a small table shows how it grows with the volume's size and
+# the cell count (the default scene at 96^3 and 192^3 voxels, 1, 8 and 64 cells).
 # Printed as tables and written to BUILD/bench.json.
 # With ../shared/data/volumes/ present, also brain_mirrors with a real CT volume.
 # Then the caster section (cube5 cast, the paper's Figures 11-13 and Table 2): scripts/bench-cast.sh.
@@ -30,6 +33,16 @@ for scene in $scenes; do
     echo "link|$scene|$("$build/cube5-board" run -- "$build/cube5ctl" render "$scene" --size 256x256 --cells 2 \
         -o "$tmp/link.png" --json)"
 done > "$tmp/runs"
+# Scaling: the default scene with its volume at 96^3 and 192^3 voxels (same world box, so
+# half the spacing), split into 1, 2^3 and 4^3 cells.
+for n in 96 192; do
+    python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); s["volumes"][0]["dims"] = [int(sys.argv[2])] * 3
+json.dump(s, open(sys.argv[3], "w"))' "$(dirname "$0")/../scenes/default.json" "$n" "$tmp/default$n.json"
+    for cells in 1 2 4; do
+        echo "scale|default|$n|$cells|$("$cube5" render "$tmp/default$n.json" --size 256x256 --frames 1 --model rtl \
+            --cells "$cells" --json)"
+    done
+done >> "$tmp/runs"
 if [ -f "$data/CThead_256x256x113_uint8.raw" ]; then
     echo "cref|brain_mirrors+CThead|$cores|$("$cube5" render brain_mirrors --size 256x256 --frames 1 \
         --threads "$cores" --volume "$data/CThead_256x256x113_uint8.raw" --json)" >> "$tmp/runs"
@@ -40,7 +53,8 @@ else
 fi
 python3 - "$tmp/runs" "$out" <<'PY'
 import json, sys
-cref, rtl, cmp, link = [], [], [], []
+cref, rtl, cmp, link, scale = [], [], [], [], []
+MODEL_THREADS = 1  # c5_board_render runs on the calling thread only
 for line in open(sys.argv[1]):
     kind, rest = line.rstrip("\n").split("|", 1)
     if kind == "cref":
@@ -56,10 +70,21 @@ for line in open(sys.argv[1]):
         passed = o["samples"] + b["samples_leaped"]
         rtl.append({"scene": name, "cells": int(cells) ** 3, "key": key, "rays": sum(o["rays"].values()),
                     "samples": o["samples"], "samples_leaped": b["samples_leaped"], "wall_s": o["wall_s"],
-                    "msamples_per_s": passed / o["wall_s"] / 1e6, "board_cycles": b["cycles"],
+                    "threads": MODEL_THREADS, "msamples_per_s": passed / o["wall_s"] / 1e6,
+                    "msample_positions_per_s_per_core": passed / o["wall_s"] / 1e6 / MODEL_THREADS,
+                    "board_cycles": b["cycles"],
                     "board_s": b["board_s"], "fetches": b["fetches"], "fetch_bytes": b["fetch_bytes"],
                     "spills": b["spills"], "cache_misses": b["cache_misses"],
                     "cache_miss_rate": b["cache_misses"] / max(1, b["cache_hits"] + b["cache_misses"])})
+    elif kind == "scale":
+        name, dims, cells, text = rest.split("|", 3)
+        o = json.loads(text)
+        b = o["board"]
+        passed = o["samples"] + b["samples_leaped"]
+        scale.append({"scene": name, "dims": int(dims), "cells": int(cells) ** 3, "threads": MODEL_THREADS,
+                      "samples": o["samples"], "samples_leaped": b["samples_leaped"], "wall_s": o["wall_s"],
+                      "msample_positions_per_s_per_core": passed / o["wall_s"] / 1e6 / MODEL_THREADS,
+                      "board_cycles": b["cycles"], "fetches": b["fetches"], "bus_packets": b["bus_packets"]})
     elif kind == "link":
         name, text = rest.split("|", 1)
         o = json.loads(text)
@@ -77,14 +102,30 @@ print("%-22s %7s %10s %11s %8s %12s" % ("cref 256x256", "threads", "rays", "samp
 for r in cref:
     print("%-22s %7d %10d %11d %8.3f %12.2f" % (r["scene"], r["threads"], r["rays"], r["samples"], r["wall_s"],
                                                r["msamples_per_s"]))
-print("\n%-16s %5s %6s %10s %9s %8s %11s %11s %8s %7s %9s" % (
-    "rtl 256x256", "cells", "key", "samples", "leaped", "wall s", "Msamples/s", "cycles", "board s", "fetches",
-    "miss rate"))
+print("\n%-16s %5s %6s %7s %10s %9s %8s %11s %11s %8s %7s %9s" % (
+    "rtl 256x256", "cells", "key", "threads", "samples", "leaped", "wall s", "M pos/s/core", "cycles", "board s",
+    "fetches", "miss rate"))
 for r in rtl:
-    print("%-16s %5d %6s %10d %9d %8.3f %11.2f %11d %8.4f %7d %8.2f%%" % (
-        r["scene"], r["cells"], r["key"], r["samples"], r["samples_leaped"], r["wall_s"], r["msamples_per_s"],
-        r["board_cycles"], r["board_s"], r["fetches"], 100 * r["cache_miss_rate"]))
-print("  (Msamples/s counts sample positions passed, taken or leaped, as cref's samples do)")
+    print("%-16s %5d %6s %7d %10d %9d %8.3f %11.2f %11d %8.4f %7d %8.2f%%" % (
+        r["scene"], r["cells"], r["key"], r["threads"], r["samples"], r["samples_leaped"], r["wall_s"],
+        r["msample_positions_per_s_per_core"], r["board_cycles"], r["board_s"], r["fetches"],
+        100 * r["cache_miss_rate"]))
+print("  (M pos/s/core: the model's host throughput, M sample positions per second per core = sample positions")
+print("   passed (taken or leaped, as cref's samples count them) / wall s of c5_board_render / %d thread)"
+      % MODEL_THREADS)
+m8 = [r for r in rtl if r["cells"] == 8 and r["key"] == "morton"]
+if m8:
+    worst = min(m8, key=lambda r: r["msample_positions_per_s_per_core"])
+    print("  slowest scene, 8 cells, Morton: %s at %.2f M sample positions/s per core (issue 22 target: 10)"
+          % (worst["scene"], worst["msample_positions_per_s_per_core"]))
+print("\n%-22s %5s %5s %7s %10s %9s %8s %12s %11s %7s %9s" % (
+    "rtl scaling 256x256", "voxels", "cells", "threads", "samples", "leaped", "wall s", "M pos/s/core", "cycles",
+    "fetches", "bus pkts"))
+for r in scale:
+    print("%-22s %5s %5d %7d %10d %9d %8.3f %12.2f %11d %7d %9d" % (
+        r["scene"], "%d^3" % r["dims"], r["cells"], r["threads"], r["samples"], r["samples_leaped"], r["wall_s"],
+        r["msample_positions_per_s_per_core"], r["board_cycles"], r["fetches"], r["bus_packets"]))
+print("  (the default scene's volume at 96^3 and 192^3 voxels over the same world box, Morton key)")
 print("\n%-22s %8s %10s %9s %8s %8s %8s" % ("compare, 8 cells", "PSNR dB", "RMSE", "max err", "cref s", "model s",
                                             "fetches"))
 for r in cmp:
@@ -97,7 +138,8 @@ for r in link:
                                                       r["cell_upload_s"], r["cell_upload_mb_s"], r["frame_s"], r["fps"]))
 print("  (cube5ctl through libusb to the emulated board under umockdev: MB/s = cell bytes / time from each")
 print("   doorbell to the cell's last completion; fps = 1 / (start_frame to frame_done), the model's own time included)")
-json.dump({"cref": cref, "rtl": rtl, "compare": cmp, "link": link}, open(sys.argv[2], "w"), indent=1)
+json.dump({"cref": cref, "rtl": rtl, "rtl_scaling": scale, "compare": cmp, "link": link}, open(sys.argv[2], "w"),
+          indent=1)
 print("written:", sys.argv[2])
 PY
 bash "$(dirname "$0")/bench-cast.sh" "$build"

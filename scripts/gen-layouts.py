@@ -495,6 +495,33 @@ def c_fmt(fmt, label):
     return f"C5_{'SQ' if fmt.signed else 'UQ'}({fmt.i}, {fmt.f}, \"{label}\")"
 
 
+def put_bytes(lsb, width, expr):
+    """C lines storing the low `width` bits of expr at bit lsb of the zeroed `out`, one line a
+    byte spanned, positions fixed here: what c5_lay_put does with loops and masks, straight
+    (pack and unpack run on every ray the board model queues)."""
+    first, off, last = lsb // 8, lsb % 8, (lsb + width - 1) // 8
+    mask = f" & UINT64_C({hex((1 << width) - 1)})" if width < 64 else ""
+    lines = [f"    {{ uint64_t v_ = {expr}{mask};"]
+    for i in range(first, last + 1):
+        sh = 8 * (i - first) - off
+        part = f"v_ << {-sh}" if sh < 0 else f"v_ >> {sh}" if sh > 0 else "v_"
+        lines.append(f"      out[{i}] |= (uint8_t)({part});")
+    lines[-1] += " }"
+    return lines
+
+
+def get_bytes(lsb, width):
+    """The C expression of c5_lay_get(in, lsb, width), byte positions fixed here."""
+    first, off, last = lsb // 8, lsb % 8, (lsb + width - 1) // 8
+    terms = []
+    for i in range(first, last + 1):
+        sh = 8 * (i - first) - off
+        b = f"(uint64_t)in[{i}]"
+        terms.append(f"{b} >> {-sh}" if sh < 0 else f"{b} << {sh}" if sh > 0 else b)
+    body = " | ".join(terms)
+    return f"(({body}) & UINT64_C({hex((1 << width) - 1)}))" if width < 64 else f"({body})"
+
+
 def c_layout(lay):
     n, up = lay["name"], lay["name"].upper()
     nbytes = lay["width"] // 8
@@ -549,14 +576,14 @@ def c_layout(lay):
         sgn = 1 if f["fmt"].signed else 0
         out.append(f"    assert(c5_lay_fits((int64_t)f->{f['name']}, {p}_WIDTH, {sgn}) && "
                    f"\"{n}.{f['name']} out of range\");")
-        out.append(f"    c5_lay_put(out, {p}_LSB, {p}_WIDTH, (uint64_t)f->{f['name']});")
+        out.extend(put_bytes(f["lsb"], f["width"], f"(uint64_t)f->{f['name']}"))
     out.append("}")
     out.append("")
     out.append(f"static inline void c5_{n}_unpack(const uint8_t in[C5_{up}_BYTES], c5_{n}_t *f)")
     out.append("{")
     for f in data:
         p = f"C5_{up}_{f['name'].upper()}"
-        get = f"c5_lay_get(in, {p}_LSB, {p}_WIDTH)"
+        get = get_bytes(f["lsb"], f["width"])
         if f["fmt"].signed:
             out.append(f"    f->{f['name']} = c5_lay_sext({get}, {p}_WIDTH);")
         elif f["fmt"].fixed:
