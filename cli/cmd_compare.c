@@ -228,8 +228,7 @@ int c5_cmd_compare(int argc, char **argv)
     }
     if (a.diff && c5_cli_check_scene_image_out(a.diff, 1, a.scene_arg, &s, &err) != 0)
         goto fail;
-    if (c5_model_check_scene(&s, a.cells, label, &err) != 0 || c5_supervol_build(&s, &sv, &err) != 0 ||
-        c5_cli_check_cells(a.cells, &sv, &err) != 0 || c5_model_check_grid(&s, &sv, a.cells, label, &err) != 0)
+    if (c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0)
         goto fail;
 
     rc = C5_EXIT_RUNTIME;

@@ -284,12 +284,7 @@ int c5_cmd_render(int argc, char **argv)
     }
     if (a.out && c5_cli_check_scene_image_out(a.out, c5_scene_frames(&s), a.scene_arg, &s, &err) != 0)
         goto fail;
-    /* The model's field-width limits before any volume is read or generated. */
-    if (a.rtl && c5_model_check_scene(&s, a.cells, label, &err) != 0)
-        goto fail;
-    if (c5_supervol_build(&s, &sv, &err) != 0)
-        goto fail;
-    if (a.rtl && (c5_cli_check_cells(a.cells, &sv, &err) != 0 || c5_model_check_grid(&s, &sv, a.cells, label, &err) != 0))
+    if (a.rtl ? c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0 : c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
 
     int frames = c5_scene_frames(&s);

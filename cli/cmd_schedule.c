@@ -327,8 +327,7 @@ int c5_cmd_schedule(int argc, char **argv)
         s.path.frames = frames;
     if (c5_scene_check_path(&s, label, &err) != 0)
         goto fail;
-    if (c5_model_check_scene(&s, a.cells, label, &err) != 0 || c5_supervol_build(&s, &sv, &err) != 0 ||
-        c5_cli_check_cells(a.cells, &sv, &err) != 0 || c5_model_check_grid(&s, &sv, a.cells, label, &err) != 0)
+    if (c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0)
         goto fail;
     rc = C5_EXIT_RUNTIME;
     rows = calloc((size_t)frames, sizeof *rows);

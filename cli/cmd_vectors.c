@@ -104,8 +104,7 @@ static json_t *run_scene(c5_vset *set, const vec_args *a, const char *arg, c5_er
     c5_supervol sv = {0};
     char label[512], name[128];
     if (c5_cli_scene_setup(arg, NULL, 0, a->w, a->h, &s, label, sizeof label, err) != 0 ||
-        c5_model_check_scene(&s, a->cells, label, err) != 0 || c5_supervol_build(&s, &sv, err) != 0 ||
-        c5_cli_check_cells(a->cells, &sv, err) != 0 || c5_model_check_grid(&s, &sv, a->cells, label, err) != 0) {
+        c5_cli_model_grid(&s, a->cells, label, &sv, err) != 0) {
         c5_supervol_free(&sv);
         return NULL;
     }
