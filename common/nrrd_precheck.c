@@ -428,7 +428,7 @@ static int check_data(int fd, const char *path, long long size, long long at, co
     return 0;
 }
 
-int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err)
+static int precheck(const char *path, c5_nrrd_header *info, int with_data, c5_err *err)
 {
     c5_nrrd_header local;
     c5_nrrd_header *h = info ? info : &local;
@@ -466,6 +466,10 @@ int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err)
         goto done;
     }
     h->data_bytes = count * (h->type == C5_VOX_U16 ? 2 : 1);
+    if (!with_data) {
+        rc = 0;
+        goto done;
+    }
     if (!h->detached) {
         if (!data_at) {
             FAIL("%s: cannot read NRRD: the header ends without a blank line or a data file", path);
@@ -488,4 +492,14 @@ done:
     return rc;
 }
 
+int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err)
+{
+    return precheck(path, info, 1, err);
+}
+
 int c5_nrrd_precheck(const char *path, c5_err *err) { return c5_nrrd_precheck_info(path, NULL, err); }
+
+int c5_nrrd_header_info(const char *path, c5_nrrd_header *info, c5_err *err)
+{
+    return precheck(path, info, 0, err);
+}

@@ -48,6 +48,10 @@ typedef struct {
  * allocates nothing in proportion to what the header claims. */
 int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err);
 int c5_nrrd_precheck(const char *path, c5_err *err);
+/* The header part alone (every header rule, nothing of the data: a gzip member is not
+ * inflated, a detached data file not opened), for what needs only the declared sizes and
+ * the data file's name; the load runs the whole precheck. */
+int c5_nrrd_header_info(const char *path, c5_nrrd_header *info, c5_err *err);
 
 /* The loader's message when Teem reads a prechecked header otherwise than the precheck did
  * (never seen; the fuzz harness treats it as a finding). */

@@ -67,10 +67,10 @@ int c5_volume_input_files(const char *path, const char *what, c5_file_list *l, c
         return -1;
     if (!is_nrrd_name(path))
         return 0;
-    /* The precheck reads the header without Teem and refuses what the load would refuse
-     * (several data files among them), so a header names at most one data file here. */
+    /* The precheck's header rules, without Teem and without reading the data (the load
+     * checks it): they refuse several data files, so a header names at most one here. */
     c5_nrrd_header h;
-    if (c5_nrrd_precheck_info(path, &h, err) != 0)
+    if (c5_nrrd_header_info(path, &h, err) != 0)
         return -1;
     if (!h.detached)
         return 0;

@@ -24,7 +24,7 @@ long c5_file_list_find(const c5_file_list *l, const char *path);
 
 /* Adds `path` (described as `what`) and, when it is a .nrrd/.nhdr, the detached data file its
  * header names, resolved against the header's folder as Teem resolves it. The header goes
- * through c5_nrrd_precheck (never Teem): a header it refuses is refused here with its
+ * through c5_nrrd_header_info (never Teem): a header it refuses is refused here with its
  * message, as the volume load would refuse it, before any output is written. */
 int c5_volume_input_files(const char *path, const char *what, c5_file_list *l, c5_err *err);
 

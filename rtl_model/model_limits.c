@@ -26,7 +26,7 @@ static int factor(double v, double max, const char *what, const char *key, const
     return 0;
 }
 
-/* A NRRD header's sizes, read by the precheck (never Teem) without loading the data; -1 for
+/* A NRRD header's sizes, read by the precheck's header rules (never Teem, not the data); -1 for
  * anything else or a header the load will refuse with its own message. */
 static int nrrd_dims(const char *path, size_t d[3])
 {
@@ -35,7 +35,7 @@ static int nrrd_dims(const char *path, size_t d[3])
         return -1;
     c5_nrrd_header h;
     c5_err ignored;
-    if (c5_nrrd_precheck_info(path, &h, &ignored) != 0)
+    if (c5_nrrd_header_info(path, &h, &ignored) != 0)
         return -1;
     memcpy(d, h.dims, sizeof h.dims);
     return 0;

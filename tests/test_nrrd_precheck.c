@@ -207,3 +207,31 @@ TEST(nrrd_load_goes_through_the_precheck)
     CHECK(c5_volume_load(fifo, NULL, &v, &e) == -1);
     CHECK_HAS(e.msg, "f_2x2x2_uint8.raw: not a regular file");
 }
+
+/* c5_nrrd_header_info: every header rule, nothing of the data (the output check and the
+ * model's limits need only the sizes and the data file's name; the load checks the data). */
+TEST(nrrd_header_info_reads_the_header_alone)
+{
+    const char *hdr = c5t_path(0, "alone.nhdr");
+    CHECK(write_text(hdr, HEAD3("4 5 6", "data file: absent.raw\n")) == 0);
+    c5_nrrd_header h;
+    c5_err e = {{0}};
+    CHECK_MSG(c5_nrrd_header_info(hdr, &h, &e) == 0, "%s", e.msg);
+    CHECK(h.dims[0] == 4 && h.dims[1] == 5 && h.dims[2] == 6 && h.detached);
+    CHECK_HAS(h.data_path, "absent.raw");
+    CHECK(c5_nrrd_precheck(hdr, &e) == -1);
+    CHECK_HAS(e.msg, "absent.raw");
+
+    const char *gz = c5t_path(0, "corrupt.nrrd");
+    CHECK(write_text(gz, "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: gzip\n\nnot gzip") == 0);
+    CHECK_MSG(c5_nrrd_header_info(gz, &h, &e) == 0, "%s", e.msg);
+    CHECK(h.encoding == C5_NRRD_GZIP && h.data_bytes == 8);
+    CHECK(c5_nrrd_precheck(gz, &e) == -1);
+
+    char line[600];
+    snprintf(line, sizeof line, "NRRD0004\n# %0500d\n", 0);
+    const char *lng = c5t_path(0, "long_alone.nrrd");
+    CHECK(write_text(lng, line) == 0);
+    CHECK(c5_nrrd_header_info(lng, &h, &e) == -1);
+    CHECK_HAS(e.msg, "longer than 400 bytes");
+}
