@@ -155,12 +155,12 @@ int c5_cli_check_cells(const int cells[3], const c5_supervol *sv, c5_err *err)
     return 0;
 }
 
-int c5_cli_model_grid(const c5_scene *s, const int cells[3], const char *label, c5_supervol *sv, c5_err *err)
+int c5_cli_model_grid(const c5_scene *s, int cells[3], const char *label, c5_supervol *sv, c5_err *err)
 {
-    return c5_model_check_scene(s, cells, label, err) != 0 || c5_supervol_build(s, sv, err) != 0 ||
-                   c5_cli_check_cells(cells, sv, err) != 0 || c5_model_check_grid(s, sv, cells, label, err) != 0
-               ? -1
-               : 0;
+    if (c5_model_check_scene(s, cells, label, err) != 0 || c5_supervol_build(s, sv, err) != 0)
+        return -1;
+    c5_model_auto_split(sv->dims, cells);
+    return c5_cli_check_cells(cells, sv, err) != 0 || c5_model_check_grid(s, sv, cells, label, err) != 0 ? -1 : 0;
 }
 
 json_t *c5_cli_board_json(const c5_board_stats *st)

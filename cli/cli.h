@@ -31,7 +31,7 @@ int c5_cli_check_cells(const int cells[3], const c5_supervol *sv, c5_err *err);
 /* The grid the board model renders, in the order that refuses early: the model's field-width
  * limits before any volume is read or generated (c5_model_check_scene), the grid, the split
  * against it, then the limits that need the built grid (c5_model_check_grid). */
-int c5_cli_model_grid(const c5_scene *s, const int cells[3], const char *label, c5_supervol *sv, c5_err *err);
+int c5_cli_model_grid(const c5_scene *s, int cells[3], const char *label, c5_supervol *sv, c5_err *err);
 /* The board model's per-frame counters as the JSON object of 'render --json' and 'compare
  * --json'; the stages enabled as text ("gradients shadow ..." or "eye rays only"). */
 json_t *c5_cli_board_json(const c5_board_stats *st);

@@ -23,7 +23,8 @@ static const char usage_text[] =
     "bit-accurate board model, then prints how far the model's image is from cref's (PSNR,\n"
     "RMSE, largest error, overall and per channel, and a histogram of the errors in 8-bit\n"
     "steps) and what each cost. Definitions: docs/compare.md.\n\n"
-    "  --cells N|NxMxK   split the grid into NxNxN (or NxMxK) cells for the model (default 1)\n"
+    "  --cells N|NxMxK   split the grid into NxNxN (or NxMxK) cells for the model (default 1,\n"
+    "                    or the fewest that keep a cell within 256 voxels a side)\n"
     "  --queue-key K     morton (default) or fifo order of the model's ray queue\n"
     "  --size WxH        image size instead of the scene's\n"
     "  --frame I         frame I (from 0) of the scene's camera path (default 0)\n"
@@ -50,7 +51,7 @@ static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
     memset(a, 0, sizeof *a);
     a->scene_arg = "default";
     a->gain = C5_DIFF_GAIN;
-    a->cells[0] = a->cells[1] = a->cells[2] = 1;
+    a->cells[0] = a->cells[1] = a->cells[2] = 0; /* the automatic split */
     a->key = C5_KEY_MORTON;
     int have_scene = 0;
     for (int i = 1; i < argc; i++) {

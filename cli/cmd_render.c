@@ -25,7 +25,8 @@ static const char usage_text[] =
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
     "  --model M         cref (default) or rtl: the board model (rtl_model/board.h),\n"
     "                    which also reports board cycles, fetches and the stages that ran\n"
-    "  --cells N|NxMxK   rtl only: split the grid into NxNxN (or NxMxK) cells (default 1)\n"
+    "  --cells N|NxMxK   rtl only: split the grid into NxNxN (or NxMxK) cells (default 1,\n"
+    "                    or the fewest that keep a cell within 256 voxels a side)\n"
     "  --queue-key K     rtl only: morton (default) or fifo order of the ray queue\n"
     "  --host-bw MB/S    rtl only: host/disk -> RDRAM bandwidth of a cell fetch (default 132)\n"
     "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n"
@@ -51,7 +52,7 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
 {
     memset(a, 0, sizeof *a);
     a->scene_arg = "default";
-    a->cells[0] = a->cells[1] = a->cells[2] = 1;
+    a->cells[0] = a->cells[1] = a->cells[2] = 0; /* the automatic split */
     a->key = C5_KEY_MORTON;
     a->host_ms = -1;
     int have_scene = 0;

@@ -103,13 +103,14 @@ static json_t *run_scene(c5_vset *set, const vec_args *a, const char *arg, c5_er
     static c5_scene s;
     c5_supervol sv = {0};
     char label[512], name[128];
+    int cells[3] = {a->cells[0], a->cells[1], a->cells[2]};
     if (c5_cli_scene_setup(arg, NULL, 0, a->w, a->h, &s, label, sizeof label, err) != 0 ||
-        c5_cli_model_grid(&s, a->cells, label, &sv, err) != 0) {
+        c5_cli_model_grid(&s, cells, label, &sv, err) != 0) {
         c5_supervol_free(&sv);
         return NULL;
     }
     source_name(arg, name, sizeof name);
-    json_t *rec = c5_vec_scene(set, name, &s, &sv, a->cells);
+    json_t *rec = c5_vec_scene(set, name, &s, &sv, cells);
     c5_supervol_free(&sv);
     return rec;
 }

@@ -113,9 +113,11 @@ int c5_hostmem_load(c5_hostmem *m, const char *json, const char *base_dir, const
     m->width = m->scene->render.width;
     m->height = m->scene->render.height;
     m->has_volume = !c5_supervol_empty(&sv);
-    /* The model's option defaults (c5_board_render): < 1 means 1, no volume forces 1x1x1. */
+    /* The model's option defaults (c5_board_render): < 1 means the automatic split, no volume
+     * forces 1x1x1. */
     for (int a = 0; a < 3; a++)
-        m->cells[a] = !m->has_volume || !cells || cells[a] < 1 ? 1 : cells[a];
+        m->cells[a] = !m->has_volume ? 1 : !cells || cells[a] < 1 ? 0 : cells[a];
+    c5_model_auto_split(sv.dims, m->cells);
     c5_board_opts o = {.cells = {m->cells[0], m->cells[1], m->cells[2]}};
     if (c5_regs_build(m->scene, &sv, &o, r, err) != 0)
         goto out;

@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "board.h"
+#include "model_limits.h"
 #include "camera.h"
 #include "cells.h"
 #include "geom.h"
@@ -87,7 +88,7 @@ static void edram_step(board *b, const c5_rq_in *in, c5_rq_out *out)
 /* A packet as it is written into a queue (eDRAM or SDRAM), seen by the packet tap. */
 static void pack(board *b, const c5_bray *r, uint8_t pk[C5_PACKET_BYTES])
 {
-    c5_bray_pack(r, pk);
+    c5_bray_pack(r, &b->cells, pk);
     const c5_taps *t = b->o->taps;
     if (t && t->packet)
         t->packet(t->ctx, pk);
@@ -178,7 +179,7 @@ static void refill(board *b, sdram_queue *q)
 {
     while (q->head < q->n && b->edram.count < b->edram.cfg.capacity) {
         c5_bray r;
-        c5_bray_unpack(q->pk[q->head], &r);
+        c5_bray_unpack(q->pk[q->head], &b->cells, &r);
         if (!edram_insert(b, &r))
             break;
         q->head++;
@@ -200,7 +201,7 @@ static void process_cell(board *b, int cell)
         c5_rq_out out;
         edram_step(b, &in, &out);
         c5_bray r;
-        c5_bray_unpack(b->slot[out.pop_payload], &r);
+        c5_bray_unpack(b->slot[out.pop_payload], &b->cells, &r);
         b->free_slots[b->n_free++] = out.pop_payload;
         b->st->queue_pops++;
         c5_proc_run(&b->proc, &r);
@@ -273,7 +274,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     c5_board_opts o = *opts;
     for (int a = 0; a < 3; a++)
         if (o.cells[a] < 1)
-            o.cells[a] = 1;
+            o.cells[a] = 0;
+    c5_model_auto_split(sv->dims, o.cells); /* < 1: the fewest cells that fit the packet */
     if (!o.key)
         o.key = C5_KEY_MORTON;
     if (!o.sched)

@@ -45,7 +45,7 @@ typedef struct {
 } c5_board_host;
 
 typedef struct {
-    int cells[3];            /* split of the grid into cells per axis; 0 or 1: one cell */
+    int cells[3];            /* split of the grid into cells per axis; < 1: the fewest cells of at most 256 voxels (c5_model_auto_split) */
     c5_queue_key key;        /* 0: C5_KEY_MORTON */
     c5_sched_kind sched;     /* 0: C5_SCHED_MAXWORK */
     const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order (the Cell Tree's) */

@@ -25,20 +25,19 @@ void c5_ctree_read(c5_ctree *t, uint32_t id, c5_cell_tree_node_t *n)
 static void kids_get(const c5_cell_tree_node_t *n, uint32_t k[C5_TREE_CHILDREN])
 {
     k[0] = n->child0, k[1] = n->child1, k[2] = n->child2;
-    k[3] = n->child3, k[4] = n->child4, k[5] = n->child5;
+    k[3] = n->child3, k[4] = n->child4;
 }
 
 static void kids_set(c5_cell_tree_node_t *n, const uint32_t k[C5_TREE_CHILDREN])
 {
     n->child0 = k[0], n->child1 = k[1], n->child2 = k[2];
-    n->child3 = k[3], n->child4 = k[4], n->child5 = k[5];
+    n->child3 = k[3], n->child4 = k[4];
 }
 
 static c5_cell_tree_node_t fresh(int cell)
 {
     c5_cell_tree_node_t n = {.cell_id = (uint32_t)cell};
-    uint32_t none[C5_TREE_CHILDREN] = {C5_NODE_NONE, C5_NODE_NONE, C5_NODE_NONE,
-                                       C5_NODE_NONE, C5_NODE_NONE, C5_NODE_NONE};
+    uint32_t none[C5_TREE_CHILDREN] = {C5_NODE_NONE, C5_NODE_NONE, C5_NODE_NONE, C5_NODE_NONE, C5_NODE_NONE};
     kids_set(&n, none);
     return n;
 }
@@ -72,7 +71,7 @@ static uint32_t new_node(c5_ctree *t, uint32_t id, int cell)
 }
 
 /* The child of `owner` for `cell`, made when missing. Children fill a list's slots in
- * order; a full list (six children) moves its last child into an extension slot and
+ * order; a full list (five children) moves its last child into an extension slot and
  * chains to it, so the list goes on as long as the RAM does. */
 static uint32_t child(c5_ctree *t, uint32_t owner, int cell)
 {

@@ -5,7 +5,7 @@
  *
  * Construction: every ray packet the DSP queues carries the node of its ray's dependencies;
  * c5_ctree_tag applies the paper's rule to it (docs/cell-tree.md). Beside the RAM the DSP
- * keeps a root per cell (64 x 13 bits); the per-cell node lists of the paper are built by the
+ * keeps a root per cell (4,096 x 13 bits, 6.5 KB beside the 96 KB); the per-cell node lists of the paper are built by the
  * scheduler between frames (c5_ctree_export) and are not stored. */
 #ifndef C5_CELL_TREE_H
 #define C5_CELL_TREE_H
@@ -19,7 +19,7 @@
 #define C5_TREE_RAM_BYTES (96 * 1024)
 #define C5_TREE_SLOTS (C5_TREE_RAM_BYTES / C5_CELL_TREE_NODE_BYTES) /* 8192 */
 #define C5_TREE_MAX_SLOTS (C5_TREE_SLOTS - 1) /* ids 0..8190: 8191 is "none" */
-#define C5_TREE_CHILDREN 6
+#define C5_TREE_CHILDREN 5
 
 _Static_assert(C5_TREE_MAX_SLOTS == C5_NODE_NONE, "node ids and the packet's none agree");
 _Static_assert(C5_CELL_TREE_NODE_CHILD0_WIDTH == C5_RAY_PACKET_CELL_TREE_NODE_WIDTH,

@@ -48,7 +48,7 @@ static int cells_alloc(c5_cells *c, const size_t dims[3], const int n[3], c5_err
         c->n[a] = n[a] > 1 ? n[a] : 1;
         c->count *= c->n[a];
         c->lo[a] = malloc(sizeof(int) * (size_t)(c->n[a] + 1));
-        c->of[a] = malloc((size_t)c->dims[a]);
+        c->of[a] = malloc(sizeof(uint16_t) * (size_t)c->dims[a]);
         c->bdims[a] = (c->dims[a] + C5_BLOCK - 1) / C5_BLOCK;
         if (!c->lo[a] || !c->of[a])
             goto oom;
@@ -56,7 +56,7 @@ static int cells_alloc(c5_cells *c, const size_t dims[3], const int n[3], c5_err
             c->lo[a][i] = (int)((long)i * c->dims[a] / c->n[a]);
         for (int i = 0; i < c->n[a]; i++)
             for (int x = c->lo[a][i]; x < c->lo[a][i + 1]; x++)
-                c->of[a][x] = (uint8_t)i;
+                c->of[a][x] = (uint16_t)i;
     }
     c->empty = calloc((size_t)c->count, 1);
     c->block_empty = calloc(c5_cells_blocks(c), 1);

@@ -16,11 +16,11 @@
 #define C5_GHOST 2
 #define C5_BLOCK 8 /* space-leaping block edge, voxels, aligned to the grid */
 
-typedef struct {
+typedef struct c5_cells {
     int n[3], count;
     int dims[3];
     int *lo[3];            /* [n+1] boundaries per axis */
-    uint8_t *of[3];        /* [dims] voxel index -> cell index per axis */
+    uint16_t *of[3];       /* [dims] voxel index -> cell index per axis */
     uint8_t *empty;        /* [count] no sample in the cell can have alpha > 0 */
     int bdims[3];
     uint8_t *block_empty;  /* [bdims] the same for every 8^3 block of the grid */

@@ -29,7 +29,7 @@ void c5_geom_reflect(const int64_t d[3], const int64_t n[3], int64_t out[3]);
 /* Snell refraction of d through n facing the ray (d.n <= 0), eta = n_from / n_to as
  * UQ4.28; 0 on total internal reflection. */
 int c5_geom_refract(const int64_t d[3], const int64_t n[3], int64_t eta, int64_t out[3]);
-/* voxel coordinates (UQ9.15 raw, any sign) <-> geom coordinates (SQ13.15). */
+/* voxel coordinates (15 fraction bits, any sign) <-> geom coordinates (SQ13.15). */
 void c5_geom_from_voxel(const c5_frame_regs *r, const int64_t p[3], int64_t g[3]);
 void c5_geom_to_voxel(const c5_frame_regs *r, const int64_t g[3], int64_t p[3]);
 

@@ -65,14 +65,31 @@ static void known_grid(const c5_scene *s, size_t dims[3], int *from_volume)
         for (int a = 0; a < 3; a++)
             if (d[a] && (size_t)v->offset[a] + d[a] > dims[a]) {
                 dims[a] = (size_t)v->offset[a] + d[a];
-                if (dims[a] > C5_MODEL_MAX_GRID && *from_volume < 0)
+                if (dims[a] > C5_CELL_MAX_EDGE && *from_volume < 0)
                     *from_volume = i;
             }
     }
 }
 
-int c5_model_check_scene(const c5_scene *s, const int cells[3], const char *what, c5_err *err)
+void c5_model_auto_split(const size_t dims[3], int cells[3])
 {
+    for (int a = 0; a < 3; a++)
+        if (cells[a] == 0)
+            cells[a] = dims[a] > C5_CELL_MAX_EDGE ? (int)((dims[a] + C5_CELL_MAX_EDGE - 1) / C5_CELL_MAX_EDGE) : 1;
+}
+
+int c5_model_check_scene(const c5_scene *s, const int cells_in[3], const char *what, c5_err *err)
+{
+    size_t dims[3];
+    int vol;
+    known_grid(s, dims, &vol);
+    int split[3] = {1, 1, 1};
+    const int *cells = NULL;
+    if (cells_in) {
+        memcpy(split, cells_in, sizeof split);
+        c5_model_auto_split(dims, split); /* dims the scene leaves to a file's contents are 0 here */
+        cells = split;
+    }
     const c5_render_settings *r = &s->render;
     if (r->width > C5_MODEL_MAX_IMAGE || r->height > C5_MODEL_MAX_IMAGE)
         return c5_fail(err, "%s: image %dx%d (camera.width/height or --size): the board model's ray packet "
@@ -89,7 +106,7 @@ int c5_model_check_scene(const c5_scene *s, const int cells[3], const char *what
     if (cells) {
         long n = (long)cells[0] * cells[1] * cells[2];
         if (n > C5_MAX_CELLS)
-            return c5_fail(err, "%s: --cells %dx%dx%d: %ld cells: the board model's packet cell id (6 bits) "
+            return c5_fail(err, "%s: --cells %dx%dx%d: %ld cells: the board model's packet cell id (12 bits) "
                                 "names up to %d",
                            what, cells[0], cells[1], cells[2], n, C5_MAX_CELLS);
     }
@@ -123,19 +140,24 @@ int c5_model_check_scene(const c5_scene *s, const int cells[3], const char *what
         if (factor(v3_comp(r->background, a), UQ2_MAX, what, key, "red/green/blue UQ2.12", err))
             return -1;
     }
-    size_t dims[3];
-    int vol;
-    known_grid(s, dims, &vol);
-    for (int a = 0; a < 3; a++)
-        if (dims[a] > C5_MODEL_MAX_GRID) {
-            if (vol >= 0)
-                snprintf(key, sizeof key, "volumes[%d] (dims + offset)", vol);
-            else
-                snprintf(key, sizeof key, "grid.dims");
-            return c5_fail(err, "%s: %s: a grid of %zu voxels along axis %d: the board model's packet position "
-                                "(UQ9.15) addresses up to %d per axis",
+    if (vol >= 0)
+        snprintf(key, sizeof key, "volumes[%d] (dims + offset)", vol);
+    else
+        snprintf(key, sizeof key, "grid.dims");
+    for (int a = 0; a < 3; a++) {
+        if (dims[a] > C5_MODEL_MAX_GRID)
+            return c5_fail(err, "%s: %s: a grid of %zu voxels along axis %d: the board model's geometry "
+                                "(geom_coord SQ13.15) reaches %d per axis",
                            what, key, dims[a], a, C5_MODEL_MAX_GRID);
-        }
+        int n = cells && cells[a] > 1 ? cells[a] : 1;
+        size_t edge = (dims[a] + (size_t)n - 1) / (size_t)n;
+        if (edge > C5_CELL_MAX_EDGE)
+            return c5_fail(err, "%s: %s: %zu voxels along axis %d in %d cell(s): cells of %zu voxels; the board "
+                                "model's packet position (UQ8.15 from the cell's corner) holds cells up to %d a side "
+                                "(--cells with at least %zu along axis %d)",
+                           what, key, dims[a], a, n, edge, C5_CELL_MAX_EDGE,
+                           (dims[a] + C5_CELL_MAX_EDGE - 1) / C5_CELL_MAX_EDGE, a);
+    }
     return 0;
 }
 

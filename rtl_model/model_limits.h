@@ -10,12 +10,19 @@
 #include "scene.h"
 #include "supervol.h"
 
-/* The grid side the packet position (UQ9.15) addresses. */
-#define C5_MODEL_MAX_GRID 512
+/* The grid side the model's geometry addresses: geom coordinates (SQ13.15, min spacings from
+ * the grid origin) reach 8192; 8000 leaves room for rays stepping out of the grid. The packet
+ * bounds the cell (C5_CELL_MAX_EDGE), not the grid. */
+#define C5_MODEL_MAX_GRID 8000
 /* The image side the packet's destination (9+9 bits) addresses. */
 #define C5_MODEL_MAX_IMAGE 512
 
-/* Image size, surfaces, bounces, cells (cells[3], NULL: one cell), the shading, light,
+/* The split where it is left to the model: every cells[a] == 0 becomes the fewest cells that
+ * keep a cell within C5_CELL_MAX_EDGE voxels along axis a (1 for up to 256 voxels). */
+void c5_model_auto_split(const size_t dims[3], int cells[3]);
+
+/* Image size, surfaces, bounces, cells (cells[3], NULL: one cell; 0 along an axis: the
+ * automatic split, c5_model_auto_split), the shading, light,
  * material and background factors, and the grid's size where the scene fixes it
  * (grid.dims, or volumes whose dims the scene gives: generators, raw files with dims or an
  * Open SciVis name). `what` names the scene (a file, "built-in scene NAME"). */

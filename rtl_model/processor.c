@@ -227,8 +227,9 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int6
 
 static void cache_access(c5_proc *p, const int64_t pos[3])
 {
-    int32_t tag = (int32_t)((((pos[2] >> (C5_POS_F + 2)) * 128) + (pos[1] >> (C5_POS_F + 2))) * 128 +
-                            (pos[0] >> (C5_POS_F + 2)));
+    /* the line's 4^3-voxel block, 16 bits an axis: distinct for every block of any grid the
+     * model takes (C5_MODEL_MAX_GRID) */
+    int64_t tag = (pos[2] >> (C5_POS_F + 2)) << 32 | (pos[1] >> (C5_POS_F + 2)) << 16 | (pos[0] >> (C5_POS_F + 2));
     int line = (int)(((pos[0] >> (C5_POS_F + 2)) & 7) | (((pos[1] >> (C5_POS_F + 2)) & 7) << 3) |
                      (((pos[2] >> (C5_POS_F + 2)) & 3) << 6));
     if (p->cache_tag[line] == tag) {

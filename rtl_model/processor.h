@@ -47,7 +47,7 @@ typedef struct {
     c5_proc_io io;
     const c5_taps *taps;  /* observers of the datapath (golden vectors), or NULL: set after init */
     c5_proc_stats st;
-    int32_t cache_tag[C5_CACHE_LINES];
+    int64_t cache_tag[C5_CACHE_LINES];
 } c5_proc;
 
 void c5_proc_init(c5_proc *p, const c5_frame_regs *r, const c5_cells *cells, const c5_rdram *mem, c5_proc_io io);

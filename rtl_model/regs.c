@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "model_limits.h"
 #include "regs.h"
 #include "tf.h"
 
@@ -92,7 +93,7 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
         return c5_fail(err, "max_bounces %d: the packet's generation field (4 bits) counts up to %d",
                        s->render.max_bounces, C5_MAX_GEN);
     if (cells > C5_MAX_CELLS)
-        return c5_fail(err, "%d cells: the packet's cell id (6 bits) names up to %d", cells, C5_MAX_CELLS);
+        return c5_fail(err, "%d cells: the packet's cell id (12 bits) names up to %d", cells, C5_MAX_CELLS);
     if (o->widths)
         for (int i = 0; i < C5_W_COUNT; i++) {
             int shipped = c5_width_shipped((c5_width_id)i), w = o->widths->frac[i];
@@ -108,12 +109,22 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
     if (r->has_volume) {
         double sp[3] = {sv->spacing.x, sv->spacing.y, sv->spacing.z}, diag = 0;
         for (int a = 0; a < 3; a++) {
-            if (sv->dims[a] > 512)
-                return c5_fail(err, "grid %zux%zux%zu: the packet position (UQ9.15) holds volumes up to 512^3",
-                               sv->dims[0], sv->dims[1], sv->dims[2]);
-            if (o->cells[a] > (int)sv->dims[a])
+            int n = o->cells[a] > 1 ? o->cells[a] : 1;
+            if (n > (int)sv->dims[a])
                 return c5_fail(err, "%d cells along axis %d but the grid has %zu voxels there", o->cells[a], a,
                                sv->dims[a]);
+            size_t edge = (sv->dims[a] + (size_t)n - 1) / (size_t)n;
+            if (edge > C5_CELL_MAX_EDGE)
+                return c5_fail(err, "grid %zux%zux%zu in %d cells along axis %d: cells of %zu voxels; the packet "
+                                    "position (UQ8.15 from the cell's corner) holds cells up to %d a side (use at "
+                                    "least %zu cells along axis %d)",
+                               sv->dims[0], sv->dims[1], sv->dims[2], n, a, edge, C5_CELL_MAX_EDGE,
+                               (sv->dims[a] + C5_CELL_MAX_EDGE - 1) / C5_CELL_MAX_EDGE, a);
+            if (!(sv->dims[a] * sp[a] / smin <= C5_MODEL_MAX_GRID))
+                return c5_fail(err, "grid %zux%zux%zu: %g grid steps along axis %d; the model's geometry "
+                                    "(geom_coord SQ13.15) reaches %d",
+                               sv->dims[0], sv->dims[1], sv->dims[2], sv->dims[a] * sp[a] / smin, a,
+                               C5_MODEL_MAX_GRID);
             r->dims[a] = (int)sv->dims[a];
             if (check_max(step / sp[a], 7.99, "step / spacing (step_k, step_vec SQ3.15)", err) ||
                 check_max(sp[a] / smin, 255, "spacing ratio (UQ8.16)", err))

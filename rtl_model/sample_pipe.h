@@ -22,7 +22,7 @@ typedef struct {
 
 static inline int clampi(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
 
-/* The gather: for the sample at pos (UQ9.15 voxel coordinates) in the RDRAM cell, the
+/* The gather: for the sample at pos (voxel coordinates, 15 fraction bits) in the RDRAM cell, the
  * trilinear fractions and the 8 corner voxels, and (if want_grad) each corner's central
  * differences. Corner indices are clamped to the grid first, then their central-difference
  * neighbours, exactly as cref's clamp-to-edge (the ghost layers hold them). */
@@ -136,7 +136,7 @@ static inline void c5_grad_blend(const int64_t frac[3], const int32_t d[3][8], c
     c5_grad_blend_w(wt, d, gs, grad);
 }
 
-/* Trilinear value and (if want_grad) gradient at pos (UQ9.15 voxel coordinates), read from
+/* Trilinear value and (if want_grad) gradient at pos (voxel coordinates, 15 fraction bits), read from
  * the RDRAM cell: the gather, then the blends. */
 static inline void c5_interp(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
                              c5_sample *out)

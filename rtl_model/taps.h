@@ -51,7 +51,7 @@ enum {
                        (pos and lifetime unchanged) */
 };
 typedef struct c5_trav_in {
-    int64_t pos[3];      /* UQ9.15 voxel coordinates, may have stepped outside the grid */
+    int64_t pos[3];      /* grid voxel coordinates, 15 fraction bits; may have stepped outside the grid */
     int64_t S[3];        /* step_vec SQ3.15 */
     uint32_t lifetime;   /* samples left, C5_LIFE_NONE (4095): unbounded */
     int lo[3], hi[3];    /* the cell's voxel box [lo, hi) */

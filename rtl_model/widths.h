@@ -12,7 +12,7 @@
 #include "err.h"
 
 typedef enum {
-    C5_W_POS,     /* pos UQ9.15 and step_vec SQ3.15 (they share their fraction) */
+    C5_W_POS,     /* pos (15 fraction bits) and step_vec SQ3.15 (they share their fraction) */
     C5_W_DIR,     /* dir SQ1.14 */
     C5_W_VALUE,   /* sample_value UQ8.8 */
     C5_W_RGBA,    /* tf_rgba UQ1.15 */

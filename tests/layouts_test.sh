@@ -28,8 +28,8 @@ else
 fi
 # The VHDL's shape and one field by text (fpga/ relies on these names) ...
 if grep -q '^package c5_layouts_pkg is$' "$tmp/gen/pkg.vhd" 2>/dev/null &&
-   grep -q '^  constant RAY_PACKET_POS_X_LSB : natural := 232;$' "$tmp/gen/pkg.vhd" &&
-   grep -q '^  subtype RAY_PACKET_POS_X_RANGE is natural range 255 downto 232;$' "$tmp/gen/pkg.vhd" &&
+   grep -q '^  constant RAY_PACKET_POS_X_LSB : natural := 233;$' "$tmp/gen/pkg.vhd" &&
+   grep -q '^  subtype RAY_PACKET_POS_X_RANGE is natural range 255 downto 233;$' "$tmp/gen/pkg.vhd" &&
    grep -q '^  constant RAY_PACKET_WIDTH : natural := 256;$' "$tmp/gen/pkg.vhd" &&
    grep -q '^end package c5_layouts_pkg;$' "$tmp/gen/pkg.vhd"; then
     ok vhdl_package

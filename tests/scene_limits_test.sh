@@ -76,10 +76,10 @@ expect inf_ambient 2 "amb.json: surfaces\[0\]\.material\.ambient: must be in \[0
 # The board model's field-width limits: exit 2 before any volume is read or generated,
 # naming the file, the key or option, the limit and the field. cref renders the same
 # scenes (exit 0) where its own ranges allow.
-expect model_cells 2 "built-in scene default: --cells 9x9x9: 729 cells: .*cell id \(6 bits\) names up to 64" -- \
-    "$cube5" render default --model rtl --cells 9
-expect model_cells_compare 2 "built-in scene default: --cells 9x9x9: .*6 bits" -- "$cube5" compare default --cells 9
-expect model_cells_schedule 2 "built-in scene default: --cells 9x9x9: .*6 bits" -- "$cube5" schedule default --cells 9
+expect model_cells 2 "built-in scene default: --cells 17x16x16: 4352 cells: .*cell id \(12 bits\) names up to 4096" -- \
+    "$cube5" render default --model rtl --cells 17x16x16
+expect model_cells_compare 2 "built-in scene default: --cells 17x16x16: .*12 bits" -- "$cube5" compare default --cells 17x16x16
+expect model_cells_schedule 2 "built-in scene default: --cells 17x16x16: .*12 bits" -- "$cube5" schedule default --cells 17x16x16
 expect model_image 2 "built-in scene default: image 600x513 .*\(9\+9 bits\) holds images up to 512x512" -- \
     "$cube5" render default --model rtl --size 600x513
 n=32 surfs=""
@@ -103,19 +103,19 @@ printf "{$base, \"volumes\": [{\"generator\": \"ramp\", \"dims\": [4,4,4]}], \"t
   [[0,0]], \"color\": [[0,1,1,1]], \"shading\": {\"ambient\": 16}}}" >"$tmp/amb16.json"
 expect model_ambient 2 "amb16.json: transfer_function\.shading\.ambient: 16: .*UQ4\.12" -- \
     "$cube5" render "$tmp/amb16.json" --model rtl
-# 1024^3 voxels would take minutes and gigabytes to generate: refused first (the 60 s
-# limit of expect() would catch a generation).
+# 1024^3 voxels in 2x2x2 cells of 512 would take minutes and gigabytes to generate: refused
+# first (the 60 s limit of expect() would catch a generation).
 printf '{"volumes": [{"generator": "blobs", "dims": [1024, 1024, 1024]}], "transfer_function": {"opacity":
   [[0,0]], "color": [[0,1,1,1]]}, "camera": {"eye": [512,512,3000], "target": [512,512,512], "up": [0,1,0],
   "width": 4, "height": 4}}' >"$tmp/big.json"
-expect model_grid_before_generation 2 "big.json: volumes\[0\] \(dims \+ offset\): a grid of 1024 voxels .*UQ9\.15" -- \
-    "$cube5" render "$tmp/big.json" --model rtl
+expect model_grid_before_generation 2 "big.json: volumes\[0\] \(dims \+ offset\): 1024 voxels along axis 0 in 2 cell\(s\): cells of 512 .*UQ8\.15" -- \
+    "$cube5" render "$tmp/big.json" --model rtl --cells 2
 # The same from a NRRD header's sizes, read by the precheck before the data (a sparse 1 GiB
 # data file: reading it first would be refused later with the set-up's message instead).
 printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 1024 1024 1024\nencoding: raw\ndata file: big.raw\n' >"$tmp/big.nhdr"
 truncate -s 1G "$tmp/big.raw"
-expect model_nrrd_grid_before_read 2 "default: volumes\[0\] \(dims \+ offset\): a grid of 1024 voxels .*UQ9\.15" -- \
-    "$cube5" render default --model rtl --volume "$tmp/big.nhdr"
+expect model_nrrd_grid_before_read 2 "default: volumes\[0\] \(dims \+ offset\): 1024 voxels along axis 0 in 2 cell\(s\): .*UQ8\.15" -- \
+    "$cube5" render default --model rtl --cells 2 --volume "$tmp/big.nhdr"
 rm -f "$tmp/big.raw"
 # A step that a NRRD's own spacings set: the message names the file, not grid.spacing.
 printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nspacings: 1e-30 1 1\nencoding: raw\ndata file: sp.raw\n' >"$tmp/sp.nhdr"

@@ -106,7 +106,7 @@ TEST(board_image_invariant_under_split_order_key_and_spills)
         CHECK(load(&l, scenes[si], 48) == 0);
         c5_image ref;
         c5_board_stats st0;
-        CHECK(model(&l, (c5_board_opts){.cells = {1, 1, 1}}, &ref, &st0) == 0);
+        CHECK(model(&l, (c5_board_opts){.cells = {0, 0, 0}}, &ref, &st0) == 0); /* the fewest cells */
         CHECK(conserved(&st0));
         int rev[64];
         for (int i = 0; i < 64; i++)
@@ -120,7 +120,7 @@ TEST(board_image_invariant_under_split_order_key_and_spills)
             {.cells = {4, 4, 4}, .sched = C5_SCHED_EXTERNAL, .schedule = rev, .schedule_len = 64},
             {.cells = {2, 2, 2}, .key = C5_KEY_FIFO},
             {.cells = {2, 2, 2}, .queue_capacity = 2},
-            {.cells = {1, 1, 1}, .queue_capacity = 1},
+            {.cells = {0, 0, 0}, .queue_capacity = 1},
         };
         for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
             c5_image img;
@@ -254,12 +254,48 @@ TEST(board_refuses_what_the_packet_cannot_carry)
     CHECK(c5_board_render(&l.s, &l.sv, 0, &o, &img, &st, &err) != 0);
     CHECK_HAS(err.msg, "generation");
     l.s.render.max_bounces = 3;
-    o.cells[0] = o.cells[1] = o.cells[2] = 5;
+    o.cells[0] = 17, o.cells[1] = o.cells[2] = 16; /* 4,352 cells */
     CHECK(c5_board_render(&l.s, &l.sv, 0, &o, &img, &st, &err) != 0);
-    CHECK_HAS(err.msg, "cell id");
+    CHECK_HAS(err.msg, "cell id (12 bits)");
     o.cells[0] = o.cells[1] = o.cells[2] = 1;
     l.s.render.step = 0.01;
     CHECK(c5_board_render(&l.s, &l.sv, 0, &o, &img, &st, &err) != 0);
     CHECK_HAS(err.msg, "lifetime");
+    c5_supervol_free(&l.sv);
+}
+
+/* The image and every ray count are the same bits for any split up to 4,096 cells: cubic and
+ * not, dividing the grid evenly and not, one voxel a cell along an axis, on a small volume in
+ * brain_mirrors' mirrors. The packet holds positions from its cell's corner, so this is what
+ * says the rebasing between cells loses nothing. */
+TEST(board_image_identical_for_many_splits)
+{
+    char json[8192];
+    const char *src = c5_builtin_scene_json("brain_mirrors");
+    const char *at = strstr(src, "[128, 128, 84]");
+    CHECK(at != NULL);
+    snprintf(json, sizeof json, "%.*s[24, 19, 17]%s", (int)(at - src), src, at + strlen("[128, 128, 84]"));
+    loaded l;
+    CHECK(load(&l, json, 24) == 0);
+    c5_image ref;
+    c5_board_stats st0;
+    CHECK(model(&l, (c5_board_opts){.cells = {1, 1, 1}}, &ref, &st0) == 0);
+    const int splits[][3] = {{2, 2, 2}, {3, 3, 3},  {4, 4, 4},  {5, 4, 3},   {7, 1, 2},  {1, 19, 1},
+                             {24, 1, 1}, {4, 6, 5}, {11, 9, 8}, {13, 17, 15}, {16, 16, 16}};
+    for (size_t i = 0; i < sizeof splits / sizeof splits[0]; i++) {
+        c5_image img;
+        c5_board_stats st;
+        c5_board_opts o = {.cells = {splits[i][0], splits[i][1], splits[i][2]}};
+        CHECK(model(&l, o, &img, &st) == 0);
+        CHECK_INT(st.cells, splits[i][0] * splits[i][1] * splits[i][2]);
+        CHECK_MSG(same_image(&ref, &img), "split %dx%dx%d: image differs", splits[i][0], splits[i][1], splits[i][2]);
+        CHECK(conserved(&st));
+        for (int t = 0; t < C5_RAY_TYPES; t++)
+            CHECK_INT(st.rays[t], st0.rays[t]);
+        CHECK_INT(st.samples + st.samples_leaped, st0.samples + st0.samples_leaped);
+        c5_image_free(&img);
+    }
+    CHECK(st0.rays[C5_RAY_REFLECT] > 0);
+    c5_image_free(&ref);
     c5_supervol_free(&l.sv);
 }

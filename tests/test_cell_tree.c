@@ -1,6 +1,6 @@
 /* The Cell Tree in DSP RAM (rtl_model/cell_tree.h): construction by the paper's rule on
  * hand-made ray traces (Figure 3), the node layout in the RAM bytes, child lists longer than
- * Figure 8's six, and what happens when the RAM is full. */
+ * Figure 8's six (five a slot here), and what happens when the RAM is full. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,6 +63,15 @@ TEST(ctree_figure3_construction)
     CHECK(!has_path(&t, "11") && !has_path(&t, "5"));
 }
 
+/* Bits lsb .. lsb + width - 1 of a little-endian byte string. */
+static unsigned bits(const uint8_t *b, int lsb, int width)
+{
+    unsigned v = 0;
+    for (int i = 0; i < width; i++)
+        v |= (unsigned)((b[(lsb + i) / 8] >> ((lsb + i) % 8)) & 1) << i;
+    return v;
+}
+
 /* The RAM holds the node as Figure 8's 12 bytes, through the generated layout: a child
  * appended to a root is visible in the root's bytes. */
 TEST(ctree_nodes_live_in_the_ram_bytes)
@@ -70,22 +79,21 @@ TEST(ctree_nodes_live_in_the_ram_bytes)
     static c5_ctree t;
     c5_ctree_init(&t, 0);
     uint32_t r = c5_ctree_tag(&t, C5_NODE_NONE, 7);
-    uint32_t k = c5_ctree_tag(&t, r, 63);
+    uint32_t k = c5_ctree_tag(&t, r, 4095);
     const uint8_t *b = t.ram + (size_t)r * C5_CELL_TREE_NODE_BYTES;
-    /* child0 (13 bits at 83) = k, child1..5 all ones, cell_id 7 at 64, generation 0. */
-    uint64_t lo = 0, hi = 0;
-    for (int i = 0; i < 8; i++)
-        lo |= (uint64_t)b[i] << (8 * i);
-    for (int i = 0; i < 4; i++)
-        hi |= (uint64_t)b[8 + i] << (8 * i);
-    CHECK_INT((hi >> (83 - 64)) & 0x1fff, k);
-    CHECK_INT((hi >> (70 - 64)) & 0x1fff, C5_NODE_NONE);
-    CHECK_INT(hi & 0x3f, 7);
-    CHECK_INT((lo >> 32) & 0x3f, 0);
+    /* child0 (13 bits at 83) = k, child1..4 (at 70, 45, 32, 13) all ones, cell_id 7 (12 bits
+     * at 58), generation 0 (6 bits at 26). */
+    CHECK_INT(bits(b, 83, 13), k);
+    CHECK_INT(bits(b, 70, 13), C5_NODE_NONE);
+    CHECK_INT(bits(b, 45, 13), C5_NODE_NONE);
+    CHECK_INT(bits(b, 32, 13), C5_NODE_NONE);
+    CHECK_INT(bits(b, 13, 13), C5_NODE_NONE);
+    CHECK_INT(bits(b, 58, 12), 7);
+    CHECK_INT(bits(b, 26, 6), 0);
     CHECK(c5_cell_tree_node_reserved_zero(b));
     c5_cell_tree_node_t n;
     c5_ctree_read(&t, k, &n);
-    CHECK_INT(n.cell_id, 63);
+    CHECK_INT(n.cell_id, 4095);
     CHECK_INT(n.child0, C5_NODE_NONE);
     CHECK_INT(n.ready, 0);
     CHECK_INT(n.extension, 0);
@@ -97,9 +105,8 @@ TEST(ctree_node_layout_round_trip)
 {
     CHECK_INT(C5_CELL_TREE_NODE_BYTES, 12);
     CHECK_INT(C5_TREE_SLOTS, 8192);
-    c5_cell_tree_node_t a = {.child0 = 8190, .child1 = 0, .cell_id = 63, .child2 = 1, .child3 = 4096,
-                             .generation = 63, .child4 = 8191, .child5 = 5461, .ready = 1, .chained = 1,
-                             .extension = 0};
+    c5_cell_tree_node_t a = {.child0 = 8190, .child1 = 0, .cell_id = 4095, .child2 = 1, .child3 = 4096,
+                             .generation = 63, .child4 = 5461, .ready = 1, .chained = 1, .extension = 0};
     uint8_t buf[C5_CELL_TREE_NODE_BYTES];
     c5_cell_tree_node_pack(&a, buf);
     c5_cell_tree_node_t b;
@@ -110,7 +117,7 @@ TEST(ctree_node_layout_round_trip)
     CHECK(!c5_cell_tree_node_reserved_zero(buf));
 }
 
-/* A node can have any number of children: past six, extension slots carry the list, every
+/* A node can have any number of children: past five, extension slots carry the list, every
  * child is found again without new slots, and the export sees one parent for all. */
 TEST(ctree_more_than_six_children_chain)
 {
@@ -121,7 +128,7 @@ TEST(ctree_more_than_six_children_chain)
     for (int c = 1; c <= 40; c++)
         kid[c - 1] = c5_ctree_tag(&t, r, c);
     CHECK_INT(t.nodes, 41);
-    CHECK(t.extensions >= (40 - 6 + 4) / 5);
+    CHECK(t.extensions >= (40 - 5 + 3) / 4);
     CHECK_INT(t.used, t.nodes + t.extensions);
     uint32_t used = t.used;
     for (int c = 40; c >= 1; c--)
@@ -147,16 +154,16 @@ TEST(ctree_overflow_freezes)
     static c5_ctree t;
     c5_ctree_init(&t, 7);
     uint32_t r = c5_ctree_tag(&t, C5_NODE_NONE, 0);
-    for (int c = 1; c <= 6; c++)
-        c5_ctree_tag(&t, r, c); /* 7 slots: the root and six children */
-    CHECK_INT(t.used, 7);
+    for (int c = 1; c <= 5; c++)
+        c5_ctree_tag(&t, r, c); /* 6 slots: the root and five children, one slot free */
+    CHECK_INT(t.used, 6);
     CHECK_INT(t.overflow, 0);
     uint8_t after[C5_CELL_TREE_NODE_BYTES];
-    memcpy(after, t.ram + 7 * C5_CELL_TREE_NODE_BYTES, sizeof after);
+    memcpy(after, t.ram + 6 * C5_CELL_TREE_NODE_BYTES, sizeof after);
     CHECK_INT(c5_ctree_tag(&t, r, 9), C5_NODE_NONE); /* needs an extension and a node */
     CHECK_INT(t.overflow, 1);
-    CHECK_INT(t.used, 7);
-    CHECK(memcmp(after, t.ram + 7 * C5_CELL_TREE_NODE_BYTES, sizeof after) == 0);
+    CHECK_INT(t.used, 6);
+    CHECK(memcmp(after, t.ram + 6 * C5_CELL_TREE_NODE_BYTES, sizeof after) == 0);
     CHECK_INT(c5_ctree_tag(&t, r, 1), C5_NODE_NONE);
     CHECK_INT(c5_ctree_tag(&t, C5_NODE_NONE, 3), C5_NODE_NONE);
     /* The default capacity is the whole RAM less the "none" id. */

@@ -333,7 +333,6 @@ TEST(layouts_reserved_bits)
         for (int k = 0; k < L->nfields; k++)
             L->set(&in, k, L->fields[k].is_signed ? -1 : max_raw(&L->fields[k]));
         L->pack(&in, buf);
-        CHECK(L->nreserved > 0);
         for (int i = 0; i < L->width; i++) {
             int reserved = 0;
             for (int r = 0; r < L->nreserved; r++)
@@ -371,36 +370,37 @@ TEST(layouts_byte_order)
     c5_ray_packet_t p;
     uint8_t buf[C5_RAY_PACKET_BYTES];
 
-    /* pos_x, bits 255:232 = bytes 29..31 exactly, lowest byte first. */
+    /* pos_x, bits 255:233: 0x2BCDEF << 1 = 0x579BDE in bytes 29..31, lowest byte first. */
     memset(&p, 0, sizeof p);
-    p.pos_x = 0xABCDEF;
+    p.pos_x = 0x2BCDEF;
     c5_ray_packet_pack(&p, buf);
-    check_bytes("pos_x 0xABCDEF", buf, 32, (const int[]){29, 30, 31}, (const uint8_t[]){0xEF, 0xCD, 0xAB}, 3);
+    check_bytes("pos_x 0x2BCDEF", buf, 32, (const int[]){29, 30, 31}, (const uint8_t[]){0xDE, 0x9B, 0x57}, 3);
     if (c5t_failed_now())
         return;
 
-    /* 1.5 voxels through the field's own format and rounding: raw 1.5 * 2^15 = 0x00C000. */
+    /* 1.5 voxels through the field's own format and rounding: raw 1.5 * 2^15 = 0x00C000,
+     * shifted to bit 233: 0x018000 from byte 29. */
     p.pos_x = c5_fx_from_double(1.5, C5_RAY_PACKET_POS_X_FMT, C5_RAY_PACKET_POS_X_RND, NULL);
     CHECK_INT(p.pos_x, 0xC000);
     c5_ray_packet_pack(&p, buf);
-    check_bytes("pos_x 1.5", buf, 32, (const int[]){30}, (const uint8_t[]){0xC0}, 1);
+    check_bytes("pos_x 1.5", buf, 32, (const int[]){30, 31}, (const uint8_t[]){0x80, 0x01}, 2);
     if (c5t_failed_now())
         return;
 
-    /* dest_u = 511 straddles bytes: bit 127 (byte 15, bit 7) and bits 128..135 (byte 16). */
+    /* dest_u = 511 straddles bytes: bits 130..135 (byte 16 from bit 2) and 136..138 (byte 17). */
     memset(&p, 0, sizeof p);
     p.dest_u = 511;
     c5_ray_packet_pack(&p, buf);
-    check_bytes("dest_u 511", buf, 32, (const int[]){15, 16}, (const uint8_t[]){0x80, 0xFF}, 2);
+    check_bytes("dest_u 511", buf, 32, (const int[]){16, 17}, (const uint8_t[]){0xFC, 0x07}, 2);
     if (c5t_failed_now())
         return;
 
-    /* dir_x = -2.0: raw -32768, 0x8000 in 16 bits at bit 168 = byte 21. */
+    /* dir_x = -2.0: raw -32768, 0x8000 in 16 bits at bit 171: its top bit is bit 186, byte 23's bit 2. */
     memset(&p, 0, sizeof p);
     p.dir_x = c5_fx_from_double(-2.0, C5_RAY_PACKET_DIR_X_FMT, C5_RAY_PACKET_DIR_X_RND, NULL);
     CHECK_INT(p.dir_x, -32768);
     c5_ray_packet_pack(&p, buf);
-    check_bytes("dir_x -2", buf, 32, (const int[]){22}, (const uint8_t[]){0x80}, 1);
+    check_bytes("dir_x -2", buf, 32, (const int[]){23}, (const uint8_t[]){0x04}, 1);
     if (c5t_failed_now())
         return;
     c5_ray_packet_t q;
@@ -417,11 +417,11 @@ TEST(layouts_byte_order)
     if (c5t_failed_now())
         return;
 
-    /* ready, bit 5 = byte 0, 0x20. */
+    /* ready, bit 12 = byte 1, 0x10. */
     memset(&c, 0, sizeof c);
     c.ready = 1;
     c5_cell_tree_node_pack(&c, nb);
-    check_bytes("ready", nb, 12, (const int[]){0}, (const uint8_t[]){0x20}, 1);
+    check_bytes("ready", nb, 12, (const int[]){1}, (const uint8_t[]){0x10}, 1);
 }
 
 /* ---- pack refuses values that do not fit ------------------------------------------------ */

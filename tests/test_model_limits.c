@@ -23,7 +23,7 @@ static const struct {
     const char *needle[3]; /* the key or option, the value and limit, the field */
 } cases[] = {
     {"{" CAM ", 'render': {'max_bounces': 16}}", {1, 1, 1}, {"render.max_bounces: 16", "up to 15", "(4 bits)"}},
-    {"{" CAM "}", {5, 5, 3}, {"--cells 5x5x3", "75 cells", "cell id (6 bits)"}},
+    {"{" CAM "}", {17, 16, 16}, {"--cells 17x16x16", "4352 cells", "cell id (12 bits)"}},
     {"{'camera': {'eye': [0, 0, 10], 'target': [0, 0, 0], 'up': [0, 1, 0], 'width': 513, 'height': 8}}",
      {1, 1, 1}, {"image 513x8", "up to 512x512", "(9+9 bits)"}},
     {"{" CAM ", " SPHERE("{'ambient': 16}") "}", {1, 1, 1}, {"surfaces[0].material.ambient", ": 16:", "UQ4.12"}},
@@ -34,11 +34,13 @@ static const struct {
     {"{" CAM ", 'lights': [{'type': 'point', 'position': [0, 0, 5]}, {'type': 'point', 'position': [0, 0, 5],"
      " 'intensity': 20}]}", {1, 1, 1}, {"lights[1].intensity: 20", "below 16", "light_term UQ4.12"}},
     {"{" CAM ", 'render': {'background': [0, 0, 4]}}", {1, 1, 1}, {"render.background[2]: 4", "below 4", "UQ2.12"}},
-    {"{" CAM ", " RAMP("[4, 4, 4]") ", 'grid': {'dims': [4, 513, 4]}}", {1, 1, 1},
-     {"grid.dims", "513 voxels along axis 1", "(UQ9.15) addresses up to 512"}},
-    {"{" CAM ", 'volumes': [{'generator': 'ramp', 'dims': [500, 2, 2], 'offset': [13, 0, 0]}],"
+    {"{" CAM ", " RAMP("[4, 4, 4]") ", 'grid': {'dims': [4, 513, 4]}}", {1, 2, 1},
+     {"grid.dims", "513 voxels along axis 1 in 2 cell(s): cells of 257", "(UQ8.15 from the cell's corner)"}},
+    {"{" CAM ", 'volumes': [{'generator': 'ramp', 'dims': [244, 2, 2], 'offset': [13, 0, 0]}],"
      " 'transfer_function': {'opacity': [[0, 0]], 'color': [[0, 1, 1, 1]]}}", {1, 1, 1},
-     {"volumes[0] (dims + offset)", "513 voxels along axis 0", "UQ9.15"}},
+     {"volumes[0] (dims + offset)", "257 voxels along axis 0", "UQ8.15"}},
+    {"{" CAM ", " RAMP("[4, 4, 4]") ", 'grid': {'dims': [8001, 4, 4]}}", {32, 1, 1},
+     {"grid.dims", "8001 voxels along axis 0", "geom_coord SQ13.15"}},
 };
 
 TEST(model_limits_each_named)

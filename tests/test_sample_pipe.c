@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "cells.h"
 #include "harness.h"
 #include "ray.h"
 #include "rng.h"
@@ -88,21 +89,38 @@ static int same_ray(const c5_bray *a, const c5_bray *b)
            a->gen == b->gen && a->node == b->node && a->cell == b->cell && a->type == b->type && a->surf == b->surf;
 }
 
-/* The registers survive the 32-byte packet unchanged, at the extremes of every field. */
+/* The registers survive the 32-byte packet unchanged, at the extremes of every field, in the
+ * first and the last of 4,096 cells: the packet holds the position from its cell's corner
+ * (UQ8.15), the processor in grid coordinates. */
 TEST(sample_pipe_packet_round_trip)
 {
-    c5_bray lo = {.pos = {0, 0, 0}, .dir = {-(1 << 15), -(1 << 15), -(1 << 15)}, .node = 0, .surf = 0};
-    c5_bray hi = {.pos = {(1 << 24) - 1, (1 << 24) - 1, (1 << 24) - 1},
-                  .dir = {(1 << 15) - 1, (1 << 15) - 1, (1 << 15) - 1},
-                  .u = 511, .v = 511, .lifetime = C5_LIFE_NONE, .w = (1 << 16) - 1, .opa = (1 << 16) - 1,
-                  .gen = 15, .node = C5_NODE_NONE, .cell = 63, .type = 3, .surf = C5_SURF_NONE,
-                  .rgb = {C5_RGB_MAX, C5_RGB_MAX, C5_RGB_MAX}};
-    const c5_bray *cases[] = {&lo, &hi};
-    for (int i = 0; i < 2; i++) {
+    static uint8_t cell_empty[C5_MAX_CELLS], block_empty[512 * 2 * 2];
+    c5_cells cl;
+    c5_err err;
+    const int n[3] = {16, 16, 16};
+    CHECK(c5_cells_init_flags(&cl, (size_t[3]){4096, 16, 16}, n, cell_empty, block_empty, &err) == 0);
+    int lo[3], hi[3];
+    c5_cell_box(&cl, C5_MAX_CELLS - 1, lo, hi);
+    CHECK(lo[0] == 3840 && hi[0] == 4096 && lo[1] == 15 && hi[2] == 16);
+    c5_bray first = {.pos = {0, 0, 0}, .dir = {-(1 << 15), -(1 << 15), -(1 << 15)}, .node = 0, .surf = 0};
+    c5_bray last = {.pos = {((int64_t)hi[0] << 15) - 1, ((int64_t)hi[1] << 15) - 1, ((int64_t)hi[2] << 15) - 1},
+                    .dir = {(1 << 15) - 1, (1 << 15) - 1, (1 << 15) - 1},
+                    .u = 511, .v = 511, .lifetime = C5_LIFE_NONE, .w = (1 << 16) - 1, .opa = (1 << 15) - 1,
+                    .gen = 15, .node = C5_NODE_NONE, .cell = C5_MAX_CELLS - 1, .type = 3, .surf = C5_SURF_NONE,
+                    .rgb = {C5_RGB_MAX, C5_RGB_MAX, C5_RGB_MAX}};
+    c5_bray corner = {.pos = {(int64_t)lo[0] << 15, (int64_t)lo[1] << 15, (int64_t)lo[2] << 15},
+                      .cell = C5_MAX_CELLS - 1};
+    const c5_bray *cases[] = {&first, &last, &corner};
+    for (int i = 0; i < 3; i++) {
         uint8_t pk[C5_PACKET_BYTES];
         c5_bray back;
-        c5_bray_pack(cases[i], pk);
-        c5_bray_unpack(pk, &back);
-        CHECK(same_ray(&back, cases[i]));
+        c5_bray_pack(cases[i], &cl, pk);
+        c5_bray_unpack(pk, &cl, &back);
+        CHECK_MSG(same_ray(&back, cases[i]), "case %d", i);
+        c5_ray_packet_t f;
+        c5_ray_packet_unpack(pk, &f);
+        for (int a = 0; a < 3; a++)
+            CHECK_INT((&f.pos_x)[a], cases[i]->pos[a] - ((int64_t)(i ? lo[a] : 0) << 15));
     }
+    c5_cells_free(&cl);
 }

@@ -298,13 +298,16 @@ static int on_grid(int64_t v, int s) { return (v & (((int64_t)1 << s) - 1)) == 0
 static void tap_packet(void *ctx, const uint8_t *pk)
 {
     grid_check *g = ctx;
-    c5_bray r;
-    c5_bray_unpack(pk, &r);
+    /* the packet's fields as they are: the position from the cell's corner is on the grid
+     * exactly when the grid position is (a corner is a whole voxel) */
+    c5_ray_packet_t r;
+    c5_ray_packet_unpack(pk, &r);
     g->packets++;
-    int ok = on_grid(r.w, g->sh[C5_W_OPACITY]) && on_grid(r.opa, g->sh[C5_W_OPACITY]);
-    for (int a = 0; a < 3; a++)
-        ok &= on_grid(r.pos[a], g->sh[C5_W_POS]) && on_grid(r.dir[a], g->sh[C5_W_DIR]) &&
-              on_grid(r.rgb[a], g->sh[C5_W_RGB]);
+    int ok = on_grid(r.contribution, g->sh[C5_W_OPACITY]) && on_grid(r.opacity, g->sh[C5_W_OPACITY]) &&
+             on_grid(r.pos_x, g->sh[C5_W_POS]) && on_grid(r.pos_y, g->sh[C5_W_POS]) &&
+             on_grid(r.pos_z, g->sh[C5_W_POS]) && on_grid(r.dir_x, g->sh[C5_W_DIR]) &&
+             on_grid(r.dir_y, g->sh[C5_W_DIR]) && on_grid(r.dir_z, g->sh[C5_W_DIR]) &&
+             on_grid(r.red, g->sh[C5_W_RGB]) && on_grid(r.green, g->sh[C5_W_RGB]) && on_grid(r.blue, g->sh[C5_W_RGB]);
     g->off_grid += !ok;
 }
 
