@@ -83,13 +83,11 @@ int c5_model_check_scene(const c5_scene *s, const int cells_in[3], const char *w
     size_t dims[3];
     int vol;
     known_grid(s, dims, &vol);
-    int split[3] = {1, 1, 1};
-    const int *cells = NULL;
-    if (cells_in) {
+    int split[3] = {0, 0, 0}; /* NULL: the automatic split, as the board takes it */
+    if (cells_in)
         memcpy(split, cells_in, sizeof split);
-        c5_model_auto_split(dims, split); /* dims the scene leaves to a file's contents are 0 here */
-        cells = split;
-    }
+    c5_model_auto_split(dims, split); /* dims the scene leaves to a file's contents are 0 here */
+    const int *cells = split;
     const c5_render_settings *r = &s->render;
     if (r->width > C5_MODEL_MAX_IMAGE || r->height > C5_MODEL_MAX_IMAGE)
         return c5_fail(err, "%s: image %dx%d (camera.width/height or --size): the board model's ray packet "
@@ -166,7 +164,8 @@ int c5_model_check_grid(const c5_scene *s, const c5_supervol *sv, const int cell
 {
     c5_board_opts o = {0};
     for (int a = 0; a < 3; a++)
-        o.cells[a] = cells ? cells[a] : 1;
+        o.cells[a] = cells && cells[a] > 0 ? cells[a] : 0;
+    c5_model_auto_split(sv->dims, o.cells);
     c5_frame_regs *r = malloc(sizeof *r);
     if (!r)
         return c5_fail(err, "%s: out of memory", what);

@@ -21,8 +21,8 @@
  * keep a cell within C5_CELL_MAX_EDGE voxels along axis a (1 for up to 256 voxels). */
 void c5_model_auto_split(const size_t dims[3], int cells[3]);
 
-/* Image size, surfaces, bounces, cells (cells[3], NULL: one cell; 0 along an axis: the
- * automatic split, c5_model_auto_split), the shading, light,
+/* Image size, surfaces, bounces, cells (cells[3], NULL or 0 along an axis: the automatic
+ * split, c5_model_auto_split), the shading, light,
  * material and background factors, and the grid's size where the scene fixes it
  * (grid.dims, or volumes whose dims the scene gives: generators, raw files with dims or an
  * Open SciVis name). `what` names the scene (a file, "built-in scene NAME"). */
