@@ -15,6 +15,7 @@
 #include "ray_queue.h"
 #include "regs.h"
 #include "taps.h"
+#include "tree_demand.h"
 #include "clock.h"
 
 #define CLOCK_HZ 100e6
@@ -22,6 +23,7 @@
 
 typedef struct {
     uint8_t (*pk)[C5_PACKET_BYTES];
+    uint32_t *shadow;        /* beside each packet: its instrument node (tree_demand.h) */
     size_t n, head, cap;
 } sdram_queue; /* one cell's rays waiting in DSP SDRAM, FIFO */
 
@@ -35,6 +37,8 @@ typedef struct {
     sdram_queue *q;          /* [cells] */
     c5_rq edram;             /* the active cell's sorter */
     uint8_t (*slot)[C5_PACKET_BYTES]; /* eDRAM packet store, indexed by the sorter's payload */
+    uint32_t *slot_shadow;   /* beside each eDRAM packet: its instrument node */
+    c5_tree_demand demand;   /* the Cell Tree with unbounded RAM, measured beside the DSP's */
     uint32_t *free_slots;
     uint32_t n_free;
     uint32_t seq;            /* FIFO key */
@@ -45,7 +49,7 @@ typedef struct {
     int oom;
 } board;
 
-static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES])
+static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES], uint32_t shadow)
 {
     sdram_queue *q = &b->q[cell];
     if (q->n == q->cap) {
@@ -54,8 +58,13 @@ static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES])
         if (!p)
             return -1;
         q->pk = p;
+        void *s = realloc(q->shadow, cap * sizeof *q->shadow);
+        if (!s)
+            return -1;
+        q->shadow = s;
         q->cap = cap;
     }
+    q->shadow[q->n] = shadow;
     memcpy(q->pk[q->n++], pk, C5_PACKET_BYTES);
     return 0;
 }
@@ -107,6 +116,7 @@ static int edram_insert(board *b, const c5_bray *r)
         return 0;
     b->n_free--;
     pack(b, r, b->slot[slot]);
+    b->slot_shadow[slot] = r->shadow;
     return 1;
 }
 
@@ -125,12 +135,13 @@ static void on_enqueue(void *ctx, const c5_bray *r)
     double t0 = c5_now_s();
     q.node = c5_ctree_tag(b->tree, r->node, (int)r->cell);
     b->st->tree_wall_s += c5_now_s() - t0;
+    q.shadow = c5_demand_tag(&b->demand, r->shadow, (int)r->cell);
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
         t->tree_tag(t->ctx, r->node, (int)r->cell, q.node);
     uint8_t pk[C5_PACKET_BYTES];
     pack(b, &q, pk);
-    if (push_sdram(b, (int)r->cell, pk) != 0)
+    if (push_sdram(b, (int)r->cell, pk, q.shadow) != 0)
         b->oom = 1;
     b->st->bus_packets++;
 }
@@ -180,6 +191,7 @@ static void refill(board *b, sdram_queue *q)
     while (q->head < q->n && b->edram.count < b->edram.cfg.capacity) {
         c5_bray r;
         c5_bray_unpack(q->pk[q->head], &b->cells, &r);
+        r.shadow = q->shadow[q->head];
         if (!edram_insert(b, &r))
             break;
         q->head++;
@@ -202,6 +214,7 @@ static void process_cell(board *b, int cell)
         edram_step(b, &in, &out);
         c5_bray r;
         c5_bray_unpack(b->slot[out.pop_payload], &b->cells, &r);
+        r.shadow = b->slot_shadow[out.pop_payload];
         b->free_slots[b->n_free++] = out.pop_payload;
         b->st->queue_pops++;
         c5_proc_run(&b->proc, &r);
@@ -226,7 +239,7 @@ static int generate_eye_rays(board *b, const c5_supervol *sv, int frame, c5_err 
     if (c5_camera_basis_make(&cam, s->render.width, s->render.height, frame, &basis, err) != 0 ||
         c5_regs_geom_point(cam.eye, sv, O, "the eye", err) != 0)
         return -1;
-    c5_bray proto = {.w = C5_ONE15, .type = C5_RAY_EYE, .node = C5_NODE_NONE};
+    c5_bray proto = {.w = C5_ONE15, .type = C5_RAY_EYE, .node = C5_NODE_NONE, .shadow = C5_DEMAND_NONE};
     for (int py = 0; py < basis.h; py++)
         for (int px = 0; px < basis.w; px++) {
             int64_t d[3];
@@ -242,9 +255,11 @@ static void board_free(board *b)
 {
     if (b->q)
         for (int c = 0; c < b->cells.count; c++)
-            free(b->q[c].pk);
+            free(b->q[c].pk), free(b->q[c].shadow);
     free(b->q);
     free(b->slot);
+    free(b->slot_shadow);
+    c5_demand_free(&b->demand);
     free(b->free_slots);
     free(b->fb);
     c5_rq_free(&b->edram);
@@ -309,12 +324,14 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         return -1;
     b.q = calloc((size_t)b.cells.count, sizeof *b.q);
     b.slot = malloc((size_t)o.queue_capacity * C5_PACKET_BYTES);
+    b.slot_shadow = malloc((size_t)o.queue_capacity * sizeof *b.slot_shadow);
     b.free_slots = malloc((size_t)o.queue_capacity * sizeof *b.free_slots);
     b.fb = calloc(npx * 3, sizeof *b.fb);
     b.tree = o.tree;
     if (!b.tree && (b.tree = b.own_tree = malloc(sizeof *b.own_tree)) != NULL)
         c5_ctree_init(b.tree, 0);
-    if (!b.q || !b.slot || !b.free_slots || !b.fb || !b.tree || c5_rq_init(&b.edram, &qcfg) != 0) {
+    if (!b.q || !b.slot || !b.slot_shadow || !b.free_slots || !b.fb || !b.tree || c5_demand_init(&b.demand) != 0 ||
+        c5_rq_init(&b.edram, &qcfg) != 0) {
         board_free(&b);
         return c5_fail(err, "out of memory for the board model (or queue capacity %d outside 1..%u)",
                        o.queue_capacity, C5_RQ_MAX_CAPACITY);
@@ -383,6 +400,9 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->tree_nodes = b.tree->nodes;
     stats->tree_slots = b.tree->used;
     stats->tree_overflow = b.tree->overflow;
+    stats->tree_demand_nodes = b.demand.oom ? 0 : b.demand.n;
+    stats->tree_demand_slots = b.demand.oom ? 0 : c5_demand_slots(&b.demand, C5_TREE_CHILDREN);
+    stats->tree_demand_slots6 = b.demand.oom ? 0 : c5_demand_slots(&b.demand, 6);
     stats->tree_tags = b.tree->tags;
     stats->tree_reads = b.tree->reads;
     stats->tree_writes = b.tree->writes;

@@ -92,6 +92,10 @@ typedef struct {
     uint64_t sched_fallback; /* fetches chosen by Max Work after the schedule ran out */
     uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
     int tree_overflow;       /* the tree outgrew the DSP RAM (the frame is still right) */
+    /* The tree the frame's dependencies need, with unbounded RAM (tree_demand.h): nodes, and
+     * slots with five children a slot (the node layout) and with six (Figure 8's); 0 when
+     * the host ran out of memory for it. */
+    uint64_t tree_demand_nodes, tree_demand_slots, tree_demand_slots6;
     uint64_t tree_tags, tree_reads, tree_writes; /* DSP work building it: packets, node accesses */
     double tree_wall_s;      /* host time of building it */
     c5_board_stages stages;
