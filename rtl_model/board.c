@@ -39,6 +39,9 @@ typedef struct {
     uint8_t (*slot)[C5_PACKET_BYTES]; /* eDRAM packet store, indexed by the sorter's payload */
     uint32_t *slot_shadow;   /* beside each eDRAM packet: its instrument node */
     c5_tree_demand demand;   /* the Cell Tree with unbounded RAM, measured beside the DSP's */
+    int group[3], ngroup[3]; /* tree_group: cells a group holds per axis, groups per axis */
+    int sgroup[3], nsgroup[3]; /* the same for schedule_group */
+    int cur_group;           /* the scheduled group being worked off, -1: none */
     uint32_t *free_slots;
     uint32_t n_free;
     uint32_t seq;            /* FIFO key */
@@ -120,6 +123,19 @@ static int edram_insert(board *b, const c5_bray *r)
     return 1;
 }
 
+/* The group of `cell` with g cells a group per axis and ng groups per axis. */
+static int group_of(const board *b, int cell, const int g[3], const int ng[3])
+{
+    if (g[0] * g[1] * g[2] == 1)
+        return cell;
+    const int *n = b->cells.n;
+    int x = cell % n[0], y = cell / n[0] % n[1], z = cell / (n[0] * n[1]);
+    return x / g[0] + ng[0] * (y / g[1] + ng[1] * (z / g[2]));
+}
+
+/* The Cell Tree's unit: the cell, or its group (c5_board_opts.tree_group). */
+static int tree_unit(const board *b, int cell) { return group_of(b, cell, b->group, b->ngroup); }
+
 /* The processor hands a ray on: the active cell's sorter (the ray stays in its cell, so its
  * Cell Tree node stays), else (full, or another cell) over the ray bus to the DSP, which
  * tags it with its node before queueing it in SDRAM. */
@@ -133,9 +149,9 @@ static void on_enqueue(void *ctx, const c5_bray *r)
     }
     c5_bray q = *r;
     double t0 = c5_now_s();
-    q.node = c5_ctree_tag(b->tree, r->node, (int)r->cell);
+    q.node = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
     b->st->tree_wall_s += c5_now_s() - t0;
-    q.shadow = c5_demand_tag(&b->demand, r->shadow, (int)r->cell);
+    q.shadow = c5_demand_tag(&b->demand, r->shadow, tree_unit(b, (int)r->cell));
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
         t->tree_tag(t->ctx, r->node, (int)r->cell, q.node);
@@ -154,11 +170,40 @@ static void on_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
         px[c] += (uint64_t)rgb[c];
 }
 
+/* The cell of group g with the most queued rays (ties: lowest id), -1: none holds a ray. */
+static int busiest_in_group(const board *b, int g)
+{
+    int best = -1;
+    size_t best_n = 0;
+    for (int c = 0; c < b->cells.count; c++) {
+        size_t n = b->q[c].n - b->q[c].head;
+        if (n > best_n && group_of(b, c, b->sgroup, b->nsgroup) == g) {
+            best = c;
+            best_n = n;
+        }
+    }
+    return best;
+}
+
 /* Which cell to load next, or -1 when every queue is empty. */
 static int schedule(board *b, int *sched_pos)
 {
     const c5_board_opts *o = b->o;
-    if (o->sched == C5_SCHED_EXTERNAL) {
+    if (o->sched == C5_SCHED_EXTERNAL && b->sgroup[0] * b->sgroup[1] * b->sgroup[2] > 1) {
+        for (;;) {
+            int c = b->cur_group < 0 ? -1 : busiest_in_group(b, b->cur_group);
+            if (c >= 0) {
+                b->st->sched_loads++;
+                return c;
+            }
+            if (*sched_pos >= o->schedule_len)
+                break;
+            b->cur_group = o->schedule[(*sched_pos)++];
+            if (busiest_in_group(b, b->cur_group) < 0)
+                b->st->sched_skipped++;
+        }
+        b->st->sched_fallback++;
+    } else if (o->sched == C5_SCHED_EXTERNAL) {
         while (*sched_pos < o->schedule_len) {
             int c = o->schedule[(*sched_pos)++];
             if (b->q[c].n > b->q[c].head) {
@@ -304,12 +349,21 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     b.mem.cell = -1;
     if (c5_regs_build(s, sv, &o, &b.r, err) != 0)
         return -1;
-    int ncells = o.cells[0] * o.cells[1] * o.cells[2];
+    int ncells = 1;
+    for (int a = 0; a < 3; a++) {
+        b.group[a] = o.tree_group[a] > 1 ? (o.tree_group[a] < o.cells[a] ? o.tree_group[a] : o.cells[a]) : 1;
+        b.ngroup[a] = (o.cells[a] + b.group[a] - 1) / b.group[a];
+        b.sgroup[a] = o.schedule_group[a] > 1 ? (o.schedule_group[a] < o.cells[a] ? o.schedule_group[a] : o.cells[a]) : 1;
+        b.nsgroup[a] = (o.cells[a] + b.sgroup[a] - 1) / b.sgroup[a];
+        ncells *= b.nsgroup[a];
+    }
+    b.cur_group = -1;
     if (o.sched == C5_SCHED_EXTERNAL)
         for (int i = 0; i < o.schedule_len; i++)
             if (o.schedule[i] < 0 || o.schedule[i] >= ncells)
-                return c5_fail(err, "schedule entry %d: cell %d is outside the %d cells of the split", i,
-                               o.schedule[i], ncells);
+                return c5_fail(err, "schedule entry %d: %s %d is outside the %d %s of the split", i,
+                               ncells == o.cells[0] * o.cells[1] * o.cells[2] ? "cell" : "group", o.schedule[i],
+                               ncells, ncells == o.cells[0] * o.cells[1] * o.cells[2] ? "cells" : "groups");
     c5_supervol dummy;
     uint8_t voxel;
     const c5_supervol *grid = grid_or_dummy(sv, &dummy, &voxel);
