@@ -144,6 +144,11 @@ static void add_board(c5_board_stats *sum, const c5_board_stats *f)
     sum->tree_nodes = f->tree_nodes > sum->tree_nodes ? f->tree_nodes : sum->tree_nodes;
     sum->tree_slots = f->tree_slots > sum->tree_slots ? f->tree_slots : sum->tree_slots;
     sum->tree_overflow |= f->tree_overflow;
+#define C5_MAX_INTO(x) sum->x = f->x > sum->x ? f->x : sum->x
+    C5_MAX_INTO(tree_demand_nodes);
+    C5_MAX_INTO(tree_demand_slots);
+    C5_MAX_INTO(tree_demand_slots6);
+#undef C5_MAX_INTO
     sum->tree_tags += f->tree_tags;
     sum->tree_reads += f->tree_reads;
     sum->tree_writes += f->tree_writes;

@@ -13,6 +13,7 @@
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
     "                      [--split paper|lookahead|rollout] [--exact-states N] [--tree-nodes N]\n"
+    "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
@@ -34,6 +35,13 @@ static const char usage_text[] =
     "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
     "                    when it gives up: the best proven bound and the best schedule found\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
+    "  --tree-group G|auto\n"
+    "                    the Cell Tree over groups of GxGxG cells; the next frame works off each\n"
+    "                    scheduled group, Max Work within it. auto (default): over cells, groups\n"
+    "                    doubled per axis after a frame whose tree overflowed the DSP RAM\n"
+    "  --on-overflow maxwork|partial\n"
+    "                    a tree that outgrew the RAM: no schedule, the next frame runs Max Work\n"
+    "                    (default), or the schedule of the part it holds, then Max Work\n"
     "  --json            one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_PROGRESS_HELP;
 
@@ -44,6 +52,8 @@ typedef struct {
     const char *scene_arg;
     int cells[3], w, h, json, still;
     long frames, exact_states, tree_nodes;
+    int partial; /* --on-overflow partial */
+    long group;  /* --tree-group G: the tree over groups of GxGxG cells; 0: auto (c5_dsp_next_group) */
     c5_split_rule rule;
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
@@ -61,7 +71,8 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
-            !strcmp(o, "--exact-states") || !strcmp(o, "--tree-nodes") || !strcmp(o, "--volume")) {
+            !strcmp(o, "--exact-states") || !strcmp(o, "--tree-nodes") || !strcmp(o, "--volume") ||
+            !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group")) {
             if (i + 1 >= argc)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -75,7 +86,14 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                 return -1;
             else if (!strcmp(o, "--tree-nodes") && c5_cli_int(o, v, 1, C5_TREE_MAX_SLOTS, &a->tree_nodes, err))
                 return -1;
-            else if (!strcmp(o, "--split")) {
+            else if (!strcmp(o, "--tree-group") && strcmp(v, "auto") &&
+                     c5_cli_int(o, v, 1, C5_CLI_MAX_CELLS, &a->group, err))
+                return -1;
+            else if (!strcmp(o, "--on-overflow")) {
+                if (strcmp(v, "maxwork") && strcmp(v, "partial"))
+                    return c5_fail(err, "--on-overflow: '%s' is not maxwork or partial", v);
+                a->partial = !strcmp(v, "partial");
+            } else if (!strcmp(o, "--split")) {
                 if (!strcmp(v, "paper"))
                     a->rule = C5_SPLIT_MOST_LEAVES;
                 else if (!strcmp(v, "lookahead"))
@@ -106,6 +124,8 @@ typedef struct {
     c5_board_stats ct;    /* the Cell Tree run (the board as it runs) */
     double board_s_maxwork;
     c5_dsp_sched_result sch; /* the DSP's work on this frame's tree */
+    int group;               /* cells a group of this frame's tree holds per axis (1: cells) */
+    uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
 } frame_row;
 
 static uint64_t rays_of(const c5_board_stats *st)
@@ -136,6 +156,9 @@ static json_t *row_json(int f, const frame_row *r)
     json_object_set_new(o, "tree_slots", json_integer(s->slots));
     json_object_set_new(o, "tree_bytes", json_integer((json_int_t)s->slots * C5_CELL_TREE_NODE_BYTES));
     json_object_set_new(o, "tree_overflow", json_boolean(s->overflow));
+    json_object_set_new(o, "tree_group", json_integer(r->group));
+    json_object_set_new(o, "tree_demand_nodes", json_integer((json_int_t)r->demand_nodes));
+    json_object_set_new(o, "tree_demand_bytes", json_integer((json_int_t)r->demand_slots * C5_CELL_TREE_NODE_BYTES));
     json_object_set_new(o, "fetches_maxwork", json_integer((json_int_t)r->fetches_maxwork));
     json_object_set_new(o, "fetches_celltree", json_integer((json_int_t)r->fetches_celltree));
     json_object_set_new(o, "reduction_pct", json_real(reduction(r->fetches_maxwork, r->fetches_celltree)));
@@ -221,7 +244,11 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
                (unsigned long long)r->rays, x->nodes, x->slots * C5_CELL_TREE_NODE_BYTES,
                (unsigned long long)r->fetches_maxwork, (unsigned long long)r->fetches_celltree,
                reduction(r->fetches_maxwork, r->fetches_celltree), v[0], v[1], v[2], v[3], v[4], v[5], peels,
-               r->followed, x->overflow ? " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)" : "");
+               r->followed, !x->overflow ? ""
+                            : a->partial ? " (tree OVERFLOWED the DSP RAM: next frame follows what it holds)"
+                                         : " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)");
+        if (r->group > 1)
+            printf("%5s this frame's tree is over groups of %dx%dx%d cells\n", "", r->group, r->group, r->group);
         if (f > 0) {
             mw += r->fetches_maxwork;
             ct += r->fetches_celltree;
@@ -262,12 +289,13 @@ static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
  * made from frame f-1's tree, `prev`, when there is one), then the DSP's work on this frame's
  * tree. */
 static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f,
-                     const c5_dsp_sched_result *prev,
+                     const c5_dsp_sched_result *prev, int prev_group,
                      c5_ctree *trees, frame_row *row, c5_err *err)
 {
     c5_image mw_img = {0}, ct_img = {0};
     c5_board_stats mw;
-    c5_board_opts o = {.tree = &trees[0]};
+    int g = row->group;
+    c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group}};
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
     int rc = -1;
@@ -288,14 +316,19 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
             c5_fail(err, "frame %d: the image under the Cell Tree schedule differs from Max Work's (a model bug)", f);
             goto done;
         }
-        row->followed = row->ct.sched_fallback ? "celltree, then maxwork" : "celltree";
+        row->followed = prev->overflow ? "partial celltree, then maxwork"
+                        : row->ct.sched_fallback ? "celltree, then maxwork" : "celltree";
     }
     row->rays = rays_of(&mw);
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
     row->board_s_maxwork = mw.board_s;
-    c5_dsp_sched_opts so = {.rule = a->rule, .all_rules = 1, .exact_states = a->exact_states,
+    c5_dsp_sched_opts so = {.rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
                             .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]}};
+    if (g > 1)
+        memset(so.split, 0, sizeof so.split); /* the slab bound knows cells, not groups */
+    row->demand_nodes = row->ct.tree_demand_nodes;
+    row->demand_slots = row->ct.tree_demand_slots;
     rc = c5_dsp_schedule(tree, &so, &row->sch, err);
 done:
     c5_image_free(&mw_img);
@@ -338,7 +371,10 @@ int c5_cmd_schedule(int argc, char **argv)
     c5_progress prog;
     c5_progress_begin(&prog, "schedule", frames);
     for (int f = 0; f < frames; f++) {
-        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, trees, &rows[f], &err) != 0) {
+        rows[f].group = a.group ? (int)a.group
+                        : f == 0 ? 1 : c5_dsp_next_group(rows[f - 1].group, rows[f - 1].sch.overflow, a.cells);
+        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1, trees, &rows[f],
+                      &err) != 0) {
             c5_progress_end(&prog);
             goto fail;
         }

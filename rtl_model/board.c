@@ -15,6 +15,7 @@
 #include "ray_queue.h"
 #include "regs.h"
 #include "taps.h"
+#include "tree_demand.h"
 #include "clock.h"
 
 #define CLOCK_HZ 100e6
@@ -22,6 +23,7 @@
 
 typedef struct {
     uint8_t (*pk)[C5_PACKET_BYTES];
+    uint32_t *shadow;        /* beside each packet: its instrument node (tree_demand.h) */
     size_t n, head, cap;
 } sdram_queue; /* one cell's rays waiting in DSP SDRAM, FIFO */
 
@@ -35,6 +37,11 @@ typedef struct {
     sdram_queue *q;          /* [cells] */
     c5_rq edram;             /* the active cell's sorter */
     uint8_t (*slot)[C5_PACKET_BYTES]; /* eDRAM packet store, indexed by the sorter's payload */
+    uint32_t *slot_shadow;   /* beside each eDRAM packet: its instrument node */
+    c5_tree_demand demand;   /* the Cell Tree with unbounded RAM, measured beside the DSP's */
+    int group[3], ngroup[3]; /* tree_group: cells a group holds per axis, groups per axis */
+    int sgroup[3], nsgroup[3]; /* the same for schedule_group */
+    int cur_group;           /* the scheduled group being worked off, -1: none */
     uint32_t *free_slots;
     uint32_t n_free;
     uint32_t seq;            /* FIFO key */
@@ -45,7 +52,7 @@ typedef struct {
     int oom;
 } board;
 
-static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES])
+static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES], uint32_t shadow)
 {
     sdram_queue *q = &b->q[cell];
     if (q->n == q->cap) {
@@ -54,8 +61,13 @@ static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES])
         if (!p)
             return -1;
         q->pk = p;
+        void *s = realloc(q->shadow, cap * sizeof *q->shadow);
+        if (!s)
+            return -1;
+        q->shadow = s;
         q->cap = cap;
     }
+    q->shadow[q->n] = shadow;
     memcpy(q->pk[q->n++], pk, C5_PACKET_BYTES);
     return 0;
 }
@@ -107,8 +119,22 @@ static int edram_insert(board *b, const c5_bray *r)
         return 0;
     b->n_free--;
     pack(b, r, b->slot[slot]);
+    b->slot_shadow[slot] = r->shadow;
     return 1;
 }
+
+/* The group of `cell` with g cells a group per axis and ng groups per axis. */
+static int group_of(const board *b, int cell, const int g[3], const int ng[3])
+{
+    if (g[0] * g[1] * g[2] == 1)
+        return cell;
+    const int *n = b->cells.n;
+    int x = cell % n[0], y = cell / n[0] % n[1], z = cell / (n[0] * n[1]);
+    return x / g[0] + ng[0] * (y / g[1] + ng[1] * (z / g[2]));
+}
+
+/* The Cell Tree's unit: the cell, or its group (c5_board_opts.tree_group). */
+static int tree_unit(const board *b, int cell) { return group_of(b, cell, b->group, b->ngroup); }
 
 /* The processor hands a ray on: the active cell's sorter (the ray stays in its cell, so its
  * Cell Tree node stays), else (full, or another cell) over the ray bus to the DSP, which
@@ -123,14 +149,15 @@ static void on_enqueue(void *ctx, const c5_bray *r)
     }
     c5_bray q = *r;
     double t0 = c5_now_s();
-    q.node = c5_ctree_tag(b->tree, r->node, (int)r->cell);
+    q.node = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
     b->st->tree_wall_s += c5_now_s() - t0;
+    q.shadow = c5_demand_tag(&b->demand, r->shadow, tree_unit(b, (int)r->cell));
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
         t->tree_tag(t->ctx, r->node, (int)r->cell, q.node);
     uint8_t pk[C5_PACKET_BYTES];
     pack(b, &q, pk);
-    if (push_sdram(b, (int)r->cell, pk) != 0)
+    if (push_sdram(b, (int)r->cell, pk, q.shadow) != 0)
         b->oom = 1;
     b->st->bus_packets++;
 }
@@ -143,11 +170,40 @@ static void on_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
         px[c] += (uint64_t)rgb[c];
 }
 
+/* The cell of group g with the most queued rays (ties: lowest id), -1: none holds a ray. */
+static int busiest_in_group(const board *b, int g)
+{
+    int best = -1;
+    size_t best_n = 0;
+    for (int c = 0; c < b->cells.count; c++) {
+        size_t n = b->q[c].n - b->q[c].head;
+        if (n > best_n && group_of(b, c, b->sgroup, b->nsgroup) == g) {
+            best = c;
+            best_n = n;
+        }
+    }
+    return best;
+}
+
 /* Which cell to load next, or -1 when every queue is empty. */
 static int schedule(board *b, int *sched_pos)
 {
     const c5_board_opts *o = b->o;
-    if (o->sched == C5_SCHED_EXTERNAL) {
+    if (o->sched == C5_SCHED_EXTERNAL && b->sgroup[0] * b->sgroup[1] * b->sgroup[2] > 1) {
+        for (;;) {
+            int c = b->cur_group < 0 ? -1 : busiest_in_group(b, b->cur_group);
+            if (c >= 0) {
+                b->st->sched_loads++;
+                return c;
+            }
+            if (*sched_pos >= o->schedule_len)
+                break;
+            b->cur_group = o->schedule[(*sched_pos)++];
+            if (busiest_in_group(b, b->cur_group) < 0)
+                b->st->sched_skipped++;
+        }
+        b->st->sched_fallback++;
+    } else if (o->sched == C5_SCHED_EXTERNAL) {
         while (*sched_pos < o->schedule_len) {
             int c = o->schedule[(*sched_pos)++];
             if (b->q[c].n > b->q[c].head) {
@@ -180,6 +236,7 @@ static void refill(board *b, sdram_queue *q)
     while (q->head < q->n && b->edram.count < b->edram.cfg.capacity) {
         c5_bray r;
         c5_bray_unpack(q->pk[q->head], &b->cells, &r);
+        r.shadow = q->shadow[q->head];
         if (!edram_insert(b, &r))
             break;
         q->head++;
@@ -202,6 +259,7 @@ static void process_cell(board *b, int cell)
         edram_step(b, &in, &out);
         c5_bray r;
         c5_bray_unpack(b->slot[out.pop_payload], &b->cells, &r);
+        r.shadow = b->slot_shadow[out.pop_payload];
         b->free_slots[b->n_free++] = out.pop_payload;
         b->st->queue_pops++;
         c5_proc_run(&b->proc, &r);
@@ -226,7 +284,7 @@ static int generate_eye_rays(board *b, const c5_supervol *sv, int frame, c5_err 
     if (c5_camera_basis_make(&cam, s->render.width, s->render.height, frame, &basis, err) != 0 ||
         c5_regs_geom_point(cam.eye, sv, O, "the eye", err) != 0)
         return -1;
-    c5_bray proto = {.w = C5_ONE15, .type = C5_RAY_EYE, .node = C5_NODE_NONE};
+    c5_bray proto = {.w = C5_ONE15, .type = C5_RAY_EYE, .node = C5_NODE_NONE, .shadow = C5_DEMAND_NONE};
     for (int py = 0; py < basis.h; py++)
         for (int px = 0; px < basis.w; px++) {
             int64_t d[3];
@@ -242,9 +300,11 @@ static void board_free(board *b)
 {
     if (b->q)
         for (int c = 0; c < b->cells.count; c++)
-            free(b->q[c].pk);
+            free(b->q[c].pk), free(b->q[c].shadow);
     free(b->q);
     free(b->slot);
+    free(b->slot_shadow);
+    c5_demand_free(&b->demand);
     free(b->free_slots);
     free(b->fb);
     c5_rq_free(&b->edram);
@@ -289,12 +349,21 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     b.mem.cell = -1;
     if (c5_regs_build(s, sv, &o, &b.r, err) != 0)
         return -1;
-    int ncells = o.cells[0] * o.cells[1] * o.cells[2];
+    int ncells = 1;
+    for (int a = 0; a < 3; a++) {
+        b.group[a] = o.tree_group[a] > 1 ? (o.tree_group[a] < o.cells[a] ? o.tree_group[a] : o.cells[a]) : 1;
+        b.ngroup[a] = (o.cells[a] + b.group[a] - 1) / b.group[a];
+        b.sgroup[a] = o.schedule_group[a] > 1 ? (o.schedule_group[a] < o.cells[a] ? o.schedule_group[a] : o.cells[a]) : 1;
+        b.nsgroup[a] = (o.cells[a] + b.sgroup[a] - 1) / b.sgroup[a];
+        ncells *= b.nsgroup[a];
+    }
+    b.cur_group = -1;
     if (o.sched == C5_SCHED_EXTERNAL)
         for (int i = 0; i < o.schedule_len; i++)
             if (o.schedule[i] < 0 || o.schedule[i] >= ncells)
-                return c5_fail(err, "schedule entry %d: cell %d is outside the %d cells of the split", i,
-                               o.schedule[i], ncells);
+                return c5_fail(err, "schedule entry %d: %s %d is outside the %d %s of the split", i,
+                               ncells == o.cells[0] * o.cells[1] * o.cells[2] ? "cell" : "group", o.schedule[i],
+                               ncells, ncells == o.cells[0] * o.cells[1] * o.cells[2] ? "cells" : "groups");
     c5_supervol dummy;
     uint8_t voxel;
     const c5_supervol *grid = grid_or_dummy(sv, &dummy, &voxel);
@@ -309,12 +378,14 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         return -1;
     b.q = calloc((size_t)b.cells.count, sizeof *b.q);
     b.slot = malloc((size_t)o.queue_capacity * C5_PACKET_BYTES);
+    b.slot_shadow = malloc((size_t)o.queue_capacity * sizeof *b.slot_shadow);
     b.free_slots = malloc((size_t)o.queue_capacity * sizeof *b.free_slots);
     b.fb = calloc(npx * 3, sizeof *b.fb);
     b.tree = o.tree;
     if (!b.tree && (b.tree = b.own_tree = malloc(sizeof *b.own_tree)) != NULL)
         c5_ctree_init(b.tree, 0);
-    if (!b.q || !b.slot || !b.free_slots || !b.fb || !b.tree || c5_rq_init(&b.edram, &qcfg) != 0) {
+    if (!b.q || !b.slot || !b.slot_shadow || !b.free_slots || !b.fb || !b.tree || c5_demand_init(&b.demand) != 0 ||
+        c5_rq_init(&b.edram, &qcfg) != 0) {
         board_free(&b);
         return c5_fail(err, "out of memory for the board model (or queue capacity %d outside 1..%u)",
                        o.queue_capacity, C5_RQ_MAX_CAPACITY);
@@ -383,6 +454,9 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->tree_nodes = b.tree->nodes;
     stats->tree_slots = b.tree->used;
     stats->tree_overflow = b.tree->overflow;
+    stats->tree_demand_nodes = b.demand.oom ? 0 : b.demand.n;
+    stats->tree_demand_slots = b.demand.oom ? 0 : c5_demand_slots(&b.demand, C5_TREE_CHILDREN);
+    stats->tree_demand_slots6 = b.demand.oom ? 0 : c5_demand_slots(&b.demand, 6);
     stats->tree_tags = b.tree->tags;
     stats->tree_reads = b.tree->reads;
     stats->tree_writes = b.tree->writes;

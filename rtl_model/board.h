@@ -48,10 +48,17 @@ typedef struct {
     int cells[3];            /* split of the grid into cells per axis; < 1: the fewest cells of at most 256 voxels (c5_model_auto_split) */
     c5_queue_key key;        /* 0: C5_KEY_MORTON */
     c5_sched_kind sched;     /* 0: C5_SCHED_MAXWORK */
-    const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order (the Cell Tree's) */
+    const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order (the Cell Tree's), or
+                              * group ids with tree_group */
     int schedule_len;
     c5_ctree *tree;          /* the DSP's Cell Tree of this frame, filled here after the caller's
                               * c5_ctree_init (which sets its capacity); NULL: built and dropped */
+    int tree_group[3];       /* the Cell Tree this frame builds, over groups of cells: cells a group
+                              * holds along each axis (group id = x + gx (y + gy z) over the grid
+                              * of groups); < 2 on every axis: over single cells */
+    int schedule_group[3];   /* the same for the external schedule's entries (the tree it was
+                              * made from): each scheduled group is worked off, Max Work among its
+                              * cells, until none holds a ray */
     int queue_capacity;      /* eDRAM sorter entries, 0: 256 */
     int all_stages;          /* 1: keep every stage on even when the scene does not need it */
     double host_bw;          /* bytes/s from host memory/disk to RDRAM, 0: 132e6 (PCI 33 MHz x 32 bit) */
@@ -92,6 +99,10 @@ typedef struct {
     uint64_t sched_fallback; /* fetches chosen by Max Work after the schedule ran out */
     uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
     int tree_overflow;       /* the tree outgrew the DSP RAM (the frame is still right) */
+    /* The tree the frame's dependencies need, with unbounded RAM (tree_demand.h): nodes, and
+     * slots with five children a slot (the node layout) and with six (Figure 8's); 0 when
+     * the host ran out of memory for it. */
+    uint64_t tree_demand_nodes, tree_demand_slots, tree_demand_slots6;
     uint64_t tree_tags, tree_reads, tree_writes; /* DSP work building it: packets, node accesses */
     double tree_wall_s;      /* host time of building it */
     c5_board_stages stages;

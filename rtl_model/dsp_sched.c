@@ -11,6 +11,17 @@ void c5_dsp_sched_free(c5_dsp_sched_result *r)
     c5_schedule_free(&r->next);
 }
 
+int c5_dsp_next_group(int group, int overflowed, const int cells[3])
+{
+    int most = cells[0] > cells[1] ? cells[0] : cells[1];
+    most = most > cells[2] ? most : cells[2];
+    if (group < 1)
+        group = 1;
+    if (!overflowed || group >= most)
+        return group;
+    return 2 * group < most ? 2 * group : most;
+}
+
 /* Slabs of the cell grid along each axis as groups; the best axis's bound. */
 static int slab_bound(const c5_dep_tree *dt, const c5_dsp_sched_opts *o)
 {
@@ -65,8 +76,9 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     r->slots = (int)t->used;
     r->overflow = t->overflow;
     r->optimum = -1;
-    if (t->overflow)
+    if (t->overflow && !o->partial)
         return 0;
+    int report = !t->overflow; /* the other rules and the bounds: for a whole tree only */
     double t0 = c5_now_s();
     int n = r->nodes, rc = -1;
     int *parent = malloc(sizeof *parent * (size_t)(n + 1)), *cell = malloc(sizeof *cell * (size_t)(n + 1));
@@ -92,6 +104,10 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     r->max_gen = r->next.max_gen;
     /* The report's: the other rules and the bounds. */
     *len_of[rule] = r->next.len;
+    if (!report) {
+        rc = 0;
+        goto done;
+    }
     for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_ROLLOUT; k++) {
         if (k == (int)rule)
             continue;

@@ -18,6 +18,11 @@ typedef struct {
     int exact_nodes;    /* largest tree the exact search is tried on */
     int split[3];       /* cells per axis (cell id = x + nx (y + ny z)); 0: no slab bound */
     int beam_width;     /* beam of the best known schedule; 0: 200 */
+    /* An overflowed (frozen) tree: 0, no schedule (the next frame runs Max Work); 1, the
+     * schedule of what it holds, the dependencies of the rays tagged before the RAM filled
+     * (the next frame follows it, then Max Work). No other rules or bounds are computed for
+     * a partial tree: they would describe a part of the frame. docs/cell-tree.md, "Overflow". */
+    int partial;
 } c5_dsp_sched_opts;
 
 typedef struct {
@@ -34,12 +39,22 @@ typedef struct {
     int max_gen;
     double sched_wall_s;        /* host time of the DSP's work: read the tree, the chosen rule, write back */
     double exact_wall_s;        /* host time of the exact search */
-    c5_schedule next;           /* the chosen rule's schedule; empty when the tree overflowed */
+    c5_schedule next;           /* the chosen rule's schedule; empty when the tree overflowed
+                                 * (unless opts.partial) */
 } c5_dsp_sched_result;
 
 /* Schedules from tree t (and writes the generations and ready flags into its RAM). An
- * overflowed tree is not scheduled: r->next is empty, so the next frame runs Max Work. */
+ * overflowed tree is scheduled only with o->partial; otherwise r->next is empty, so the next
+ * frame runs Max Work. */
 int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err);
 void c5_dsp_sched_free(c5_dsp_sched_result *r);
+
+/* The DSP's rule for the unit of the next frame's tree when a tree outgrows its RAM: the
+ * cells a group holds per axis, doubled after a frame whose tree (over groups of `group`)
+ * overflowed, up to the largest axis of the split; unchanged otherwise. Coarser groups
+ * make a tree of fewer nodes that still orders the groups; the next frame works off each
+ * group Max Work among its cells (docs/cell-tree.md, "Overflow": measured against a frozen
+ * tree's partial schedule and against Max Work). */
+int c5_dsp_next_group(int group, int overflowed, const int cells[3]);
 
 #endif

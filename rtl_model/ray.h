@@ -32,6 +32,8 @@ typedef struct {
     int64_t opa;       /* accumulated opacity A = 1 - T, UQ1.15 */
     uint32_t gen, node, cell, type, surf;
     int64_t rgb[3];    /* UQ2.12: composited colour, or a shadow ray's radiance */
+    uint32_t shadow;   /* the unbounded tree instrument's node (tree_demand.h): beside the
+                        * packet, not in it; the board carries it next to every stored packet */
 } c5_bray;
 
 #define C5_PACKET_BYTES 32

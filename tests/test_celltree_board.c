@@ -221,3 +221,86 @@ TEST(celltree_schedule_outside_the_split_refused)
     CHECK(c5_board_render(&scene, &grid, 0, &o, &img, &st, &err) == -1);
     CHECK_HAS(err.msg, "cell 8 is outside the 8 cells");
 }
+
+/* The DSP's rule when trees overflow: groups double per axis after an overflow, up to the
+ * split's largest axis, and stay where a tree fits. */
+TEST(celltree_next_group_rule)
+{
+    const int c16[3] = {16, 16, 16}, c6[3] = {6, 2, 1};
+    CHECK_INT(c5_dsp_next_group(1, 0, c16), 1);
+    CHECK_INT(c5_dsp_next_group(1, 1, c16), 2);
+    CHECK_INT(c5_dsp_next_group(8, 1, c16), 16);
+    CHECK_INT(c5_dsp_next_group(16, 1, c16), 16);
+    CHECK_INT(c5_dsp_next_group(4, 1, c6), 6);
+    CHECK_INT(c5_dsp_next_group(0, 0, c6), 1);
+}
+
+/* A tree over groups of 2x2x2 cells: its nodes name groups, the schedule made from it is
+ * followed group by group (every load is a scheduled group's cell, none falls back to Max
+ * Work), and the image is the same bits. */
+TEST(celltree_over_groups_is_followed_group_by_group)
+{
+    CHECK(load("brain_mirrors", 32) == 0);
+    c5_image a, b;
+    c5_board_stats sa, sb;
+    c5_ctree_init(&trees[0], 0);
+    c5_board_opts o = {.cells = {4, 4, 4}, .tree = &trees[0], .tree_group = {2, 2, 2}};
+    CHECK(render(0, o, &a, &sa) == 0);
+    CHECK(!sa.tree_overflow && sa.tree_nodes > 8);
+    int n = (int)trees[0].nodes, *parent = malloc(sizeof(int) * (size_t)n), *cell = malloc(sizeof(int) * (size_t)n);
+    uint32_t *id = malloc(sizeof(uint32_t) * (size_t)n);
+    c5_ctree_export(&trees[0], parent, cell, id);
+    int beyond = 0;
+    for (int i = 0; i < n; i++)
+        beyond += cell[i] >= 8;
+    CHECK_INT(beyond, 0);
+    free(parent);
+    free(cell);
+    free(id);
+    c5_dsp_sched_result r;
+    c5_err err;
+    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){0}, &r, &err) == 0);
+    CHECK(r.next.len > 0);
+    c5_ctree_init(&trees[1], 0);
+    c5_board_opts f = {.cells = {4, 4, 4}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
+                       .schedule_len = r.next.len, .tree = &trees[1], .tree_group = {2, 2, 2},
+                       .schedule_group = {2, 2, 2}};
+    CHECK(render(0, f, &b, &sb) == 0);
+    CHECK(same_bits(&a, &b));
+    CHECK_INT(sb.sched_fallback, 0);
+    CHECK_INT(sb.sched_loads, sb.fetches);
+    CHECK(sb.fetches >= (uint64_t)r.next.len - sb.sched_skipped);
+    /* A schedule entry beyond the groups is refused. */
+    int bad[1] = {8};
+    f.schedule = bad;
+    f.schedule_len = 1;
+    CHECK(c5_board_render(&scene, &grid, 0, &f, &b, &sb, &err) != 0);
+    CHECK_HAS(err.msg, "group 8 is outside the 8 groups");
+    c5_dsp_sched_free(&r);
+    c5_image_free(&a);
+    c5_image_free(&b);
+}
+
+/* --on-overflow partial: an overflowed tree still yields the schedule of what it holds, which
+ * the next frame follows before Max Work takes over; the image is the same bits. */
+TEST(celltree_partial_schedule_of_an_overflowed_tree)
+{
+    CHECK(load("brain_mirrors", 32) == 0);
+    c5_image a, b;
+    c5_board_stats sa, sb;
+    c5_ctree_init(&trees[0], 60);
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .tree = &trees[0]}, &a, &sa) == 0);
+    CHECK(sa.tree_overflow);
+    c5_dsp_sched_result r;
+    c5_err err;
+    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){.partial = 1, .exact_states = 1000}, &r, &err) == 0);
+    CHECK(r.overflow && r.next.len > 0);
+    CHECK(r.optimum == -1 && r.len_lookahead == 0); /* no bounds or other rules for a partial tree */
+    CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
+                                    .schedule_len = r.next.len}, &b, &sb) == 0);
+    CHECK(same_bits(&a, &b));
+    CHECK(sb.sched_loads > 0 && sb.sched_fallback > 0);
+    c5_dsp_sched_free(&r);
+    c5_image_free(&a);
+    c5_image_free(&b);
+}
