@@ -445,7 +445,7 @@ TEST(tree_sched_check_refuses_bad_trees)
         {2, {-1, 0}, {3, 3}, "node 1: same cell 3"},       /* child with the parent's cell */
         {3, {-1, 0, 0}, {0, 1, 1}, "node 2: a sibling"},   /* duplicate sibling cells */
         {2, {-1, -1}, {4, 4}, "node 1: a sibling"},        /* duplicate root cells */
-        {2, {-1, 0}, {0, 64}, "node 1: cell 64"},          /* out of range */
+        {2, {-1, 0}, {0, 4096}, "node 1: cell 4096"},      /* out of range (12-bit cell ids) */
         {1, {-1}, {-1}, "node 0: cell -1"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
