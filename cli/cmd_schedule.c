@@ -161,8 +161,13 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "optimum", s->optimum >= 0 ? json_integer(s->optimum) : json_null());
     json_object_set_new(o, "exact", json_string(exact_status(s, exact_states)));
     json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
-    json_object_set_new(o, "schedule_len", json_pack("{s:i, s:i, s:i}", "paper", s->len_paper, "lookahead",
-                                                     s->len_lookahead, "rollout", s->len_rollout));
+    /* 0: not run (overflow); null: gave up at the report's cap (more than 64 cells) */
+    json_t *lens = json_object();
+    const char *names[3] = {"paper", "lookahead", "rollout"};
+    int lv[3] = {s->len_paper, s->len_lookahead, s->len_rollout};
+    for (int k = 0; k < 3; k++)
+        json_object_set_new(lens, names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
+    json_object_set_new(o, "schedule_len", lens);
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
     json_object_set_new(o, "nodes_examined", json_integer((json_int_t)s->nodes_examined));
     json_object_set_new(o, "max_generation", json_integer(s->max_gen));
@@ -240,6 +245,12 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
             ct += r->fetches_celltree;
         }
     }
+    for (int f = 0; f < frames; f++)
+        if (rows[f].sch.len_lookahead < 0 || rows[f].sch.len_rollout < 0) {
+            printf("  look/roll \"-\": over the report's cap of %llu nodes examined (more than 64 cells)\n",
+                   (unsigned long long)C5_DSP_REPORT_MAX_EXAMINED);
+            break;
+        }
     for (int f = 0; f < frames; f++)
         if (rows[f].sch.exact_skipped) {
             printf("  optimum, best known and bounds beyond the sum of maxGen: not computed (more than 64 cells;\n"

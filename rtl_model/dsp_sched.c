@@ -92,12 +92,16 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     r->max_gen = r->next.max_gen;
     /* The report's: the other rules and the bounds. */
     *len_of[rule] = r->next.len;
+    /* Above 64 cells the other rules run under a cap on nodes examined (the rollout rule's
+     * cost grows with cells times peels squared); over it, their length is -1. */
+    uint64_t cap = c5_tree_bound_cells(&dt) ? 0 : C5_DSP_REPORT_MAX_EXAMINED;
     for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_ROLLOUT; k++) {
         if (k == (int)rule)
             continue;
-        if (c5_sched_celltree(&dt, (c5_split_rule)k, &other, err) != 0)
+        int got = c5_sched_celltree_capped(&dt, (c5_split_rule)k, cap, &other, err);
+        if (got < 0)
             goto done;
-        *len_of[k] = other.len;
+        *len_of[k] = got == 0 ? other.len : -1;
         c5_schedule_free(&other);
     }
     r->paper_bound = c5_sched_lower_bound(&dt);

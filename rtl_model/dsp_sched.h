@@ -8,9 +8,15 @@
 #include "err.h"
 #include "tree_sched.h"
 
+/* The report's cap on the other rules' work above 64 cells (nodes examined; a few seconds of
+ * host time, docs/cell-tree.md). */
+#define C5_DSP_REPORT_MAX_EXAMINED 50000000ull
+
 typedef struct {
     c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
-    int all_rules;      /* also run the other rules, for their lengths (len_*) */
+    int all_rules;      /* also run the other rules, for their lengths (len_*); on trees with a
+                           cell id >= C5_BOUND_MAX_CELLS (more than 64 cells) each under a cap of
+                           C5_DSP_REPORT_MAX_EXAMINED nodes examined */
     /* The report's bounds (not the DSP's work): with exact_states > 0, the exact search,
      * and when it gives up, the best proven bound (its own, and the grid's slabs of cells
      * when split[] is given) and the best known schedule (beam search). Only on trees whose
@@ -34,7 +40,8 @@ typedef struct {
                                  * (more than 64 cells), so the exact search, the bounds beyond the
                                  * sum of maxGen and the beam search were not run: lower_bound is
                                  * the sum of maxGen, optimum -1, best_known 0 */
-    int len_paper, len_lookahead, len_rollout; /* schedule length under each rule; 0: not run */
+    int len_paper, len_lookahead, len_rollout; /* schedule length under each rule; 0: not run;
+                                                * -1: gave up at the cap (all_rules) */
     int peels_completion, peels_split; /* of the chosen rule */
     uint64_t nodes_examined;    /* of the chosen rule */
     int max_gen;

@@ -203,6 +203,7 @@ typedef struct {
     uint64_t examined;
     int *log, nlog; /* removed nodes in removal order (for undo) */
     int full_first; /* completion order: cells with only leaves left first (rollout rule) */
+    uint64_t cap;   /* give up past this many nodes examined (0: never) */
 } peeler;
 
 static void peeler_free(peeler *p)
@@ -450,6 +451,8 @@ static int best_by_simulation(peeler *p, int (*score)(peeler *))
     for (int w = 0; w < p->words; w++)
         for (uint64_t x = p->bleaf[w]; x; x &= x - 1) {
             int c = w * 64 + __builtin_ctzll(x);
+            if (p->cap && p->examined > p->cap)
+                return -1;
             int upto = p->nlog;
             peel(p, c);
             int sc = 1 + score(p);
@@ -503,6 +506,12 @@ static int pick_rollout(peeler *p)
 
 int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out, c5_err *err)
 {
+    return c5_sched_celltree_capped(t, rule, 0, out, err);
+}
+
+int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t max_examined, c5_schedule *out,
+                             c5_err *err)
+{
     memset(out, 0, sizeof *out);
     if (rule != C5_SPLIT_MOST_LEAVES && rule != C5_SPLIT_LOOKAHEAD && rule != C5_SPLIT_ROLLOUT)
         return c5_fail(err, "cell tree schedule: unknown split rule %d", (int)rule);
@@ -516,6 +525,7 @@ int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out
         return c5_fail(err, "cell tree schedule: out of memory for %d nodes", t->n);
     }
     p.full_first = rule == C5_SPLIT_ROLLOUT;
+    p.cap = max_examined;
     int len = 0;
     while (p.live_total > 0) {
         int c;
@@ -523,6 +533,14 @@ int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out
             c = pick_rollout(&p);
         else if ((c = first_ready(&p)) < 0)
             c = rule == C5_SPLIT_MOST_LEAVES ? split_most_leaves(&p) : best_by_simulation(&p, score_lookahead);
+        if (c < 0) { /* over the cap */
+            free(rev);
+            peeler_free(&p);
+            out->cells = malloc(sizeof *out->cells);
+            if (!out->cells)
+                return c5_fail(err, "cell tree schedule: out of memory");
+            return 1;
+        }
         if (ready(&p, c))
             out->peels_completion++;
         else

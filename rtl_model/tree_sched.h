@@ -76,6 +76,12 @@ int c5_tree_generations(const c5_dep_tree *t, int *gen);
  * c5_schedule_free). */
 int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out, c5_err *err);
 void c5_schedule_free(c5_schedule *s);
+/* The same, giving up once more than max_examined nodes were examined (0: no cap; checked
+ * before each simulated candidate, so it overshoots by at most one simulation): 1 when it
+ * gave up (*out then has len 0), 0 with the schedule, -1 on error. The lookahead and rollout
+ * rules' cost grows with the cells and the peels (docs/cell-tree.md); the report caps them. */
+int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t max_examined, c5_schedule *out,
+                             c5_err *err);
 
 /* Section 3.4's "bound": sum over cells of the largest generation, + 1 when completion peels
  * alone (lowest ready id first), from the start, get stuck on a non-empty tree. -1 when out
