@@ -96,6 +96,10 @@ int c5_sched_lower_bound(const c5_dep_tree *t);
  * be loaded at least maxGen(c) times). -1 when out of memory. */
 int c5_sched_sum_maxgen(const c5_dep_tree *t);
 
+/* 1 iff every root-to-leaf path is a subsequence of sched[0..len); 0 otherwise; -1 when out
+ * of memory. Entries that are no node's cell are loads that serve no node. */
+int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
+
 /* ---- offline analysis (tree_bound.c, tree_exact.c): trees whose cell ids are all below
  * C5_BOUND_MAX_CELLS. The bounds below return -1 for any other tree; the searches fail with a
  * message naming the limit. */
@@ -127,10 +131,6 @@ int c5_sched_lower_bound_groups(const c5_dep_tree *t, int max_group, long budget
  * overlap or on error (out of memory). */
 int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int ngroups, long max_states,
                                int *all_exact);
-
-/* 1 iff every root-to-leaf path is a subsequence of sched[0..len); 0 otherwise; -1 when out
- * of memory. Entries that are no node's cell are loads that serve no node. */
-int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
 
 /* Exact optimum by A* over interim trees (tree_exact.c).
  * 1: found, *len_out = optimum (and, if sched_out != NULL, a malloc'd optimal forward
