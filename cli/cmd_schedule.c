@@ -146,7 +146,19 @@ static const char *rule_name(c5_split_rule r)
     return r == C5_SPLIT_LOOKAHEAD ? "lookahead" : r == C5_SPLIT_ROLLOUT ? "rollout" : "paper";
 }
 
-static json_t *row_json(int f, const frame_row *r)
+/* What became of the exact search on a frame's tree. */
+static const char *exact_status(const c5_dsp_sched_result *s, long exact_states)
+{
+    if (s->overflow)
+        return "not computed (tree overflowed)";
+    if (exact_states <= 0)
+        return "not computed (--exact-states 0)";
+    if (s->exact_skipped)
+        return "not computed (more than 64 cells)";
+    return s->optimum >= 0 ? "optimum" : "gave up (budget): lower_bound and best_known";
+}
+
+static json_t *row_json(int f, const frame_row *r, long exact_states)
 {
     const c5_dsp_sched_result *s = &r->sch;
     json_t *o = json_object();
@@ -170,9 +182,15 @@ static json_t *row_json(int f, const frame_row *r)
     json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
     json_object_set_new(o, "paper_bound", s->overflow ? json_null() : json_integer(s->paper_bound));
     json_object_set_new(o, "optimum", s->optimum >= 0 ? json_integer(s->optimum) : json_null());
+    json_object_set_new(o, "exact", json_string(exact_status(s, exact_states)));
     json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
-    json_object_set_new(o, "schedule_len", json_pack("{s:i, s:i, s:i}", "paper", s->len_paper, "lookahead",
-                                                     s->len_lookahead, "rollout", s->len_rollout));
+    /* 0: not run (overflow); null: gave up at the report's cap (more than 64 cells) */
+    json_t *lens = json_object();
+    const char *names[3] = {"paper", "lookahead", "rollout"};
+    int lv[3] = {s->len_paper, s->len_lookahead, s->len_rollout};
+    for (int k = 0; k < 3; k++)
+        json_object_set_new(lens, names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
+    json_object_set_new(o, "schedule_len", lens);
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
     json_object_set_new(o, "nodes_examined", json_integer((json_int_t)s->nodes_examined));
     json_object_set_new(o, "max_generation", json_integer(s->max_gen));
@@ -191,7 +209,7 @@ static void print_json(const sched_args *a, const c5_scene *s, const frame_row *
     json_t *o = json_object(), *arr = json_array();
     uint64_t mw = 0, ct = 0;
     for (int f = 0; f < frames; f++) {
-        json_array_append_new(arr, row_json(f, &rows[f]));
+        json_array_append_new(arr, row_json(f, &rows[f], a->exact_states));
         if (f > 0) {
             mw += rows[f].fetches_maxwork;
             ct += rows[f].fetches_celltree;
@@ -254,6 +272,18 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
             ct += r->fetches_celltree;
         }
     }
+    for (int f = 0; f < frames; f++)
+        if (rows[f].sch.len_lookahead < 0 || rows[f].sch.len_rollout < 0) {
+            printf("  look/roll \"-\": over the report's cap of %llu nodes examined (more than 64 cells)\n",
+                   (unsigned long long)C5_DSP_REPORT_MAX_EXAMINED);
+            break;
+        }
+    for (int f = 0; f < frames; f++)
+        if (rows[f].sch.exact_skipped) {
+            printf("  optimum, best known and bounds beyond the sum of maxGen: not computed (more than 64 cells;\n"
+                   "  the exact search works on 64-bit cell masks): bound = sum of maxGen\n");
+            break;
+        }
     if (frames > 1)
         printf("  frames 1..%d: %llu fetches with Max Work, %llu following the Cell Tree: %.1f%% fewer\n", frames - 1,
                (unsigned long long)mw, (unsigned long long)ct, reduction(mw, ct));

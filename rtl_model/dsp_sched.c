@@ -26,13 +26,13 @@ int c5_dsp_next_group(int group, int overflowed, const int cells[3])
 static int slab_bound(const c5_dep_tree *dt, const c5_dsp_sched_opts *o)
 {
     const int *n = o->split;
-    if (n[0] < 1 || n[1] < 1 || n[2] < 1 || n[0] * n[1] * n[2] > C5_SCHED_MAX_CELLS)
+    if (n[0] < 1 || n[1] < 1 || n[2] < 1 || n[0] * n[1] * n[2] > C5_BOUND_MAX_CELLS)
         return -1;
     int best = -1;
     for (int a = 0; a < 3; a++) {
         if (n[a] < 2)
             continue;
-        uint64_t groups[C5_SCHED_MAX_CELLS] = {0};
+        uint64_t groups[C5_BOUND_MAX_CELLS] = {0};
         for (int z = 0; z < n[2]; z++)
             for (int y = 0; y < n[1]; y++)
                 for (int x = 0; x < n[0]; x++) {
@@ -108,19 +108,27 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
         rc = 0;
         goto done;
     }
+    /* Above 64 cells the other rules run under a cap on nodes examined (the rollout rule's
+     * cost grows with cells times peels squared); over it, their length is -1. */
+    uint64_t cap = c5_tree_bound_cells(&dt) ? 0 : C5_DSP_REPORT_MAX_EXAMINED;
     for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_ROLLOUT; k++) {
         if (k == (int)rule)
             continue;
-        if (c5_sched_celltree(&dt, (c5_split_rule)k, &other, err) != 0)
+        int got = c5_sched_celltree_capped(&dt, (c5_split_rule)k, cap, &other, err);
+        if (got < 0)
             goto done;
-        *len_of[k] = other.len;
+        *len_of[k] = got == 0 ? other.len : -1;
         c5_schedule_free(&other);
     }
     r->paper_bound = c5_sched_lower_bound(&dt);
     r->sum_maxgen = c5_sched_sum_maxgen(&dt);
     r->lower_bound = r->sum_maxgen;
-    if (o->exact_states > 0 && report_bounds(&dt, o, r, err) != 0)
-        goto done;
+    if (o->exact_states > 0) {
+        if (!c5_tree_bound_cells(&dt))
+            r->exact_skipped = 1; /* 64-bit cell masks: the sum of maxGen stays the bound */
+        else if (report_bounds(&dt, o, r, err) != 0)
+            goto done;
+    }
     rc = 0;
 done:
     c5_schedule_free(&other);

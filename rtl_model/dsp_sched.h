@@ -8,12 +8,19 @@
 #include "err.h"
 #include "tree_sched.h"
 
+/* The report's cap on the other rules' work above 64 cells (nodes examined; a few seconds of
+ * host time, docs/cell-tree.md). */
+#define C5_DSP_REPORT_MAX_EXAMINED 50000000ull
+
 typedef struct {
     c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
-    int all_rules;      /* also run the other rules, for their lengths (len_*) */
+    int all_rules;      /* also run the other rules, for their lengths (len_*); on trees with a
+                           cell id >= C5_BOUND_MAX_CELLS (more than 64 cells) each under a cap of
+                           C5_DSP_REPORT_MAX_EXAMINED nodes examined */
     /* The report's bounds (not the DSP's work): with exact_states > 0, the exact search,
      * and when it gives up, the best proven bound (its own, and the grid's slabs of cells
-     * when split[] is given) and the best known schedule (beam search). */
+     * when split[] is given) and the best known schedule (beam search). Only on trees whose
+     * cell ids are all below C5_BOUND_MAX_CELLS (64): otherwise r->exact_skipped. */
     long exact_states;  /* state budget of the exact optimum; 0: not computed */
     int exact_nodes;    /* largest tree the exact search is tried on */
     int split[3];       /* cells per axis (cell id = x + nx (y + ny z)); 0: no slab bound */
@@ -32,8 +39,14 @@ typedef struct {
                                  * best of the rules and the beam search; 0: not computed */
     int sum_maxgen;             /* the simplest proven bound: every cell maxGen times */
     int paper_bound;            /* Section 3.4's formula: NOT a bound (docs/cell-tree.md) */
-    int optimum;                /* shortest feasible schedule; -1: not computed (budget, or overflow) */
-    int len_paper, len_lookahead, len_rollout; /* schedule length under each rule; 0: not run */
+    int optimum;                /* shortest feasible schedule; -1: not computed (budget, overflow,
+                                 * or exact_skipped) */
+    int exact_skipped;          /* 1: exact_states > 0, but the tree has a cell id >= C5_BOUND_MAX_CELLS
+                                 * (more than 64 cells), so the exact search, the bounds beyond the
+                                 * sum of maxGen and the beam search were not run: lower_bound is
+                                 * the sum of maxGen, optimum -1, best_known 0 */
+    int len_paper, len_lookahead, len_rollout; /* schedule length under each rule; 0: not run;
+                                                * -1: gave up at the cap (all_rules) */
     int peels_completion, peels_split; /* of the chosen rule */
     uint64_t nodes_examined;    /* of the chosen rule */
     int max_gen;

@@ -49,7 +49,7 @@
 
 struct c5_group {
     uint64_t cells;
-    int k, gcell[C5_SCHED_MAX_CELLS]; /* the group's cells, ascending; local index 0..k-1 */
+    int k, gcell[C5_BOUND_MAX_CELLS]; /* the group's cells, ascending; local index 0..k-1 */
     int nt, words;               /* trie nodes; 64-bit words of a trie bitset */
     int *tpar;                   /* [nt] trie parent, -1 for a root; tpar[v] < v */
     uint8_t *tloc;               /* [nt] local cell index */
@@ -123,17 +123,27 @@ static int memo_put(c5_group *g, const uint64_t *b, uint64_t h, int v)
     return 0;
 }
 
+int c5_tree_bound_cells(const c5_dep_tree *t)
+{
+    for (int i = 0; i < t->n; i++)
+        if (t->cell[i] < 0 || t->cell[i] >= C5_BOUND_MAX_CELLS)
+            return 0;
+    return 1;
+}
+
 /* Builds the trie of T|cells. map (if not NULL, t->n entries) receives for every node the
  * trie node of its nearest ancestor-or-self in the group (-1: none). */
 c5_group *c5_group_new(const c5_dep_tree *t, uint64_t cells, long budget, int *map)
 {
+    if (!c5_tree_bound_cells(t))
+        return NULL;
     c5_group *g = calloc(1, sizeof *g);
     if (!g)
         return NULL;
     g->cells = cells;
     g->budget = budget > 0 ? budget : 1;
-    int loc[C5_SCHED_MAX_CELLS];
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+    int loc[C5_BOUND_MAX_CELLS];
+    for (int c = 0; c < C5_BOUND_MAX_CELLS; c++) {
         loc[c] = -1;
         if (cells >> c & 1) {
             loc[c] = g->k;
@@ -209,7 +219,7 @@ void c5_group_tree(const c5_group *g, int *parent, int *cell)
  * lower bound on OPT(D) (each cell c needs maxGen(c) loads). */
 static int fallback(const c5_group *g, const uint64_t *d)
 {
-    int mg[C5_SCHED_MAX_CELLS] = {0}, s = 0;
+    int mg[C5_BOUND_MAX_CELLS] = {0}, s = 0;
     for (int w = 0; w < g->words; w++)
         for (uint64_t b = d[w]; b; b &= b - 1) {
             int v = w * 64 + __builtin_ctzll(b);
@@ -251,7 +261,7 @@ static int opt_rec(c5_group *g, const uint64_t *d, int level)
         if (!g->stack)
             return -2;
     }
-    int nlive[C5_SCHED_MAX_CELLS] = {0}, nleaf[C5_SCHED_MAX_CELLS] = {0};
+    int nlive[C5_BOUND_MAX_CELLS] = {0}, nleaf[C5_BOUND_MAX_CELLS] = {0};
     uint64_t *rows = g->stack + (size_t)level * g->k * words;
     for (int l = 0; l < g->k; l++)
         memcpy(rows + (size_t)l * words, d, (size_t)words * 8);
@@ -317,7 +327,7 @@ typedef struct {
     const int *first, *count; /* candidates by lowest member, sorted by lowest member */
     const int *ratio;         /* per cell: largest 12 * gain / size over its candidates */
     int best, cur;
-    uint64_t best_pick[C5_SCHED_MAX_CELLS], pick[C5_SCHED_MAX_CELLS];
+    uint64_t best_pick[C5_BOUND_MAX_CELLS], pick[C5_BOUND_MAX_CELLS];
     int npick, best_npick;
     long nodes, max_nodes;
 } packer;
@@ -377,7 +387,7 @@ static int pack(cand *c, int nc, int m, uint64_t *pick, int *npick)
         }
         c[j + 1] = x;
     }
-    int first[C5_SCHED_MAX_CELLS] = {0}, count[C5_SCHED_MAX_CELLS] = {0};
+    int first[C5_BOUND_MAX_CELLS] = {0}, count[C5_BOUND_MAX_CELLS] = {0};
     for (int i = nc - 1; i >= 0; i--) {
         int l = __builtin_ctzll(c[i].mask);
         first[l] = i;
@@ -415,7 +425,7 @@ static int pack(cand *c, int nc, int m, uint64_t *pick, int *npick)
         free(how);
         return best;
     }
-    int ratio[C5_SCHED_MAX_CELLS] = {0}, rest12 = 0;
+    int ratio[C5_BOUND_MAX_CELLS] = {0}, rest12 = 0;
     for (int i = 0; i < nc; i++) {
         int r = 12 * c[i].gain / __builtin_popcountll(c[i].mask) + 1; /* rounded up */
         for (uint64_t b = c[i].mask; b; b &= b - 1)
@@ -464,6 +474,8 @@ static int pack(cand *c, int nc, int m, uint64_t *pick, int *npick)
 int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, uint64_t *groups_out,
                              int *ngroups_out)
 {
+    if (!c5_tree_bound_cells(t))
+        return -1;
     if (max_group > C5_GROUP_MAX)
         max_group = C5_GROUP_MAX;
     int n = t->n;
@@ -472,7 +484,7 @@ int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, u
         free(gen);
         return -1;
     }
-    int maxgen[C5_SCHED_MAX_CELLS] = {0}, sum = 0;
+    int maxgen[C5_BOUND_MAX_CELLS] = {0}, sum = 0;
     uint64_t present = 0;
     for (int i = 0; i < n; i++) {
         int c = t->cell[i];
@@ -481,8 +493,8 @@ int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, u
             maxgen[c] = gen[i];
     }
     free(gen);
-    int cellof[C5_SCHED_MAX_CELLS], m = 0;
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+    int cellof[C5_BOUND_MAX_CELLS], m = 0;
+    for (int c = 0; c < C5_BOUND_MAX_CELLS; c++)
         if (present >> c & 1) {
             cellof[m++] = c;
             sum += maxgen[c];
@@ -535,7 +547,7 @@ int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, u
                 idx[q] = idx[q - 1] + 1;
         }
     }
-    uint64_t pick[C5_SCHED_MAX_CELLS];
+    uint64_t pick[C5_BOUND_MAX_CELLS];
     int npick = 0, gain = rc == 0 ? pack(cs, (int)nc, m, pick, &npick) : -1;
     free(cs);
     if (gain < 0)
@@ -572,6 +584,8 @@ int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int
 {
     uint64_t seen = 0;
     int sum = 0, exact = 1;
+    if (!c5_tree_bound_cells(t))
+        return -1;
     for (int k = 0; k < ngroups; k++) {
         if (groups[k] & seen)
             return -1; /* not disjoint: the loads would be counted twice */
@@ -592,12 +606,12 @@ int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int
         free(gen);
         return -1;
     }
-    int maxgen[C5_SCHED_MAX_CELLS] = {0};
+    int maxgen[C5_BOUND_MAX_CELLS] = {0};
     for (int i = 0; i < t->n; i++)
         if (!(seen >> t->cell[i] & 1) && gen[i] > maxgen[t->cell[i]])
             maxgen[t->cell[i]] = gen[i];
     free(gen);
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+    for (int c = 0; c < C5_BOUND_MAX_CELLS; c++)
         sum += maxgen[c];
     if (all_exact)
         *all_exact = exact;

@@ -58,14 +58,14 @@
 typedef struct {
     int ng, n;
     const int *cell;
-    c5_group *g[C5_SCHED_MAX_CELLS];
-    int gof[C5_SCHED_MAX_CELLS];      /* group of each cell, -1: absent */
-    int toff[C5_SCHED_MAX_CELLS + 1]; /* offsets of the groups' trie nodes in cnt */
-    int woff[C5_SCHED_MAX_CELLS + 1]; /* offsets of the groups' bitsets in bits */
+    c5_group *g[C5_BOUND_MAX_CELLS];
+    int gof[C5_BOUND_MAX_CELLS];      /* group of each cell, -1: absent */
+    int toff[C5_BOUND_MAX_CELLS + 1]; /* offsets of the groups' trie nodes in cnt */
+    int woff[C5_BOUND_MAX_CELLS + 1]; /* offsets of the groups' bitsets in bits */
     int *tnode;                       /* [n] global trie node (toff[g] + local) of each node */
     int *cnt;                         /* live preimages per trie node */
     uint64_t *bits, *scratch;         /* per group downsets; one group's copy */
-    int val[C5_SCHED_MAX_CELLS], total;
+    int val[C5_BOUND_MAX_CELLS], total;
 } hpart;
 
 static void hpart_free(hpart *h)
@@ -85,7 +85,7 @@ static int hpart_init(hpart *h, const c5_dep_tree *t, const uint64_t *groups, in
     memset(h, 0, sizeof *h);
     h->n = t->n;
     h->cell = t->cell;
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+    for (int c = 0; c < C5_BOUND_MAX_CELLS; c++)
         h->gof[c] = -1;
     size_t sz = (size_t)(t->n > 0 ? t->n : 1);
     int *map = malloc(sz * sizeof *map);
@@ -103,7 +103,7 @@ static int hpart_init(hpart *h, const c5_dep_tree *t, const uint64_t *groups, in
             return -1;
         }
         h->ng = k + 1;
-        for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+        for (int c = 0; c < C5_BOUND_MAX_CELLS; c++)
             if (groups[k] >> c & 1)
                 h->gof[c] = k;
         for (int i = 0; i < t->n; i++)
@@ -296,11 +296,11 @@ static int arena_add(astar *a, const uint64_t *b, uint64_t h, int g, int back, i
 
 /* Per-cell summary of one state, enough to score every successor without rebuilding it. */
 typedef struct {
-    int maxgen[C5_SCHED_MAX_CELLS];
-    int block_top[C5_SCHED_MAX_CELLS];  /* non-leaf nodes at generation maxGen */
-    int block_next[C5_SCHED_MAX_CELLS]; /* non-leaf nodes at generation maxGen - 1 */
-    int nleaf[C5_SCHED_MAX_CELLS], lstart[C5_SCHED_MAX_CELLS + 1];
-    int nlive[C5_SCHED_MAX_CELLS];
+    int maxgen[C5_BOUND_MAX_CELLS];
+    int block_top[C5_BOUND_MAX_CELLS];  /* non-leaf nodes at generation maxGen */
+    int block_next[C5_BOUND_MAX_CELLS]; /* non-leaf nodes at generation maxGen - 1 */
+    int nleaf[C5_BOUND_MAX_CELLS], lstart[C5_BOUND_MAX_CELLS + 1];
+    int nlive[C5_BOUND_MAX_CELLS];
     int sum, live;
 } summary;
 
@@ -309,7 +309,7 @@ typedef struct {
  * expand only that one. */
 static int full_leaf_cell(const summary *s)
 {
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+    for (int c = 0; c < C5_BOUND_MAX_CELLS; c++)
         if (s->nlive[c] > 0 && s->nleaf[c] == s->nlive[c])
             return c;
     return -1;
@@ -338,11 +338,11 @@ static void summarize(astar *a, const uint64_t *b, summary *s)
             else if (d == 1)
                 s->block_next[c]++;
         }
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+    for (int c = 0; c < C5_BOUND_MAX_CELLS; c++) {
         s->lstart[c + 1] = s->lstart[c] + s->nleaf[c];
         s->sum += s->maxgen[c];
     }
-    int fill[C5_SCHED_MAX_CELLS];
+    int fill[C5_BOUND_MAX_CELLS];
     memcpy(fill, s->lstart, sizeof fill);
     for (int i = 0; i < a->n; i++)
         if ((b[i >> 6] >> (i & 63) & 1) && a->livekids[i] == 0)
@@ -354,7 +354,7 @@ static int is_ready(const summary *s, int c) { return s->maxgen[c] > 0 && s->blo
 static int state_h(const summary *s)
 {
     int any = 0;
-    for (int c = 0; c < C5_SCHED_MAX_CELLS && !any; c++)
+    for (int c = 0; c < C5_BOUND_MAX_CELLS && !any; c++)
         any = is_ready(s, c);
     return s->sum + (s->live > 0 && !any);
 }
@@ -378,9 +378,9 @@ static int successor_h(astar *a, const summary *s, int c)
     if (live == 0)
         return sum;
     int any = 0;
-    for (int d = 0; d < C5_SCHED_MAX_CELLS && !any; d++)
+    for (int d = 0; d < C5_BOUND_MAX_CELLS && !any; d++)
         any = d != c && is_ready(s, d);
-    int block[C5_SCHED_MAX_CELLS];
+    int block[C5_BOUND_MAX_CELLS];
     const int *lv = a->leaves + s->lstart[c];
     if (!any) {
         memcpy(block, s->block_top, sizeof block);
@@ -486,7 +486,7 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
             return 1;
         }
         int only = full_leaf_cell(&s);
-        for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+        for (int c = 0; c < C5_BOUND_MAX_CELLS; c++) {
             if (s.nleaf[c] == 0 || (only >= 0 && c != only))
                 continue;
             memcpy(a->next, a->cur, (size_t)a->words * 8);
@@ -624,7 +624,7 @@ static int beam(astar *a, int width, int *len_out, int **sched_out)
                 goto out;
             }
             int only = full_leaf_cell(&s);
-            for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
+            for (int c = 0; c < C5_BOUND_MAX_CELLS; c++) {
                 if (s.nleaf[c] == 0 || (only >= 0 && c != only))
                     continue;
                 if (nc == ccap) {
@@ -692,6 +692,9 @@ static int solve(const c5_dep_tree *t, const c5_exact_opts *o, int projection, i
         *sched_out = NULL;
     if (stats)
         memset(stats, 0, sizeof *stats);
+    if (!c5_tree_bound_cells(t))
+        return c5_fail(err, "cell tree optimum: a cell id above %d: the exact and beam searches take up to %d cells "
+                            "(C5_BOUND_MAX_CELLS)", C5_BOUND_MAX_CELLS - 1, C5_BOUND_MAX_CELLS);
     long max_states = o->max_states;
     if (t->n > o->max_nodes || max_states < 1)
         return 0;
@@ -716,7 +719,7 @@ static int solve(const c5_dep_tree *t, const c5_exact_opts *o, int projection, i
     int rc = -1;
     int k = group_size(t, o->group_max);
     if (k >= 2) {
-        uint64_t groups[C5_SCHED_MAX_CELLS];
+        uint64_t groups[C5_BOUND_MAX_CELLS];
         int ng = 0;
         long budget = o->group_budget > 0 ? o->group_budget : max_states;
         int lb = c5_sched_bound_partition(t, k, budget < 20000 ? budget : 20000, groups, &ng);
@@ -808,6 +811,9 @@ int c5_sched_projection_optimum(const c5_dep_tree *t, uint64_t cells, const c5_e
 {
     if (stats)
         memset(stats, 0, sizeof *stats);
+    if (!c5_tree_bound_cells(t))
+        return c5_fail(err, "cell tree projection: a cell id above %d (C5_BOUND_MAX_CELLS %d)", C5_BOUND_MAX_CELLS - 1,
+                       C5_BOUND_MAX_CELLS);
     c5_group *g = c5_group_new(t, cells, 1, NULL);
     int nt = g ? c5_group_size(g) : 0;
     int *par = malloc((size_t)(nt > 0 ? nt : 1) * sizeof *par), *cel = malloc((size_t)(nt > 0 ? nt : 1) * sizeof *cel);

@@ -15,6 +15,18 @@
 
 /* ---- checks and generations ------------------------------------------------------------ */
 
+static const char *first_bad_rule(const c5_dep_tree *t, int i)
+{
+    int c = t->cell[i], p = t->parent[i];
+    if (c < 0 || c >= C5_SCHED_MAX_CELLS)
+        return "cell";
+    if (p < -1 || p >= i)
+        return "parent";
+    if (p >= 0 && t->cell[p] == c)
+        return "same";
+    return NULL;
+}
+
 int c5_tree_check(const c5_dep_tree *t, c5_err *err)
 {
     if (!t)
@@ -25,31 +37,59 @@ int c5_tree_check(const c5_dep_tree *t, c5_err *err)
         return 0;
     if (!t->parent || !t->cell)
         return c5_fail(err, "cell tree: %d nodes but no parent or cell array", t->n);
-    /* kids[p + 1]: cells already used by the children of p (kids[0]: by the roots). */
-    uint64_t *kids = calloc((size_t)t->n + 1, sizeof *kids);
-    if (!kids)
-        return c5_fail(err, "cell tree: out of memory for %d nodes", t->n);
-    int rc = 0;
-    for (int i = 0; i < t->n && rc == 0; i++) {
-        int c = t->cell[i], p = t->parent[i];
-        if (c < 0 || c >= C5_SCHED_MAX_CELLS)
-            rc = c5_fail(err, "cell tree: node %d: cell %d outside 0..%d", i, c, C5_SCHED_MAX_CELLS - 1);
-        else if (p < -1 || p >= i)
-            rc = c5_fail(err, "cell tree: node %d: parent %d is not -1 or a lower index", i, p);
-        else if (p >= 0 && t->cell[p] == c)
-            rc = c5_fail(err, "cell tree: node %d: same cell %d as its parent %d", i, c, p);
-        else if (kids[p + 1] >> c & 1)
-            rc = c5_fail(err, "cell tree: node %d: a sibling (parent %d) already has cell %d", i, p, c);
-        else
-            kids[p + 1] |= 1ull << c;
+    /* bad: the first node that breaks a rule of its own (cell range, parent, parent's cell). */
+    int n = t->n, bad = n, maxc = 0;
+    for (int i = 0; i < n && bad == n; i++) {
+        if (first_bad_rule(t, i))
+            bad = i;
+        else if (t->cell[i] > maxc)
+            maxc = t->cell[i];
     }
-    free(kids);
-    return rc;
+    /* Siblings among the nodes before it: the children of each parent (roots: group 0) in
+     * index order by a counting sort, each cell stamped with the group that last used it.
+     * O(n + cells); dup: the first node whose cell an earlier sibling has. */
+    int *first = calloc((size_t)bad + 2, sizeof *first), *order = malloc(((size_t)bad + 1) * sizeof *order);
+    int *stamp = calloc((size_t)maxc + 1, sizeof *stamp);
+    if (!first || !order || !stamp) {
+        free(first);
+        free(order);
+        free(stamp);
+        return c5_fail(err, "cell tree: out of memory for %d nodes", n);
+    }
+    for (int i = 0; i < bad; i++)
+        first[t->parent[i] + 2]++;
+    for (int g = 0; g <= bad; g++)
+        first[g + 1] += first[g];
+    for (int i = 0; i < bad; i++)
+        order[first[t->parent[i] + 1]++] = i; /* first[g] ends as the end of group g */
+    int dup = bad;
+    for (int g = 0, k = 0; g <= bad; g++)
+        for (; k < first[g]; k++) {
+            int i = order[k], c = t->cell[i];
+            if (stamp[c] == g + 1 && i < dup)
+                dup = i;
+            stamp[c] = g + 1;
+        }
+    free(first);
+    free(order);
+    free(stamp);
+    if (dup < bad)
+        return c5_fail(err, "cell tree: node %d: a sibling (parent %d) already has cell %d", dup, t->parent[dup],
+                       t->cell[dup]);
+    if (bad == n)
+        return 0;
+    int c = t->cell[bad], p = t->parent[bad];
+    const char *why = first_bad_rule(t, bad);
+    if (why[0] == 'c')
+        return c5_fail(err, "cell tree: node %d: cell %d outside 0..%d", bad, c, C5_SCHED_MAX_CELLS - 1);
+    if (why[0] == 'p')
+        return c5_fail(err, "cell tree: node %d: parent %d is not -1 or a lower index", bad, p);
+    return c5_fail(err, "cell tree: node %d: same cell %d as its parent %d", bad, c, p);
 }
 
-int c5_tree_generations(const c5_dep_tree *t, int *gen)
+/* The generations of a tree whose cells are 0..ncell-1. */
+static int generations(int n, const int *parent, const int *cell, int ncell, int *gen)
 {
-    int n = t->n;
     if (n == 0)
         return 0;
     /* Depth-first over children lists, keeping per cell the number of same-cell nodes on
@@ -58,38 +98,38 @@ int c5_tree_generations(const c5_dep_tree *t, int *gen)
     int *kids = malloc((size_t)n * sizeof *kids);
     int *stack = malloc((size_t)n * sizeof *stack);
     int *cursor = malloc((size_t)n * sizeof *cursor);
+    int *onpath = calloc((size_t)ncell, sizeof *onpath);
     int best = -1;
-    if (first && kids && stack && cursor) {
+    if (first && kids && stack && cursor && onpath) {
         memset(first, 0, ((size_t)n + 1) * sizeof *first);
         for (int i = 0; i < n; i++)
-            if (t->parent[i] >= 0)
-                first[t->parent[i] + 1]++;
+            if (parent[i] >= 0)
+                first[parent[i] + 1]++;
         for (int i = 0; i < n; i++)
             first[i + 1] += first[i];
         memcpy(cursor, first, (size_t)n * sizeof *cursor);
         for (int i = 0; i < n; i++)
-            if (t->parent[i] >= 0)
-                kids[cursor[t->parent[i]]++] = i;
-        int onpath[C5_SCHED_MAX_CELLS] = {0};
+            if (parent[i] >= 0)
+                kids[cursor[parent[i]]++] = i;
         best = 0;
         for (int r = 0; r < n; r++) {
-            if (t->parent[r] >= 0)
+            if (parent[r] >= 0)
                 continue;
             int sp = 0;
             stack[sp++] = r;
             cursor[r] = first[r];
-            gen[r] = ++onpath[t->cell[r]];
+            gen[r] = ++onpath[cell[r]];
             while (sp > 0) {
                 int v = stack[sp - 1];
                 if (cursor[v] < first[v + 1]) {
                     int k = kids[cursor[v]++];
-                    gen[k] = ++onpath[t->cell[k]];
+                    gen[k] = ++onpath[cell[k]];
                     if (gen[k] > best)
                         best = gen[k];
                     cursor[k] = first[k];
                     stack[sp++] = k;
                 } else {
-                    onpath[t->cell[v]]--;
+                    onpath[cell[v]]--;
                     sp--;
                 }
             }
@@ -101,7 +141,17 @@ int c5_tree_generations(const c5_dep_tree *t, int *gen)
     free(kids);
     free(stack);
     free(cursor);
+    free(onpath);
     return best;
+}
+
+int c5_tree_generations(const c5_dep_tree *t, int *gen)
+{
+    int maxc = 0;
+    for (int i = 0; i < t->n; i++)
+        if (t->cell[i] > maxc)
+            maxc = t->cell[i];
+    return generations(t->n, t->parent, t->cell, maxc + 1, gen);
 }
 
 /* ---- feasibility ---------------------------------------------------------------------- */
@@ -129,90 +179,164 @@ int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len)
 
 /* ---- the interim tree ------------------------------------------------------------------ */
 
+/* Cells are renumbered 0..m-1 in ascending id order (m: the cells present), so every
+ * per-cell array has m entries whatever the ids, and "lowest id" stays "lowest index". Three
+ * bitsets over the local cells answer the questions asked at every peel in O(m / 64): which
+ * cells are ready, which are full (every live node a leaf), which have a leaf. They are
+ * brought up to date (mark) for every cell whose counts a peel or an undo touches. */
 typedef struct {
-    int n;
-    const int *parent, *cell;
+    int n, m, words;
+    const int *parent;
+    int *lcell;                        /* [n] local cell of each node */
+    int *gid;                          /* [m] cell id of each local cell, ascending */
     int *gen;                          /* [n] */
     int *livekids;                     /* [n] live children; 0 = leaf */
     int *list;                         /* per cell node lists: cell c at [cstart[c], cstart[c+1]) */
-    int cstart[C5_SCHED_MAX_CELLS + 1];
-    int nlive[C5_SCHED_MAX_CELLS];     /* live nodes of c = list[cstart[c] .. + nlive[c]) */
-    int nleaf[C5_SCHED_MAX_CELLS];     /* live leaves of c */
-    int gbase[C5_SCHED_MAX_CELLS + 1]; /* cnt[gbase[c] + g], g in 0..maxGen(c) at the start */
+    int *cstart;                       /* [m + 1] */
+    int *nlive;                        /* [m] live nodes of c = list[cstart[c] .. + nlive[c]) */
+    int *nleaf;                        /* [m] live leaves of c */
+    int *gbase;                        /* [m + 1] cnt[gbase[c] + g], g in 0..maxGen(c) at the start */
+    int *maxgen;                       /* [m] */
     int *cnt, *leafcnt;                /* live nodes / live leaves per cell and generation */
-    int maxgen[C5_SCHED_MAX_CELLS];
+    uint64_t *bready, *bfull, *bleaf;  /* [words] bitsets over the local cells */
     int sum_maxgen, live_total, max_gen;
     uint64_t examined;
     int *log, nlog; /* removed nodes in removal order (for undo) */
     int full_first; /* completion order: cells with only leaves left first (rollout rule) */
+    uint64_t cap;   /* give up past this many nodes examined (0: never) */
 } peeler;
 
 static void peeler_free(peeler *p)
 {
+    free(p->lcell);
+    free(p->gid);
     free(p->gen);
     free(p->livekids);
     free(p->list);
+    free(p->cstart);
     free(p->cnt);
     free(p->leafcnt);
+    free(p->bready);
     free(p->log);
     memset(p, 0, sizeof *p);
-}
-
-static int peeler_init(peeler *p, const c5_dep_tree *t)
-{
-    memset(p, 0, sizeof *p);
-    int n = p->n = t->n;
-    p->parent = t->parent;
-    p->cell = t->cell;
-    size_t sz = (size_t)(n > 0 ? n : 1);
-    p->gen = malloc(sz * sizeof *p->gen);
-    p->livekids = calloc(sz, sizeof *p->livekids);
-    p->list = malloc(sz * sizeof *p->list);
-    p->log = malloc(sz * sizeof *p->log);
-    if (!p->gen || !p->livekids || !p->list || !p->log)
-        goto fail;
-    if ((p->max_gen = c5_tree_generations(t, p->gen)) < 0)
-        goto fail;
-    for (int i = 0; i < n; i++) {
-        int c = t->cell[i];
-        p->nlive[c]++;
-        if (p->gen[i] > p->maxgen[c])
-            p->maxgen[c] = p->gen[i];
-        if (t->parent[i] >= 0)
-            p->livekids[t->parent[i]]++;
-    }
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
-        p->cstart[c + 1] = p->cstart[c] + p->nlive[c];
-        p->gbase[c + 1] = p->gbase[c] + p->maxgen[c] + 1;
-        p->sum_maxgen += p->maxgen[c];
-    }
-    int fill[C5_SCHED_MAX_CELLS];
-    memcpy(fill, p->cstart, sizeof fill);
-    for (int i = 0; i < n; i++)
-        p->list[fill[t->cell[i]]++] = i;
-    p->cnt = calloc((size_t)p->gbase[C5_SCHED_MAX_CELLS], sizeof *p->cnt);
-    p->leafcnt = calloc((size_t)p->gbase[C5_SCHED_MAX_CELLS], sizeof *p->leafcnt);
-    if (!p->cnt || !p->leafcnt)
-        goto fail;
-    for (int i = 0; i < n; i++) {
-        int c = t->cell[i], k = p->gbase[c] + p->gen[i];
-        p->cnt[k]++;
-        if (p->livekids[i] == 0) {
-            p->leafcnt[k]++;
-            p->nleaf[c]++;
-        }
-    }
-    p->live_total = n;
-    return 0;
-fail:
-    peeler_free(p);
-    return -1;
 }
 
 static int ready(const peeler *p, int c)
 {
     int g = p->maxgen[c], k = p->gbase[c] + g;
     return g > 0 && p->leafcnt[k] == p->cnt[k];
+}
+
+static void setbit(uint64_t *b, int c, int on)
+{
+    uint64_t bit = 1ull << (c & 63);
+    b[c >> 6] = (b[c >> 6] & ~bit) | (on ? bit : 0);
+}
+
+/* The bitsets' bits of cell c from its counts. */
+static void mark(peeler *p, int c)
+{
+    setbit(p->bready, c, ready(p, c));
+    setbit(p->bfull, c, p->nlive[c] > 0 && p->nleaf[c] == p->nlive[c]);
+    setbit(p->bleaf, c, p->nleaf[c] > 0);
+}
+
+/* The lowest cell in bitset b, -1: none. */
+static int lowest(const peeler *p, const uint64_t *b)
+{
+    for (int w = 0; w < p->words; w++)
+        if (b[w])
+            return w * 64 + __builtin_ctzll(b[w]);
+    return -1;
+}
+
+static int peeler_init(peeler *p, const c5_dep_tree *t)
+{
+    memset(p, 0, sizeof *p);
+    int n = p->n = t->n, maxc = 0;
+    p->parent = t->parent;
+    for (int i = 0; i < n; i++)
+        if (t->cell[i] > maxc)
+            maxc = t->cell[i];
+    size_t sz = (size_t)(n > 0 ? n : 1);
+    int *loc = malloc(((size_t)maxc + 1) * sizeof *loc);
+    p->lcell = malloc(sz * sizeof *p->lcell);
+    p->gen = malloc(sz * sizeof *p->gen);
+    p->livekids = calloc(sz, sizeof *p->livekids);
+    p->list = malloc(sz * sizeof *p->list);
+    p->log = malloc(sz * sizeof *p->log);
+    if (!loc || !p->lcell || !p->gen || !p->livekids || !p->list || !p->log)
+        goto fail;
+    for (int c = 0; c <= maxc; c++)
+        loc[c] = -1;
+    for (int i = 0; i < n; i++)
+        loc[t->cell[i]] = 0;
+    int m = 0;
+    for (int c = 0; c <= maxc; c++)
+        if (loc[c] == 0)
+            loc[c] = m++;
+    p->m = m;
+    p->words = m > 0 ? (m + 63) / 64 : 1;
+    /* per cell: gid, nlive, nleaf, maxgen [m]; cstart, gbase [m + 1] */
+    p->cstart = calloc(6 * (size_t)m + 2, sizeof *p->cstart);
+    p->bready = calloc(3 * (size_t)p->words, sizeof *p->bready);
+    if (!p->cstart || !p->bready)
+        goto fail;
+    p->gbase = p->cstart + m + 1;
+    p->gid = NULL;
+    p->nlive = p->gbase + m + 1;
+    p->nleaf = p->nlive + m;
+    p->maxgen = p->nleaf + m;
+    p->bfull = p->bready + p->words;
+    p->bleaf = p->bfull + p->words;
+    p->gid = malloc((size_t)(m > 0 ? m : 1) * sizeof *p->gid);
+    if (!p->gid)
+        goto fail;
+    for (int c = 0; c <= maxc; c++)
+        if (loc[c] >= 0)
+            p->gid[loc[c]] = c;
+    for (int i = 0; i < n; i++)
+        p->lcell[i] = loc[t->cell[i]];
+    free(loc);
+    loc = NULL;
+    if ((p->max_gen = generations(n, t->parent, p->lcell, m, p->gen)) < 0)
+        goto fail;
+    for (int i = 0; i < n; i++) {
+        int c = p->lcell[i];
+        p->nlive[c]++;
+        if (p->gen[i] > p->maxgen[c])
+            p->maxgen[c] = p->gen[i];
+        if (t->parent[i] >= 0)
+            p->livekids[t->parent[i]]++;
+    }
+    for (int c = 0; c < m; c++) {
+        p->cstart[c + 1] = p->cstart[c] + p->nlive[c];
+        p->gbase[c + 1] = p->gbase[c] + p->maxgen[c] + 1;
+        p->sum_maxgen += p->maxgen[c];
+    }
+    for (int i = 0; i < n; i++) /* the list in node order per cell: nleaf[] serves as the fill count */
+        p->list[p->cstart[p->lcell[i]] + p->nleaf[p->lcell[i]]++] = i;
+    memset(p->nleaf, 0, (size_t)m * sizeof *p->nleaf);
+    p->cnt = calloc((size_t)p->gbase[m] + 1, sizeof *p->cnt);
+    p->leafcnt = calloc((size_t)p->gbase[m] + 1, sizeof *p->leafcnt);
+    if (!p->cnt || !p->leafcnt)
+        goto fail;
+    for (int i = 0; i < n; i++) {
+        int c = p->lcell[i], k = p->gbase[c] + p->gen[i];
+        p->cnt[k]++;
+        if (p->livekids[i] == 0) {
+            p->leafcnt[k]++;
+            p->nleaf[c]++;
+        }
+    }
+    for (int c = 0; c < m; c++)
+        mark(p, c);
+    p->live_total = n;
+    return 0;
+fail:
+    free(loc);
+    peeler_free(p);
+    return -1;
 }
 
 /* The cell for the next completion peel, -1 when none is ready. The paper (and rules 1, 2)
@@ -222,17 +346,11 @@ static int ready(const peeler *p, int c)
  * live node of c is a leaf ("full"), peeling c first is optimal. Proof: the rest of the
  * tree then has no node of c, so from any optimal forward schedule of the whole tree,
  * deleting one load of c leaves a schedule of the rest: OPT(rest) <= OPT(tree) - 1. The
- * rollout rule therefore takes full cells first (full_first). */
+ * rollout rule therefore takes full cells first (full_first). A full cell is ready. */
 static int first_ready(const peeler *p)
 {
-    if (p->full_first)
-        for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
-            if (p->nlive[c] > 0 && p->nleaf[c] == p->nlive[c])
-                return c;
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
-        if (ready(p, c))
-            return c;
-    return -1;
+    int c = p->full_first ? lowest(p, p->bfull) : -1;
+    return c >= 0 ? c : lowest(p, p->bready);
 }
 
 /* Peels cell c: walks its live nodes, removes the leaves. A removed leaf can only turn its
@@ -260,9 +378,10 @@ static int peel(peeler *p, int c)
         removed++;
         int q = p->parent[i];
         if (q >= 0 && --p->livekids[q] == 0) {
-            int cq = p->cell[q];
+            int cq = p->lcell[q];
             p->leafcnt[p->gbase[cq] + p->gen[q]]++;
             p->nleaf[cq]++;
+            mark(p, cq);
         }
     }
     p->nlive[c] = end - base;
@@ -270,14 +389,15 @@ static int peel(peeler *p, int c)
         p->maxgen[c]--;
         p->sum_maxgen--;
     }
+    mark(p, c);
     return removed;
 }
 
 /* Re-admits every node removed since the journal held `mark` entries. */
-static void undo(peeler *p, int mark)
+static void undo(peeler *p, int upto)
 {
-    while (p->nlog > mark) {
-        int i = p->log[--p->nlog], c = p->cell[i];
+    while (p->nlog > upto) {
+        int i = p->log[--p->nlog], c = p->lcell[i];
         p->nlive[c]++; /* i sits at list[cstart[c] + old nlive[c]] (see peel) */
         int gk = p->gbase[c] + p->gen[i];
         p->cnt[gk]++;
@@ -286,27 +406,25 @@ static void undo(peeler *p, int mark)
         p->live_total++;
         int q = p->parent[i];
         if (q >= 0 && p->livekids[q]++ == 0) {
-            int cq = p->cell[q];
+            int cq = p->lcell[q];
             p->leafcnt[p->gbase[cq] + p->gen[q]]--;
             p->nleaf[cq]--;
+            mark(p, cq);
         }
         if (p->gen[i] > p->maxgen[c]) {
             p->sum_maxgen += p->gen[i] - p->maxgen[c];
             p->maxgen[c] = p->gen[i];
         }
+        mark(p, c);
     }
 }
 
-/* Completion peels until none is ready; returns how many. If seq is not NULL the peeled
- * cells are stored there. */
-static int complete(peeler *p, int *seq)
+/* Completion peels until none is ready; returns how many. */
+static int complete(peeler *p)
 {
     int k = 0;
-    for (int c; (c = first_ready(p)) >= 0; k++) {
+    for (int c; (c = first_ready(p)) >= 0; k++)
         peel(p, c);
-        if (seq)
-            seq[k] = c;
-    }
     return k;
 }
 
@@ -315,29 +433,35 @@ static int complete(peeler *p, int *seq)
 static int split_most_leaves(const peeler *p)
 {
     int best = -1;
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
-        if (p->nleaf[c] > 0 && (best < 0 || p->nleaf[c] > p->nleaf[best]))
-            best = c;
+    for (int w = 0; w < p->words; w++)
+        for (uint64_t x = p->bleaf[w]; x; x &= x - 1) {
+            int c = w * 64 + __builtin_ctzll(x);
+            if (best < 0 || p->nleaf[c] > p->nleaf[best])
+                best = c;
+        }
     return best;
 }
 
 /* Peels c, scores the outcome with `score`, undoes the peel; lowest score wins, ties: most
- * leaves, then lowest id. */
+ * leaves, then lowest id. (The candidates are the bits of a copy of each bitset word: every
+ * undo restores the bitsets.) */
 static int best_by_simulation(peeler *p, int (*score)(peeler *))
 {
     int best = -1, best_score = 0;
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++) {
-        if (p->nleaf[c] == 0)
-            continue;
-        int mark = p->nlog;
-        peel(p, c);
-        int sc = 1 + score(p);
-        undo(p, mark);
-        if (best < 0 || sc < best_score || (sc == best_score && p->nleaf[c] > p->nleaf[best])) {
-            best = c;
-            best_score = sc;
+    for (int w = 0; w < p->words; w++)
+        for (uint64_t x = p->bleaf[w]; x; x &= x - 1) {
+            int c = w * 64 + __builtin_ctzll(x);
+            if (p->cap && p->examined > p->cap)
+                return -1;
+            int upto = p->nlog;
+            peel(p, c);
+            int sc = 1 + score(p);
+            undo(p, upto);
+            if (best < 0 || sc < best_score || (sc == best_score && p->nleaf[c] > p->nleaf[best])) {
+                best = c;
+                best_score = sc;
+            }
         }
-    }
     return best;
 }
 
@@ -347,7 +471,7 @@ static int best_by_simulation(peeler *p, int (*score)(peeler *))
  * this is 1 + the sum before the split + (stuck again): it only tells apart the splits after
  * which completions finish the tree; every other choice falls to the tie-break, which is the
  * paper's rule. */
-static int score_lookahead(peeler *p) { return complete(p, NULL) + p->sum_maxgen + (p->live_total > 0); }
+static int score_lookahead(peeler *p) { return complete(p) + p->sum_maxgen + (p->live_total > 0); }
 
 /* Rollout: the length of the rest under the cheap policy (completions, else most leaves). */
 static int score_rollout(peeler *p)
@@ -376,13 +500,17 @@ void c5_schedule_free(c5_schedule *s)
  * that policy's own schedule. */
 static int pick_rollout(peeler *p)
 {
-    for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
-        if (p->nlive[c] > 0 && p->nleaf[c] == p->nlive[c])
-            return c;
-    return best_by_simulation(p, score_rollout);
+    int c = lowest(p, p->bfull);
+    return c >= 0 ? c : best_by_simulation(p, score_rollout);
 }
 
 int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out, c5_err *err)
+{
+    return c5_sched_celltree_capped(t, rule, 0, out, err);
+}
+
+int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t max_examined, c5_schedule *out,
+                             c5_err *err)
 {
     memset(out, 0, sizeof *out);
     if (rule != C5_SPLIT_MOST_LEAVES && rule != C5_SPLIT_LOOKAHEAD && rule != C5_SPLIT_ROLLOUT)
@@ -397,6 +525,7 @@ int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out
         return c5_fail(err, "cell tree schedule: out of memory for %d nodes", t->n);
     }
     p.full_first = rule == C5_SPLIT_ROLLOUT;
+    p.cap = max_examined;
     int len = 0;
     while (p.live_total > 0) {
         int c;
@@ -404,12 +533,20 @@ int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out
             c = pick_rollout(&p);
         else if ((c = first_ready(&p)) < 0)
             c = rule == C5_SPLIT_MOST_LEAVES ? split_most_leaves(&p) : best_by_simulation(&p, score_lookahead);
+        if (c < 0) { /* over the cap */
+            free(rev);
+            peeler_free(&p);
+            out->cells = malloc(sizeof *out->cells);
+            if (!out->cells)
+                return c5_fail(err, "cell tree schedule: out of memory");
+            return 1;
+        }
         if (ready(&p, c))
             out->peels_completion++;
         else
             out->peels_split++;
         peel(&p, c);
-        rev[len++] = c;
+        rev[len++] = p.gid[c];
     }
     for (int a = 0, b = len - 1; a < b; a++, b--) {
         int x = rev[a];
@@ -443,7 +580,7 @@ int c5_sched_lower_bound(const c5_dep_tree *t)
      * generation-(g-1) ancestors of the same cell, which stay), so the sum is the bound so
      * far; one split is forced when completions get stuck before the end. */
     int s = p.sum_maxgen;
-    complete(&p, NULL);
+    complete(&p);
     s += p.live_total > 0;
     peeler_free(&p);
     return s;

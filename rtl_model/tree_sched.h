@@ -1,7 +1,7 @@
 /* The DSP's Cell Tree scheduling (Frank & Kaufman, Sections 3.3-3.4) on a plain array tree.
  *
- * A Cell Tree is a forest: node i has a cell cell[i] in 0..63 and a parent parent[i] (-1 for
- * a root). The DSP-RAM storage converts itself into this form; nothing here knows about it.
+ * A Cell Tree is a forest: node i has a cell cell[i] in 0..C5_SCHED_MAX_CELLS-1 (the board's
+ * 12-bit cell ids) and a parent parent[i] (-1 for a root). The DSP-RAM storage converts itself into this form; nothing here knows about it.
  * Guarantees (c5_tree_check): parent[i] < i, a child's cell differs from its parent's, and
  * siblings (roots included) have distinct cells.
  *
@@ -20,7 +20,14 @@
 
 #include "err.h"
 
-#define C5_SCHED_MAX_CELLS 64
+/* Cell ids the DSP's algorithms take (c5_tree_check .. c5_sched_feasible): the packet's and
+ * the node's 12 bits (C5_MAX_CELLS in ray.h). Their per-cell arrays have one entry per cell
+ * present in the tree, not per id. */
+#define C5_SCHED_MAX_CELLS 4096
+/* The offline bounds and the exact and beam searches (tree_bound.c, tree_exact.c) work on
+ * 64-bit cell masks: they take trees whose cell ids are all below 64 and refuse others
+ * (c5_tree_bound_cells). */
+#define C5_BOUND_MAX_CELLS 64
 #define C5_GROUP_MAX 8 /* largest group of cells c5_sched_lower_bound_groups projects onto */
 
 typedef struct {
@@ -69,6 +76,12 @@ int c5_tree_generations(const c5_dep_tree *t, int *gen);
  * c5_schedule_free). */
 int c5_sched_celltree(const c5_dep_tree *t, c5_split_rule rule, c5_schedule *out, c5_err *err);
 void c5_schedule_free(c5_schedule *s);
+/* The same, giving up once more than max_examined nodes were examined (0: no cap; checked
+ * before each simulated candidate, so it overshoots by at most one simulation): 1 when it
+ * gave up (*out then has len 0), 0 with the schedule, -1 on error. The lookahead and rollout
+ * rules' cost grows with the cells and the peels (docs/cell-tree.md); the report caps them. */
+int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t max_examined, c5_schedule *out,
+                             c5_err *err);
 
 /* Section 3.4's "bound": sum over cells of the largest generation, + 1 when completion peels
  * alone (lowest ready id first), from the start, get stuck on a non-empty tree. -1 when out
@@ -82,6 +95,17 @@ int c5_sched_lower_bound(const c5_dep_tree *t);
 /* Sum over cells of the largest generation: a lower bound that needs no claim (cell c must
  * be loaded at least maxGen(c) times). -1 when out of memory. */
 int c5_sched_sum_maxgen(const c5_dep_tree *t);
+
+/* 1 iff every root-to-leaf path is a subsequence of sched[0..len); 0 otherwise; -1 when out
+ * of memory. Entries that are no node's cell are loads that serve no node. */
+int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
+
+/* ---- offline analysis (tree_bound.c, tree_exact.c): trees whose cell ids are all below
+ * C5_BOUND_MAX_CELLS. The bounds below return -1 for any other tree; the searches fail with a
+ * message naming the limit. */
+
+/* 1 iff every cell id of t is in 0..C5_BOUND_MAX_CELLS-1. */
+int c5_tree_bound_cells(const c5_dep_tree *t);
 
 /* A lower bound on the optimum that rests on no unproven claim: the sum of maxGen improved
  * by the exact optima of two-cell projections, matched over disjoint pairs (tree_bound.c,
@@ -107,10 +131,6 @@ int c5_sched_lower_bound_groups(const c5_dep_tree *t, int max_group, long budget
  * overlap or on error (out of memory). */
 int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int ngroups, long max_states,
                                int *all_exact);
-
-/* 1 iff every root-to-leaf path is a subsequence of sched[0..len); 0 otherwise; -1 when out
- * of memory. Entries outside 0..63 are loads that serve no node. */
-int c5_sched_feasible(const c5_dep_tree *t, const int *sched, int len);
 
 /* Exact optimum by A* over interim trees (tree_exact.c).
  * 1: found, *len_out = optimum (and, if sched_out != NULL, a malloc'd optimal forward

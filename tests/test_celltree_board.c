@@ -304,3 +304,58 @@ TEST(celltree_partial_schedule_of_an_overflowed_tree)
     c5_image_free(&a);
     c5_image_free(&b);
 }
+
+/* A 512-cell split (8x8x8): the DSP schedules the frame's tree (cell ids up to 511), the
+ * schedule is feasible for that tree, and the next frame (the same view) follows it to the
+ * end (no fall back to Max Work) with the same image bits. The exact search and its bounds
+ * work on 64-bit cell masks: not computed here (exact_skipped), the sum of maxGen is the
+ * bound. */
+TEST(celltree_512_cells_scheduled_and_followed)
+{
+    CHECK(load("clouds_lake", 48) == 0);
+    c5_image a, b;
+    c5_board_stats mw, ct;
+    c5_board_opts o = {.cells = {8, 8, 8}, .tree = &trees[0]};
+    c5_ctree_init(&trees[0], 0);
+    CHECK(render(0, o, &a, &mw) == 0);
+    CHECK(!trees[0].overflow && trees[0].nodes > 64);
+    c5_dsp_sched_result r;
+    c5_err err;
+    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES, .all_rules = 1, .exact_states = 1000, .exact_nodes = 4096,
+                            .split = {8, 8, 8}};
+    CHECK_MSG(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0, "%s", err.msg);
+    CHECK(r.next.len > 0);
+    int n = (int)trees[0].nodes, maxcell = 0;
+    int *parent = malloc(sizeof(int) * (size_t)n), *cell = malloc(sizeof(int) * (size_t)n);
+    uint32_t *id = malloc(sizeof(uint32_t) * (size_t)n);
+    c5_ctree_export(&trees[0], parent, cell, id);
+    for (int i = 0; i < n; i++)
+        maxcell = cell[i] > maxcell ? cell[i] : maxcell;
+    c5_dep_tree dt = {n, parent, cell};
+    int feasible = c5_sched_feasible(&dt, r.next.cells, r.next.len), sum = c5_sched_sum_maxgen(&dt);
+    free(parent);
+    free(cell);
+    free(id);
+    CHECK(maxcell >= C5_BOUND_MAX_CELLS && maxcell < 512);
+    CHECK_INT(feasible, 1);
+    CHECK_INT(r.sum_maxgen, sum);
+    CHECK(r.next.len >= sum);
+    CHECK_INT(r.exact_skipped, 1);
+    CHECK_INT(r.optimum, -1);
+    CHECK_INT(r.lower_bound, r.sum_maxgen);
+    CHECK(r.len_paper == r.next.len && r.len_lookahead > 0 && r.len_lookahead <= r.len_paper && r.len_rollout > 0);
+    o.sched = C5_SCHED_EXTERNAL;
+    o.schedule = r.next.cells;
+    o.schedule_len = r.next.len;
+    o.tree = &trees[1];
+    c5_ctree_init(&trees[1], 0);
+    CHECK(render(0, o, &b, &ct) == 0);
+    CHECK(same_bits(&a, &b));
+    CHECK_INT(ct.sched_fallback, 0);
+    CHECK_INT(ct.sched_loads + ct.sched_skipped, r.next.len);
+    CHECK(ct.fetches <= (uint64_t)r.next.len && (int)ct.fetches >= r.lower_bound);
+    CHECK((int)mw.fetches >= r.lower_bound);
+    c5_dsp_sched_free(&r);
+    c5_image_free(&a);
+    c5_image_free(&b);
+}

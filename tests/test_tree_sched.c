@@ -445,7 +445,7 @@ TEST(tree_sched_check_refuses_bad_trees)
         {2, {-1, 0}, {3, 3}, "node 1: same cell 3"},       /* child with the parent's cell */
         {3, {-1, 0, 0}, {0, 1, 1}, "node 2: a sibling"},   /* duplicate sibling cells */
         {2, {-1, -1}, {4, 4}, "node 1: a sibling"},        /* duplicate root cells */
-        {2, {-1, 0}, {0, 64}, "node 1: cell 64"},          /* out of range */
+        {2, {-1, 0}, {0, 4096}, "node 1: cell 4096"},      /* out of range (12-bit cell ids) */
         {1, {-1}, {-1}, "node 0: cell -1"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
@@ -493,4 +493,221 @@ TEST(tree_sched_empty_tree)
     CHECK_INT(len, 0);
     CHECK(sched != NULL);
     free(sched);
+}
+
+/* ---- 12-bit cell ids (up to 4,096 cells) ---------------------------------------------------- */
+
+/* pool[0..k): k distinct ids of 0..4095, 4095 always among them (a Fisher-Yates prefix). */
+static void wide_pool(uint64_t *rng, int k, int *pool)
+{
+    static int all[C5_SCHED_MAX_CELLS];
+    for (int i = 0; i < C5_SCHED_MAX_CELLS; i++)
+        all[i] = C5_SCHED_MAX_CELLS - 1 - i;
+    for (int i = 1; i < k; i++) {
+        int j = i + (int)(c5_splitmix64(rng) % (uint64_t)(C5_SCHED_MAX_CELLS - i)), x = all[i];
+        all[i] = all[j];
+        all[j] = x;
+    }
+    memcpy(pool, all, (size_t)k * sizeof *pool);
+}
+
+/* Generations by walking up every node's ancestors. */
+static int naive_generations(const c5_dep_tree *t, int *gen)
+{
+    int best = 0;
+    for (int i = 0; i < t->n; i++) {
+        gen[i] = 0;
+        for (int a = i; a >= 0; a = t->parent[a])
+            gen[i] += t->cell[a] == t->cell[i];
+        best = gen[i] > best ? gen[i] : best;
+    }
+    return best;
+}
+
+/* Random trees with ids anywhere in 0..4095: the checks, the generations against the naive
+ * walk, every rule's schedule feasible, at least the sum of maxGen, made of the tree's own
+ * cells; and the ids matter only by their order: the tree with its cells renumbered by rank
+ * (0..m-1) gets the same schedule (renumbered), peels and nodes examined. The offline
+ * bounds and searches refuse ids above 63. */
+TEST(tree_sched_wide_cell_ids_random)
+{
+    uint64_t rng = 0x41D5;
+    static int par[400], cel[400], rank_cel[400], gen[400], gen2[400], pool[C5_SCHED_MAX_CELLS];
+    static int rank[C5_SCHED_MAX_CELLS];
+    c5_err err;
+    long wide = 0;
+    for (int trial = 0; trial < 600; trial++) {
+        int npool = trial % 3 == 0 ? 2 + (int)(c5_splitmix64(&rng) % 20)
+                    : trial % 3 == 1 ? 65 + (int)(c5_splitmix64(&rng) % 500) : C5_SCHED_MAX_CELLS;
+        wide_pool(&rng, npool, pool);
+        int n = c5t_random_tree_wide(&rng, 1 + (int)(c5_splitmix64(&rng) % 399), pool, npool,
+                                     1 + (int)(c5_splitmix64(&rng) % 12), par, cel);
+        c5_dep_tree t = {n, par, cel};
+        CHECK_MSG(c5_tree_check(&t, &err) == 0, "trial %d: %s", trial, err.msg);
+        int maxg = c5_tree_generations(&t, gen);
+        CHECK_INT(maxg, naive_generations(&t, gen2));
+        CHECK_MSG(!memcmp(gen, gen2, (size_t)n * sizeof *gen), "trial %d: generations differ", trial);
+        /* ranks of the ids present */
+        memset(rank, 0xff, sizeof rank);
+        int maxid = 0;
+        for (int i = 0; i < n; i++) {
+            rank[cel[i]] = 0;
+            maxid = cel[i] > maxid ? cel[i] : maxid;
+        }
+        int m = 0;
+        for (int c = 0; c < C5_SCHED_MAX_CELLS; c++)
+            if (rank[c] == 0)
+                rank[c] = m++;
+        for (int i = 0; i < n; i++)
+            rank_cel[i] = rank[cel[i]];
+        c5_dep_tree r = {n, par, rank_cel};
+        int sum = c5_sched_sum_maxgen(&t);
+        CHECK_INT(sum, c5_sched_sum_maxgen(&r));
+        CHECK_INT(c5_sched_lower_bound(&t), c5_sched_lower_bound(&r));
+        for (int k = 1; k <= 3; k++) {
+            if (k == 3 && n > 150)
+                continue;
+            c5_schedule s, s2;
+            CHECK_INT(run_rule(&t, (c5_split_rule)k, &s), 0);
+            CHECK_INT(run_rule(&r, (c5_split_rule)k, &s2), 0);
+            CHECK_MSG(c5_sched_feasible(&t, s.cells, s.len) == 1, "trial %d rule %d: infeasible", trial, k);
+            CHECK_MSG(s.len >= sum, "trial %d rule %d: %d below the sum of maxGen %d", trial, k, s.len, sum);
+            CHECK_INT(s.peels_completion, sum);
+            CHECK_INT(s.peels_completion + s.peels_split, s.len);
+            CHECK_INT(s.max_gen, maxg);
+            CHECK_INT(s.len, s2.len);
+            CHECK_INT(s.peels_split, s2.peels_split);
+            CHECK_INT(s.nodes_examined, s2.nodes_examined);
+            for (int q = 0; q < s.len; q++) {
+                CHECK_MSG(s.cells[q] >= 0 && s.cells[q] <= maxid && rank[s.cells[q]] >= 0,
+                          "trial %d rule %d: load %d of cell %d, not in the tree", trial, k, q, s.cells[q]);
+                CHECK_MSG(rank[s.cells[q]] == s2.cells[q], "trial %d rule %d: load %d: cell %d vs rank %d", trial,
+                          k, q, s.cells[q], s2.cells[q]);
+            }
+            c5_schedule_free(&s);
+            c5_schedule_free(&s2);
+        }
+        /* 64-bit cell masks: the offline analysis takes ids below 64 only. */
+        if (maxid >= C5_BOUND_MAX_CELLS) {
+            wide++;
+            CHECK_INT(c5_tree_bound_cells(&t), 0);
+            CHECK_INT(c5_sched_lower_bound_pairs(&t), -1);
+            int len = -1, *sched = (int *)&len;
+            err.msg[0] = 0;
+            CHECK_INT(c5_sched_optimum(&t, 1000, 400, &len, &sched, &err), -1);
+            CHECK(sched == NULL);
+            CHECK_HAS(err.msg, "C5_BOUND_MAX_CELLS");
+            CHECK_INT(c5_sched_beam(&t, 10, &len, NULL, &err), -1);
+        } else {
+            CHECK_INT(c5_tree_bound_cells(&t), 1);
+        }
+    }
+    CHECK(wide > 300);
+}
+
+/* Distinct siblings at ids above 63: duplicates are refused wherever they sit, ids equal
+ * modulo 64 are not duplicates, and the first offending node is the one named. */
+TEST(tree_sched_wide_siblings)
+{
+    struct {
+        int n, par[5], cel[5];
+        const char *needle; /* NULL: accepted */
+    } cases[] = {
+        {3, {-1, 0, 0}, {100, 4095, 4095}, "node 2: a sibling (parent 0) already has cell 4095"},
+        {2, {-1, -1}, {3000, 3000}, "node 1: a sibling (parent -1) already has cell 3000"},
+        {4, {-1, 0, 0, 1}, {7, 64, 128, 64}, "node 3: same cell 64 as its parent 1"},
+        {5, {-1, 0, 0, 0, -1}, {7, 5, 69, 133, 71}, NULL},     /* 5, 69, 133: equal modulo 64 */
+        {3, {-1, -1, 1}, {1, 65, 1}, NULL},                    /* 1, 65 roots; 1 under 65 */
+        {5, {-1, 0, 0, 1, 1}, {4000, 64, 64, 9, 9}, "node 2: a sibling"}, /* the first of two */
+        {5, {-1, 0, 0, 3, 0}, {4000, 64, 64, 9, 9}, "node 2: a sibling"}, /* before a bad parent */
+        {5, {-1, 0, 4, 0, 0}, {4000, 64, 9, 9, 64}, "node 2: parent 4"},  /* a bad parent first */
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        c5_dep_tree t = {cases[k].n, cases[k].par, cases[k].cel};
+        c5_err err = {{0}};
+        if (!cases[k].needle) {
+            CHECK_MSG(c5_tree_check(&t, &err) == 0, "case %zu refused: %s", k, err.msg);
+            continue;
+        }
+        CHECK_MSG(c5_tree_check(&t, &err) == -1, "case %zu accepted", k);
+        CHECK_HAS(err.msg, cases[k].needle);
+    }
+    /* A duplicate made in a random wide tree: a node given an earlier sibling's cell. */
+    uint64_t rng = 0xD0B1;
+    static int par[2000], cel[2000], pool[C5_SCHED_MAX_CELLS];
+    int made = 0;
+    for (int trial = 0; trial < 200; trial++) {
+        wide_pool(&rng, 100 + (int)(c5_splitmix64(&rng) % 3000), pool);
+        int n = c5t_random_tree_wide(&rng, 2000, pool, 100, 6, par, cel);
+        int i = 1 + (int)(c5_splitmix64(&rng) % (uint64_t)(n - 1)), j = -1;
+        for (int a = 0; a < i; a++)
+            if (par[a] == par[i])
+                j = a;
+        if (j < 0)
+            continue;
+        cel[i] = cel[j];
+        c5_dep_tree t = {n, par, cel};
+        c5_err err = {{0}};
+        char want[96];
+        snprintf(want, sizeof want, "node %d: a sibling (parent %d) already has cell %d", i, par[i], cel[i]);
+        CHECK_MSG(c5_tree_check(&t, &err) == -1, "trial %d accepted", trial);
+        CHECK_MSG(strstr(err.msg, want) != NULL, "trial %d: '%s', want '%s'", trial, err.msg, want);
+        made++;
+    }
+    CHECK(made > 100);
+}
+
+/* The board's largest trees: 8,191 nodes over up to 4,096 cells. */
+TEST(tree_sched_wide_big_tree)
+{
+    uint64_t rng = 0xB1C;
+    static int par[8191], cel[8191], gen[8191], pool[C5_SCHED_MAX_CELLS];
+    int sizes[2] = {512, C5_SCHED_MAX_CELLS};
+    for (int k = 0; k < 2; k++) {
+        wide_pool(&rng, sizes[k], pool);
+        int n = c5t_random_tree_wide(&rng, 8191, pool, sizes[k], 8, par, cel);
+        c5_dep_tree t = {n, par, cel};
+        c5_err err;
+        CHECK(n > 8000);
+        CHECK_INT(c5_tree_check(&t, &err), 0);
+        int sum = c5_sched_sum_maxgen(&t), maxg = c5_tree_generations(&t, gen);
+        for (int r = 1; r <= 2; r++) {
+            c5_schedule s;
+            CHECK_INT(run_rule(&t, (c5_split_rule)r, &s), 0);
+            CHECK_INT(c5_sched_feasible(&t, s.cells, s.len), 1);
+            CHECK(s.len >= sum);
+            CHECK_INT(s.peels_completion, sum);
+            CHECK_INT(s.max_gen, maxg);
+            c5_schedule_free(&s);
+        }
+        /* The rollout rule's cost grows with cells and peels: a smaller tree. */
+        t.n = 300;
+        c5_schedule s1, s3;
+        CHECK_INT(run_rule(&t, C5_SPLIT_MOST_LEAVES, &s1), 0);
+        CHECK_INT(run_rule(&t, C5_SPLIT_ROLLOUT, &s3), 0);
+        CHECK_INT(c5_sched_feasible(&t, s3.cells, s3.len), 1);
+        CHECK_INT(s3.peels_completion, s1.peels_completion);
+        c5_schedule_free(&s1);
+        c5_schedule_free(&s3);
+    }
+}
+
+/* The capped form: the same schedule under a cap it stays within, none (1, len 0) past it. */
+TEST(tree_sched_capped)
+{
+    c5_err err;
+    for (int r = 1; r <= 3; r++) {
+        c5_schedule s, s2;
+        CHECK_INT(c5_sched_celltree(&fig4, (c5_split_rule)r, &s, &err), 0);
+        CHECK_INT(c5_sched_celltree_capped(&fig4, (c5_split_rule)r, s.nodes_examined, &s2, &err), 0);
+        CHECK_INT(s2.len, s.len);
+        CHECK(!memcmp(s.cells, s2.cells, (size_t)s.len * sizeof *s.cells));
+        c5_schedule_free(&s2);
+        /* the paper's rule simulates nothing: no cap applies */
+        CHECK_INT(c5_sched_celltree_capped(&fig4, (c5_split_rule)r, 1, &s2, &err), r == 1 ? 0 : 1);
+        CHECK_INT(s2.len, r == 1 ? s.len : 0);
+        CHECK(s2.cells != NULL);
+        c5_schedule_free(&s2);
+        c5_schedule_free(&s);
+    }
 }

@@ -37,6 +37,37 @@ int c5t_random_tree(uint64_t *rng, int n, int ncells, int maxdepth, int *parent,
     return m;
 }
 
+/* The same with cell ids anywhere in 0..C5_SCHED_MAX_CELLS-1: each node draws its cell from
+ * `pool` (npool distinct ids) and redraws while its parent or an earlier sibling has it. */
+int c5t_random_tree_wide(uint64_t *rng, int n, const int *pool, int npool, int maxdepth, int *parent, int *cell)
+{
+    static int depth[9000], firstkid[9001], nextsib[9000];
+    int m = 0;
+    for (int i = 0; i <= n; i++)
+        firstkid[i] = -1;
+    double proot = 0.1 + 0.3 * c5_uniform(rng);
+    for (int i = 0; i < n; i++) {
+        for (int tries = 0; tries < 20; tries++) {
+            int p = (m == 0 || c5_uniform(rng) < proot) ? -1 : (int)(c5_splitmix64(rng) % (uint64_t)m);
+            if (p >= 0 && depth[p] >= maxdepth)
+                continue;
+            int c = pool[c5_splitmix64(rng) % (uint64_t)npool], taken = p >= 0 && cell[p] == c;
+            for (int k = firstkid[p + 1]; k >= 0 && !taken; k = nextsib[k])
+                taken = cell[k] == c;
+            if (taken)
+                continue;
+            parent[m] = p;
+            cell[m] = c;
+            depth[m] = p < 0 ? 1 : depth[p] + 1;
+            nextsib[m] = firstkid[p + 1];
+            firstkid[p + 1] = m;
+            m++;
+            break;
+        }
+    }
+    return m;
+}
+
 /* Forward brute force over load sequences of growing length. It needs none of the tree
  * guarantees: a load of c serves every unserved node of c whose parent was served before
  * it, so it also solves projections (a node under a node of its own cell, siblings of one
