@@ -391,11 +391,9 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         c5_corners k;
         c5_sample smp;
         int64_t wt[8];
-        c5_gather(r, m, ray->pos, grad, &k);
+        c5_gather_values(r, m, ray->pos, &k);
         c5_tri_weights(k.frac, wt);
         smp.value = c5_narrow_clamp(c5_interp_blend_w(wt, k.v), r->nsh[C5_W_VALUE], 0, 65535, &p->st.saturations);
-        if (grad)
-            c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
         cache_access(p, ray->pos);
         p->st.samples++;
         p->st.cycles += grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
@@ -404,6 +402,13 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         if (r->nsh[C5_W_RGBA])
             for (int ch = 0; ch < 4; ch++)
                 rgba[ch] = c5_narrow_clamp(rgba[ch], r->nsh[C5_W_RGBA], 0, 65535, &p->st.saturations);
+        /* The gradient feeds only the shading of a sample with alpha > 0 (and the taps):
+         * the processor computes it for every sample with gradients on (the cycles count
+         * it), the model skips the host work where no bit depends on it. */
+        if (grad && (tp || rgba[3] > 0)) {
+            c5_gather_diffs(r, m, ray->pos, &k);
+            c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
+        }
         if (tp)
             tap_sample(tp, &k, &smp, grad, r->gs, rgba);
         int done = 0;
