@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "board.h"
+#include "board_equal.h"
 #include "builtin_scenes.h"
 #include "harness.h"
 #include "ray_queue.h"
@@ -284,29 +285,6 @@ static void tap_packet(void *ctx, const uint8_t *pk)
     fnv(&t->packets, pk, C5_PACKET_BYTES);
 }
 
-/* Every counter and cycle count of the frame, host times aside; 0 or -1 after reporting. */
-static int board_stats_equal(const char *what, const c5_board_stats *a, const c5_board_stats *b)
-{
-#define SAME(f)                                                                                            \
-    if (a->f != b->f) {                                                                                    \
-        c5t_failf(__FILE__, __LINE__, "%s: %s %.17g (sorter) != %.17g (equivalent)", what, #f, (double)a->f, \
-                  (double)b->f);                                                                           \
-        return -1;                                                                                         \
-    }
-    for (int i = 0; i < C5_RAY_TYPES; i++)
-        SAME(rays[i]);
-    for (int i = 0; i < C5_END_KINDS; i++)
-        SAME(ends[i]);
-    SAME(samples) SAME(samples_leaped) SAME(cycles) SAME(cycles_process) SAME(cycles_fetch) SAME(board_s)
-    SAME(fetches) SAME(fetch_bytes) SAME(bus_packets) SAME(spills) SAME(queue_pops) SAME(queue_max)
-    SAME(cache_hits) SAME(cache_misses) SAME(saturations) SAME(sched_loads) SAME(sched_skipped)
-    SAME(sched_fallback) SAME(tree_nodes) SAME(tree_slots) SAME(tree_overflow) SAME(tree_tags) SAME(tree_reads)
-    SAME(tree_writes) SAME(stages.gradients) SAME(stages.shadow) SAME(stages.reflect) SAME(stages.refract)
-    SAME(stages.scheduling) SAME(cells)
-#undef SAME
-    return 0;
-}
-
 static int render(const c5_scene *s, const c5_supervol *sv, c5_board_opts o, c5_queue_model m, c5_image *img,
                   c5_board_stats *st, trace *t)
 {
@@ -356,9 +334,8 @@ TEST(rq_heap_whole_frames_every_builtin_scene)
             }
             char what[80];
             snprintf(what, sizeof what, "%s variant %zu", bs->name, v);
-            int same = board_stats_equal(what, &sa, &sb) == 0;
-            int same_img = ia.w == ib.w && ia.h == ib.h &&
-                           !memcmp(ia.rgb, ib.rgb, sizeof(float) * 3 * (size_t)ia.w * (size_t)ia.h);
+            int same = c5t_board_stats_equal(what, &sa, &sb) == 0;
+            int same_img = c5t_same_image(&ia, &ib);
             c5_image_free(&ia);
             c5_image_free(&ib);
             spills += sa.spills;
