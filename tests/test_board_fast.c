@@ -4,13 +4,15 @@
  * operands (geom.h). Whole frames of every built-in scene with no taps, with every tap, and
  * with every tap but the traversal's, compared in every counter, cycle count and the image,
  * and the datapath's transactions of the last two compared call by call; then the 64-bit
- * geometry against the 128-bit on random and boundary operands. */
+ * geometry against the 128-bit on random and boundary operands; the RDRAM load (rows
+ * copied whole inside the grid) against the clamped voxel, byte by byte. */
 #include <stdint.h>
 #include <string.h>
 
 #include "board.h"
 #include "board_equal.h"
 #include "builtin_scenes.h"
+#include "cells.h"
 #include "geom.h"
 #include "harness.h"
 #include "rng.h"
@@ -238,4 +240,47 @@ TEST(geom_from_voxel_64_bit_path_equals_the_128_bit)
                       (long long)r.gscale[a]);
         }
     }
+}
+
+/* ---- the RDRAM load: rows copied, ghosts clamped ---------------------------------- */
+
+/* Every byte of every cell's RDRAM image (the cell and its ghost layers, beyond the grid's
+ * faces too) is the clamped voxel c5_supervol_at reads, for splits down to cells of one
+ * or two voxels. */
+TEST(rdram_load_every_byte_is_the_clamped_voxel)
+{
+    /* A grid whose voxels differ from their neighbours everywhere, faces included. */
+    c5_supervol sv;
+    memset(&sv, 0, sizeof sv);
+    sv.dims[0] = 21, sv.dims[1] = 17, sv.dims[2] = 13;
+    sv.spacing = v3(1, 1, 1);
+    uint8_t vox[21 * 17 * 13];
+    for (size_t i = 0; i < sizeof vox; i++)
+        vox[i] = (uint8_t)(i * 37 + i / 21 * 11 + 1);
+    sv.v = vox;
+    c5_err err;
+    static const int splits[][3] = {{1, 1, 1}, {2, 1, 1}, {3, 2, 2}, {7, 5, 4}, {21, 17, 13}};
+    uint8_t nz[256];
+    memset(nz, 1, sizeof nz);
+    long bytes = 0;
+    for (size_t si = 0; si < sizeof splits / sizeof splits[0]; si++) {
+        c5_cells cl;
+        c5_rdram m = {.cell = -1};
+        CHECK(c5_cells_init(&cl, &sv, splits[si], nz, &err) == 0);
+        for (int cell = 0; cell < cl.count; cell++) {
+            CHECK(c5_rdram_load(&m, &cl, &sv, cell, &err) == 0);
+            size_t o = 0;
+            for (int z = 0; z < m.ext[2]; z++)
+                for (int y = 0; y < m.ext[1]; y++)
+                    for (int x = 0; x < m.ext[0]; x++, o++) {
+                        unsigned want = c5_supervol_at(&sv, m.org[0] + x, m.org[1] + y, m.org[2] + z);
+                        CHECK_MSG(m.v[o] == want, "split %zu cell %d (%d %d %d): %u, want %u", si, cell,
+                                  m.org[0] + x, m.org[1] + y, m.org[2] + z, m.v[o], want);
+                    }
+            bytes += (long)o;
+        }
+        c5_rdram_free(&m);
+        c5_cells_free(&cl);
+    }
+    CHECK(bytes > 21 * 17 * 13 * 5);
 }
