@@ -1,6 +1,7 @@
 /* The board: the DSP (eye rays, SDRAM ray queues, the scheduler, the frame buffer), the
- * RDRAM fetches, the active cell's eDRAM ray queue (the cycle-level insertion sorter) and
- * the processor, with the frame's cycle budget (board.h, docs/board-model.md). */
+ * RDRAM fetches, the active cell's eDRAM ray queue (stepped once a clock cycle: its
+ * equivalent model rq_heap.h, or the clock-level insertion sorter ray_queue.h) and the
+ * processor, with the frame's cycle budget (board.h, docs/board-model.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include "geom.h"
 #include "processor.h"
 #include "ray_queue.h"
+#include "rq_heap.h"
 #include "regs.h"
 #include "taps.h"
 #include "tree_demand.h"
@@ -35,7 +37,9 @@ typedef struct {
     c5_rdram mem;
     c5_proc proc;
     sdram_queue *q;          /* [cells] */
-    c5_rq edram;             /* the active cell's sorter */
+    int cycle_level;         /* 1: the active cell's sorter is edram, 0: heap (same ports) */
+    c5_rq edram;             /* the clock-level sorter (opts.queue_model C5_QUEUE_CYCLE) */
+    c5_rqh heap;             /* its equivalent model (the default) */
     uint8_t (*slot)[C5_PACKET_BYTES]; /* eDRAM packet store, indexed by the sorter's payload */
     uint32_t *slot_shadow;   /* beside each eDRAM packet: its instrument node */
     c5_tree_demand demand;   /* the Cell Tree with unbounded RAM, measured beside the DSP's */
@@ -91,10 +95,19 @@ static uint32_t queue_key(board *b, const c5_bray *r)
 /* One clock cycle of the active cell's sorter, seen by the queue tap. */
 static void edram_step(board *b, const c5_rq_in *in, c5_rq_out *out)
 {
-    c5_rq_step(&b->edram, in, out);
+    if (b->cycle_level)
+        c5_rq_step(&b->edram, in, out);
+    else
+        c5_rqh_step(&b->heap, in, out);
     const c5_taps *t = b->o->taps;
     if (t && t->queue)
         t->queue(t->ctx, in, out);
+}
+
+/* The sorter's occupancy (elements accepted and not popped). */
+static uint32_t edram_count(const board *b)
+{
+    return b->cycle_level ? b->edram.count : b->heap.count;
 }
 
 /* A packet as it is written into a queue (eDRAM or SDRAM), seen by the packet tap. */
@@ -109,7 +122,7 @@ static void pack(board *b, const c5_bray *r, uint8_t pk[C5_PACKET_BYTES])
 /* One cycle of the sorter with an insert: 1 if accepted. */
 static int edram_insert(board *b, const c5_bray *r)
 {
-    if (b->n_free == 0 || b->edram.count >= b->edram.cfg.capacity)
+    if (b->n_free == 0 || edram_count(b) >= (uint32_t)b->o->queue_capacity)
         return 0;
     uint32_t slot = b->free_slots[b->n_free - 1];
     c5_rq_in in = {.insert_valid = 1, .insert_key = queue_key(b, r), .insert_payload = slot};
@@ -233,7 +246,7 @@ static int schedule(board *b, int *sched_pos)
 /* Moves rays from the cell's SDRAM queue into the sorter while it has room. */
 static void refill(board *b, sdram_queue *q)
 {
-    while (q->head < q->n && b->edram.count < b->edram.cfg.capacity) {
+    while (q->head < q->n && edram_count(b) < (uint32_t)b->o->queue_capacity) {
         c5_bray r;
         c5_bray_unpack(q->pk[q->head], &b->cells, &r);
         r.shadow = q->shadow[q->head];
@@ -252,7 +265,7 @@ static void process_cell(board *b, int cell)
     sdram_queue *q = &b->q[cell];
     for (;;) {
         refill(b, q);
-        if (b->edram.count == 0)
+        if (edram_count(b) == 0)
             break;
         c5_rq_in in = {.pop_ready = 1};
         c5_rq_out out;
@@ -308,6 +321,7 @@ static void board_free(board *b)
     free(b->free_slots);
     free(b->fb);
     c5_rq_free(&b->edram);
+    c5_rqh_free(&b->heap);
     free(b->own_tree);
     c5_rdram_free(&b->mem);
     c5_cells_free(&b->cells);
@@ -384,8 +398,9 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     b.tree = o.tree;
     if (!b.tree && (b.tree = b.own_tree = malloc(sizeof *b.own_tree)) != NULL)
         c5_ctree_init(b.tree, 0);
+    b.cycle_level = o.queue_model == C5_QUEUE_CYCLE;
     if (!b.q || !b.slot || !b.slot_shadow || !b.free_slots || !b.fb || !b.tree || c5_demand_init(&b.demand) != 0 ||
-        c5_rq_init(&b.edram, &qcfg) != 0) {
+        (b.cycle_level ? c5_rq_init(&b.edram, &qcfg) : c5_rqh_init(&b.heap, &qcfg)) != 0) {
         board_free(&b);
         return c5_fail(err, "out of memory for the board model (or queue capacity %d outside 1..%u)",
                        o.queue_capacity, C5_RQ_MAX_CAPACITY);
@@ -450,7 +465,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->cache_hits = ps->cache_hits;
     stats->cache_misses = ps->cache_misses;
     stats->saturations = ps->saturations;
-    stats->queue_max = b.edram.stats.max_count;
+    stats->queue_max = b.cycle_level ? b.edram.stats.max_count : b.heap.stats.max_count;
     stats->tree_nodes = b.tree->nodes;
     stats->tree_slots = b.tree->used;
     stats->tree_overflow = b.tree->overflow;

@@ -25,6 +25,13 @@ typedef enum {
     C5_KEY_FIFO = 2,   /* arrival order: a plain FIFO, for comparison */
 } c5_queue_key;
 
+/* How the model steps the eDRAM ray queue (docs/ray-queue.md). Both give the same outputs
+ * every cycle, so the same image, counters and cycles; only the host time differs. */
+typedef enum {
+    C5_QUEUE_EQUIV = 1, /* its equivalent model, a stable heap (rq_heap.h): the default */
+    C5_QUEUE_CYCLE = 2, /* the clock-level insertion sorter, register by register (ray_queue.h) */
+} c5_queue_model;
+
 /* Which cell the DSP loads next when the active queue is empty. */
 typedef enum {
     C5_SCHED_MAXWORK = 1,   /* the online Max Work rule: most queued rays, ties to the lowest id */
@@ -60,6 +67,7 @@ typedef struct {
                               * made from): each scheduled group is worked off, Max Work among its
                               * cells, until none holds a ray */
     int queue_capacity;      /* eDRAM sorter entries, 0: 256 */
+    c5_queue_model queue_model; /* 0: C5_QUEUE_EQUIV */
     int all_stages;          /* 1: keep every stage on even when the scene does not need it */
     double host_bw;          /* bytes/s from host memory/disk to RDRAM, 0: 132e6 (PCI 33 MHz x 32 bit) */
     double host_latency_s;   /* per fetch, 0: 1e-3 (a disk seek); < 0: none */

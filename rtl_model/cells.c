@@ -146,11 +146,27 @@ int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
 {
     if (c5_rdram_place(m, c, cell, err) != 0)
         return -1;
+    /* Row by row: the part of a row inside the grid is one copy of the volume's row (the
+     * clamp changes no index there), the ghost voxels beyond the grid's faces are clamped. */
+    long nx = (long)sv->dims[0], x0 = -m->org[0], x1 = nx - m->org[0];
+    x0 = x0 < 0 ? 0 : x0 > m->ext[0] ? m->ext[0] : x0;
+    x1 = x1 < x0 ? x0 : x1 > m->ext[0] ? m->ext[0] : x1;
     size_t o = 0;
     for (int z = 0; z < m->ext[2]; z++)
-        for (int y = 0; y < m->ext[1]; y++)
-            for (int x = 0; x < m->ext[0]; x++)
-                m->v[o++] = (uint8_t)c5_supervol_at(sv, m->org[0] + x, m->org[1] + y, m->org[2] + z);
+        for (int y = 0; y < m->ext[1]; y++) {
+            for (long x = 0; x < x0; x++)
+                m->v[o + (size_t)x] = (uint8_t)c5_supervol_at(sv, m->org[0] + x, m->org[1] + y, m->org[2] + z);
+            if (x1 > x0) {
+                long ny = (long)sv->dims[1], nz = (long)sv->dims[2], j = m->org[1] + y, k = m->org[2] + z;
+                j = j < 0 ? 0 : j >= ny ? ny - 1 : j;
+                k = k < 0 ? 0 : k >= nz ? nz - 1 : k;
+                const uint8_t *row = sv->v + ((size_t)k * (size_t)ny + (size_t)j) * (size_t)nx;
+                memcpy(m->v + o + x0, row + m->org[0] + x0, (size_t)(x1 - x0));
+            }
+            for (long x = x1; x < m->ext[0]; x++)
+                m->v[o + (size_t)x] = (uint8_t)c5_supervol_at(sv, m->org[0] + x, m->org[1] + y, m->org[2] + z);
+            o += (size_t)m->ext[0];
+        }
     return 0;
 }
 

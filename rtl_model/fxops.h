@@ -32,29 +32,34 @@ static inline int64_t c5_rshift128_he(__int128 x, int s)
     return (int64_t)q;
 }
 
+/* round(n / d) half to even for |n|, |d| < 2^62, d != 0 (no negation or 2 r can overflow):
+ * the steps of c5_div_he in 64 bits, for callers that know their ranges. */
+static inline int64_t c5_div_he64(int64_t n, int64_t d)
+{
+    if (d < 0)
+        n = -n, d = -d;
+    int64_t q = n / d, r = n % d;
+    if (r < 0) {
+        q--;
+        r += d;
+    }
+    int64_t twice = 2 * r;
+    if (twice > d || (twice == d && (q & 1)))
+        q++;
+    return q;
+}
+
 /* round(n / d) half to even, d != 0. A negative divisor is moved to the numerator first:
  * the floor-and-remainder steps below need d > 0 (with d < 0 they gave 1 for 0 / d and
  * -2 for 10 / -3, 1 LSB off in plane and grid-range t). */
 static inline int64_t c5_div_he(__int128 n, __int128 d)
 {
-    /* The same steps in 64 bits when |n|, |d| < 2^62 (no negation or 2 r can overflow):
-     * the quotient is the same integer, and a 128-bit division is a libgcc call
-     * (__divmodti4) several times slower, in every ray's set-up and surface hit. */
+    /* The same steps in 64 bits when |n|, |d| < 2^62: the quotient is the same integer,
+     * and a 128-bit division is a libgcc call (__divmodti4) several times slower, in
+     * every ray's set-up and surface hit. */
     if ((unsigned __int128)(n + ((__int128)1 << 62)) < ((unsigned __int128)1 << 63) &&
-        (unsigned __int128)(d + ((__int128)1 << 62)) < ((unsigned __int128)1 << 63)) {
-        int64_t n64 = (int64_t)n, d64 = (int64_t)d;
-        if (d64 < 0)
-            n64 = -n64, d64 = -d64;
-        int64_t q = n64 / d64, r = n64 % d64;
-        if (r < 0) {
-            q--;
-            r += d64;
-        }
-        int64_t twice = 2 * r;
-        if (twice > d64 || (twice == d64 && (q & 1)))
-            q++;
-        return q;
-    }
+        (unsigned __int128)(d + ((__int128)1 << 62)) < ((unsigned __int128)1 << 63))
+        return c5_div_he64((int64_t)n, (int64_t)d);
     if (d < 0)
         n = -n, d = -d;
     __int128 q = n / d, r = n % d;

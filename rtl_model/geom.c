@@ -70,7 +70,7 @@ void c5_geom_point(const int64_t O[3], const int64_t d[3], int64_t t, int64_t H[
         H[a] = O[a] + c5_rshift128_he((__int128)t * d[a], 14);
 }
 
-int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
+int64_t c5_geom_normalize_wide(const int64_t v[3], int64_t out[3])
 {
     /* |v| with 14 extra fraction bits, then v * 2^14 / |v|. */
     uint64_t len = c5_isqrt((unsigned __int128)dot(v, v) << 28); /* frac + 14 */
@@ -95,7 +95,7 @@ void c5_geom_normal(const c5_surface_regs *s, const int64_t H[3], int64_t n[3])
     c5_geom_normalize(v, n);
 }
 
-int64_t c5_geom_dot14(const int64_t a[3], const int64_t b[3]) { return c5_rshift128_he(dot(a, b), 14); }
+int64_t c5_geom_dot14_wide(const int64_t a[3], const int64_t b[3]) { return c5_rshift128_he(dot(a, b), 14); }
 
 void c5_geom_reflect(const int64_t d[3], const int64_t n[3], int64_t out[3])
 {
@@ -127,6 +127,12 @@ int c5_geom_refract(const int64_t d[3], const int64_t n[3], int64_t eta, int64_t
 
 void c5_geom_from_voxel(const c5_frame_regs *r, const int64_t p[3], int64_t g[3])
 {
+    /* gscale < 2^24 (UQ8.16): below 2^38 the product fits 64 bits, the same rounding. */
+    if (c5_geom_small3(p, 38)) {
+        for (int a = 0; a < 3; a++)
+            g[a] = c5_rshift_he(p[a] * r->gscale[a], 16);
+        return;
+    }
     for (int a = 0; a < 3; a++)
         g[a] = c5_rshift128_he((__int128)p[a] * r->gscale[a], 16);
 }

@@ -276,6 +276,26 @@ static inline __attribute__((always_inline)) void trav_step(const c5_trav_in *in
 
 void c5_trav_step(const c5_trav_in *in, c5_trav_out *o) { trav_step(in, o); }
 
+/* After a step that samples at in->pos: how many of the following steps trav_step is
+ * known to decide "sample" as well. Until pos + n S leaves the box of its 8^3 block within
+ * the cell (steps_to_exit, exact), every position stays in the grid, in the cell and in
+ * the same non-empty block, so only the lifetime can end the run: the sample at pos leaves
+ * lifetime - 1, and step k needs lifetime - k > 0. */
+static int64_t samples_ahead(const c5_trav_in *in)
+{
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        int b = (int)(in->pos[a] >> C5_POS_F) / C5_BLOCK;
+        lo[a] = b * C5_BLOCK > in->lo[a] ? b * C5_BLOCK : in->lo[a];
+        hi[a] = (b + 1) * C5_BLOCK < in->hi[a] ? (b + 1) * C5_BLOCK : in->hi[a];
+        hi[a] = hi[a] < in->dims[a] ? hi[a] : in->dims[a];
+    }
+    int64_t n = steps_to_exit(in->pos, in->S, lo, hi) - 1;
+    if (in->lifetime != C5_LIFE_NONE && n > (int64_t)in->lifetime - 1)
+        n = (int64_t)in->lifetime - 1;
+    return n;
+}
+
 /* The empty flag of the 8^3 block holding pos, 0 outside the grid. */
 static int block_empty_at(const c5_cells *cl, const int dims[3], const int64_t pos[3])
 {
@@ -369,15 +389,29 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         ti.hi[a] = m->hi[a];
         ti.dims[a] = r->dims[a];
     }
+    /* Steps known to sample (samples_ahead): without a traverse tap they skip trav_step's
+     * checks and take its result, one step S and one lifetime less. */
+    int watched = tp && tp->traverse;
+    int64_t ahead = 0;
     for (;;) {
         c5_trav_out to;
-        for (int a = 0; a < 3; a++)
-            ti.pos[a] = ray->pos[a];
-        ti.lifetime = ray->lifetime;
-        ti.block_empty = block_empty_at(cl, r->dims, ray->pos);
-        trav_step(&ti, &to);
-        if (tp && tp->traverse)
-            tp->traverse(tp->ctx, &ti, &to);
+        if (ahead > 0) {
+            ahead--;
+            to.action = C5_TRAV_SAMPLE;
+            for (int a = 0; a < 3; a++)
+                to.pos[a] = ray->pos[a] + S[a];
+            to.lifetime = ray->lifetime == C5_LIFE_NONE ? C5_LIFE_NONE : ray->lifetime - 1;
+        } else {
+            for (int a = 0; a < 3; a++)
+                ti.pos[a] = ray->pos[a];
+            ti.lifetime = ray->lifetime;
+            ti.block_empty = block_empty_at(cl, r->dims, ray->pos);
+            trav_step(&ti, &to);
+            if (watched)
+                tp->traverse(tp->ctx, &ti, &to);
+            else if (to.action == C5_TRAV_SAMPLE)
+                ahead = samples_ahead(&ti);
+        }
         if (to.action == C5_TRAV_LEAVE)
             break;
         if (to.action == C5_TRAV_LEAP) {
@@ -392,11 +426,9 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         c5_corners k;
         c5_sample smp;
         int64_t wt[8];
-        c5_gather(r, m, ray->pos, grad, &k);
+        c5_gather_values(r, m, ray->pos, &k);
         c5_tri_weights(k.frac, wt);
         smp.value = c5_narrow_clamp(c5_interp_blend_w(wt, k.v), r->nsh[C5_W_VALUE], 0, 65535, &p->st.saturations);
-        if (grad)
-            c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
         cache_access(p, ray->pos);
         p->st.samples++;
         p->st.cycles += grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
@@ -405,6 +437,13 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         if (r->nsh[C5_W_RGBA])
             for (int ch = 0; ch < 4; ch++)
                 rgba[ch] = c5_narrow_clamp(rgba[ch], r->nsh[C5_W_RGBA], 0, 65535, &p->st.saturations);
+        /* The gradient feeds only the shading of a sample with alpha > 0 (and the taps):
+         * the processor computes it for every sample with gradients on (the cycles count
+         * it), the model skips the host work where no bit depends on it. */
+        if (grad && (tp || rgba[3] > 0)) {
+            c5_gather_diffs(r, m, ray->pos, &k);
+            c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
+        }
         if (tp)
             tap_sample(tp, &k, &smp, grad, r->gs, rgba);
         int done = 0;

@@ -74,6 +74,16 @@ typedef struct {
     uint32_t payload;
 } c5_rq_slot;
 
+/* What the queue counts since reset; the same for the equivalent model (rq_heap.h). */
+typedef struct {
+    uint64_t cycles;      /* steps since reset */
+    uint64_t inserts;     /* accepted inserts */
+    uint64_t pops;        /* elements popped */
+    uint64_t refused;     /* inserts refused because the queue was full (spilled) */
+    uint64_t masked_keys; /* insert_valid cycles whose key did not fit key_bits */
+    uint32_t max_count;   /* largest occupancy reached */
+} c5_rq_stats;
+
 /* Registers and statistics. Read freely; write only through the functions. */
 typedef struct {
     c5_rq_cfg cfg;
@@ -84,14 +94,7 @@ typedef struct {
     uint32_t count;    /* elements held + in flight */
     uint32_t len;      /* held elements (held[0..len-1] valid); model bookkeeping, not a
                           hardware register: the step never touches stages beyond it */
-    struct {
-        uint64_t cycles;      /* steps since reset */
-        uint64_t inserts;     /* accepted inserts */
-        uint64_t pops;        /* elements popped */
-        uint64_t refused;     /* inserts refused because the queue was full (spilled) */
-        uint64_t masked_keys; /* insert_valid cycles whose key did not fit key_bits */
-        uint32_t max_count;   /* largest occupancy reached */
-    } stats;
+    c5_rq_stats stats;
 } c5_rq;
 
 /* Allocates and resets. 0, or -1 (q zeroed) for a capacity outside 1..4096, key_bits

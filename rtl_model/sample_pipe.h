@@ -25,33 +25,60 @@ static inline int clampi(int v, int lo, int hi) { return v < lo ? lo : v > hi ? 
 /* The gather: for the sample at pos (voxel coordinates, 15 fraction bits) in the RDRAM cell, the
  * trilinear fractions and the 8 corner voxels, and (if want_grad) each corner's central
  * differences. Corner indices are clamped to the grid first, then their central-difference
- * neighbours, exactly as cref's clamp-to-edge (the ghost layers hold them). */
-static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
-                             c5_corners *k)
+ * neighbours, exactly as cref's clamp-to-edge (the ghost layers hold them). In two parts,
+ * the corners (c5_gather_values) and their differences (c5_gather_diffs), so that the
+ * processor reads the differences only for a sample that shades: the same reads either way. */
+static inline void c5_gather_values(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], c5_corners *k)
 {
-    int c[3][2], lo[3][2], hi[3][2], i3[3], inner = 1;
+    int i3[3], inner = 1;
     for (int a = 0; a < 3; a++) {
         int64_t x = pos[a] - (1 << (C5_POS_F - 1)); /* voxel centres at integers */
         int i = (int)(x >> C5_POS_F);
         k->frac[a] = x & ((1 << C5_POS_F) - 1);     /* voxel_frac UQ0.15 */
         i3[a] = i;
-        /* Every index this sample reads (i - 1 .. i + 2 with the gradient, i .. i + 1
-         * without) inside the grid: no clamp changes one. */
-        inner &= want_grad ? i >= 1 && i + 2 <= r->dims[a] - 1 : i >= 0 && i + 1 <= r->dims[a] - 1;
+        inner &= i >= 0 && i + 1 <= r->dims[a] - 1; /* no clamp changes an index */
     }
     const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
     if (inner) {
         /* The same reads as below with the clamps left out (the model's hot path). */
         const uint8_t *b = m->v + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz;
+        k->v[0] = b[0];
+        k->v[1] = b[sx];
+        k->v[2] = b[sy];
+        k->v[3] = b[sx + sy];
+        k->v[4] = b[sz];
+        k->v[5] = b[sx + sz];
+        k->v[6] = b[sy + sz];
+        k->v[7] = b[sx + sy + sz];
+        return;
+    }
+    int c[3][2];
+    for (int a = 0; a < 3; a++)
+        for (int kk = 0; kk < 2; kk++)
+            c[a][kk] = clampi(i3[a] + kk, 0, r->dims[a] - 1) - m->org[a];
+    for (int kz = 0; kz < 2; kz++)
+        for (int ky = 0; ky < 2; ky++)
+            for (int kx = 0; kx < 2; kx++)
+                k->v[kx + 2 * ky + 4 * kz] = m->v[c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
+}
+
+static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], c5_corners *k)
+{
+    int c[3][2], lo[3][2], hi[3][2], i3[3], inner = 1;
+    for (int a = 0; a < 3; a++) {
+        int i = (int)((pos[a] - (1 << (C5_POS_F - 1))) >> C5_POS_F);
+        i3[a] = i;
+        inner &= i >= 1 && i + 2 <= r->dims[a] - 1; /* i - 1 .. i + 2 inside: no clamp */
+    }
+    const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
+    if (inner) {
+        const uint8_t *b = m->v + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz;
         const uint8_t *p[8] = {b, b + sx, b + sy, b + sx + sy, b + sz, b + sx + sz, b + sy + sz, b + sx + sy + sz};
-        for (int j = 0; j < 8; j++)
-            k->v[j] = p[j][0];
-        if (want_grad)
-            for (int j = 0; j < 8; j++) {
-                k->d[0][j] = p[j][sx] - p[j][-sx];
-                k->d[1][j] = p[j][sy] - p[j][-sy];
-                k->d[2][j] = p[j][sz] - p[j][-sz];
-            }
+        for (int j = 0; j < 8; j++) {
+            k->d[0][j] = p[j][sx] - p[j][-sx];
+            k->d[1][j] = p[j][sy] - p[j][-sy];
+            k->d[2][j] = p[j][sz] - p[j][-sz];
+        }
         return;
     }
     for (int a = 0; a < 3; a++) {
@@ -67,16 +94,21 @@ static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const in
         for (int ky = 0; ky < 2; ky++)
             for (int kx = 0; kx < 2; kx++) {
                 int j = kx + 2 * ky + 4 * kz;
-                k->v[j] = m->v[c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
-                if (want_grad) {
-                    k->d[0][j] = m->v[hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
-                                 m->v[lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
-                    k->d[1][j] = m->v[c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
-                                 m->v[c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz];
-                    k->d[2][j] = m->v[c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
-                                 m->v[c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
-                }
+                k->d[0][j] = m->v[hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
+                             m->v[lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
+                k->d[1][j] = m->v[c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
+                             m->v[c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz];
+                k->d[2][j] = m->v[c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
+                             m->v[c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
             }
+}
+
+static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,
+                             c5_corners *k)
+{
+    c5_gather_values(r, m, pos, k);
+    if (want_grad)
+        c5_gather_diffs(r, m, pos, k);
 }
 
 /* The 8 trilinear weights (45 fraction bits) of the fractions, corner k = kx + 2 ky + 4 kz. */
