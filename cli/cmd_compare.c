@@ -237,6 +237,9 @@ int c5_cmd_compare(int argc, char **argv)
     c5_board_opts bopts = {.key = a.key};
     memcpy(bopts.cells, a.cells, sizeof bopts.cells);
     c5_progress_begin(&prog, "compare", 2);
+    c5_progress_frame pf = {&prog, 1, (int)a.frame};
+    bopts.progress = c5_progress_board;
+    bopts.progress_ctx = &pf;
     double t0 = c5_now_s();
     if ((a.ref_long ? c5_cref_render_long : c5_cref_render)(&s, &sv, (int)a.frame, &copts, &r.ref, &r.cref, &err) !=
         0)

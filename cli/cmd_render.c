@@ -250,7 +250,7 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
 /* One frame through the chosen model: the image, the cref-shaped statistics and, for rtl,
  * the board's. */
 static int render_frame(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
-                        c5_cref_stats *st, c5_board_stats *board, c5_err *err)
+                        c5_cref_stats *st, c5_board_stats *board, c5_progress *prog, c5_err *err)
 {
     if (!a->rtl) {
         c5_cref_opts opts = {.threads = (int)a->threads};
@@ -260,6 +260,9 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
     /* -1: not given (the model's default); 0 given: explicitly no latency. */
     opts.host_latency_s = a->host_ms < 0 ? 0 : a->host_ms == 0 ? -1 : a->host_ms * 1e-3;
     memcpy(opts.cells, a->cells, sizeof opts.cells);
+    c5_progress_frame pf = {prog, f, f};
+    opts.progress = c5_progress_board;
+    opts.progress_ctx = &pf;
     if (c5_board_render(s, sv, f, &opts, img, board, err) != 0)
         return -1;
     *st = board_base(board);
@@ -304,7 +307,7 @@ int c5_cmd_render(int argc, char **argv)
         c5_image img;
         c5_cref_stats st;
         c5_board_stats bst;
-        if (render_frame(&a, &s, &sv, f, &img, &st, &bst, &err) != 0) {
+        if (render_frame(&a, &s, &sv, f, &img, &st, &bst, &prog, &err) != 0) {
             rc = C5_EXIT_RUNTIME;
             break;
         }

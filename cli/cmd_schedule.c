@@ -320,13 +320,16 @@ static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
  * tree. */
 static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f,
                      const c5_dsp_sched_result *prev, int prev_group,
-                     c5_ctree *trees, frame_row *row, c5_err *err)
+                     c5_ctree *trees, frame_row *row, c5_progress *prog, c5_err *err)
 {
     c5_image mw_img = {0}, ct_img = {0};
     c5_board_stats mw;
     int g = row->group;
     c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group}};
     memcpy(o.cells, a->cells, sizeof o.cells);
+    c5_progress_frame pf = {prog, f, f};
+    o.progress = c5_progress_board;
+    o.progress_ctx = &pf;
     c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
     int rc = -1;
     if (c5_board_render(s, sv, f, &o, &mw_img, &mw, err) != 0)
@@ -403,7 +406,7 @@ int c5_cmd_schedule(int argc, char **argv)
     for (int f = 0; f < frames; f++) {
         rows[f].group = a.group ? (int)a.group
                         : f == 0 ? 1 : c5_dsp_next_group(rows[f - 1].group, rows[f - 1].sch.overflow, a.cells);
-        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1, trees, &rows[f],
+        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1, trees, &rows[f], &prog,
                       &err) != 0) {
             c5_progress_end(&prog);
             goto fail;

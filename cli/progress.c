@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <unistd.h>
 
+#include "board.h"
 #include "clock.h"
 
 int c5_progress_requested;
@@ -18,6 +19,35 @@ void c5_progress_begin(c5_progress *p, const char *cmd, int total)
     p->total = total;
     p->t0 = c5_now_s();
     p->drawn = 0;
+    p->last_note = 0;
+}
+
+static void vline(c5_progress *p, int done, double t, const char *fmt, va_list ap)
+{
+    fprintf(stderr, "%scube5 %s: [%d/%d] ", p->mode == 1 ? "\r\033[K" : "", p->cmd, done, p->total);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, " (%.1f s)%s", t, p->mode == 1 ? "" : "\n");
+    fflush(stderr);
+    p->drawn = p->mode == 1;
+}
+
+void c5_progress_note(c5_progress *p, int done, const char *fmt, ...)
+{
+    double t = c5_now_s() - p->t0;
+    if (!p->mode || t - p->last_note < C5_PROGRESS_QUIET_S)
+        return;
+    p->last_note = t;
+    va_list ap;
+    va_start(ap, fmt);
+    vline(p, done, t, fmt, ap);
+    va_end(ap);
+}
+
+void c5_progress_board(void *ctx, const struct c5_board_progress *bp)
+{
+    c5_progress_frame *f = ctx;
+    c5_progress_note(f->p, f->done, "frame %d: %llu cell fetches, %llu rays queued", f->frame,
+                     (unsigned long long)bp->fetches, (unsigned long long)bp->rays_queued);
 }
 
 void c5_progress_step(c5_progress *p, int done, const char *fmt, ...)
@@ -27,12 +57,9 @@ void c5_progress_step(c5_progress *p, int done, const char *fmt, ...)
         return;
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "%scube5 %s: [%d/%d] ", p->mode == 1 ? "\r\033[K" : "", p->cmd, done, p->total);
-    vfprintf(stderr, fmt, ap);
-    fprintf(stderr, " (%.1f s)%s", t, p->mode == 1 ? "" : "\n");
+    vline(p, done, t, fmt, ap);
     va_end(ap);
-    fflush(stderr);
-    p->drawn = p->mode == 1;
+    p->last_note = t;
 }
 
 void c5_progress_end(c5_progress *p)

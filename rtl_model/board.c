@@ -46,6 +46,7 @@ typedef struct {
     int group[3], ngroup[3]; /* tree_group: cells a group holds per axis, groups per axis */
     int sgroup[3], nsgroup[3]; /* the same for schedule_group */
     int cur_group;           /* the scheduled group being worked off, -1: none */
+    uint64_t queued;         /* rays in the SDRAM queues (progress) */
     uint32_t *free_slots;
     uint32_t n_free;
     uint32_t seq;            /* FIFO key */
@@ -73,6 +74,7 @@ static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES], uin
     }
     q->shadow[q->n] = shadow;
     memcpy(q->pk[q->n++], pk, C5_PACKET_BYTES);
+    b->queued++;
     return 0;
 }
 
@@ -253,6 +255,7 @@ static void refill(board *b, sdram_queue *q)
         if (!edram_insert(b, &r))
             break;
         q->head++;
+        b->queued--;
         b->st->bus_packets++;
     }
     if (q->head == q->n)
@@ -436,6 +439,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         process_cell(&b, cell);
         uint64_t work = b.proc.st.cycles - c0 + C5_CYC_PIPELINE, moved = stats->bus_packets - p0;
         stats->cycles_process += work > moved ? work : moved; /* the bus runs beside the pipeline */
+        if (o.progress)
+            o.progress(o.progress_ctx, &(c5_board_progress){stats->fetches, b.queued});
     }
     if (b.oom) {
         board_free(&b);

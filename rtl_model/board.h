@@ -51,6 +51,8 @@ typedef struct {
     const uint8_t *block_empty; /* one byte per 8^3 block of the grid */
 } c5_board_host;
 
+struct c5_board_progress;
+
 typedef struct {
     int cells[3];            /* split of the grid into cells per axis; < 1: the fewest cells of at most 256 voxels (c5_model_auto_split) */
     c5_queue_key key;        /* 0: C5_KEY_MORTON */
@@ -75,7 +77,16 @@ typedef struct {
     const c5_board_host *host; /* NULL: the model reads the super volume itself */
     const c5_camera *camera; /* NULL: the scene's camera of the frame (the camera registers) */
     const c5_widths *widths; /* datapath fraction widths, NULL: shipped (widths.h; issue 8 sweep) */
+    /* Called after every cell visit, for a progress line in long frames; NULL: none. */
+    void (*progress)(void *ctx, const struct c5_board_progress *p);
+    void *progress_ctx;
 } c5_board_opts;
+
+/* Where a frame is (c5_board_opts.progress). */
+typedef struct c5_board_progress {
+    uint64_t fetches;     /* cell fetches so far */
+    uint64_t rays_queued; /* rays waiting in the DSP's SDRAM queues */
+} c5_board_progress;
 
 /* The stages the scene needs (docs/board-model.md, "what runs"). */
 typedef struct {
