@@ -143,3 +143,4 @@ json.dump({"cref": cref, "rtl": rtl, "rtl_scaling": scale, "compare": cmp, "link
 print("written:", sys.argv[2])
 PY
 bash "$(dirname "$0")/bench-cast.sh" "$build"
+bash "$(dirname "$0")/bench-supervol.sh" "$build"

@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# make bench, a super volume at real scale: scenes/large/mirror_hall_1024.json (a 1024^3
+# volume between mirrors) on the board model per memory fraction (1/8 .. 1/4096: 2 .. 16
+# cells per axis; a cell holds at most 256 voxels a side, so 1/8 and 1/27 are refused at
+# 1024^3 and say so): host seconds and peak host memory (getrusage of the child, ru_maxrss)
+# of one frame, modelled board seconds, fetches and bytes fetched, and Max Work against the
+# Cell Tree (cube5 schedule, still camera: the last of SUPERVOL_FRAMES frames, the DSP's
+# group rule having settled; docs/cell-tree.md). The volume's voxels are written once to
+# BUILD/bench-data/ (about two minutes) and read from there.
+# Printed as a table and added to BUILD/bench.json as "supervolume".
+# SUPERVOL_SIZE (default 128x128), SUPERVOL_FRAMES (default 5), SUPERVOL=0 skips it all.
+# Usage: bench-supervol.sh BUILD
+set -euo pipefail
+build=${1:-build}
+[ "${SUPERVOL:-1}" = 0 ] && { echo "supervolume: skipped (SUPERVOL=0)"; exit 0; }
+cube5="$build/cube5"
+here=$(cd "$(dirname "$0")" && pwd)
+scene="$here/../scenes/large/mirror_hall_1024.json"
+size=${SUPERVOL_SIZE:-128x128}
+frames=${SUPERVOL_FRAMES:-5}
+data="$build/bench-data"
+raw="$data/blobs_1024x1024x1024_uint8.raw"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$data"
+if [ ! -s "$raw" ]; then
+    echo "supervolume: writing the 1024^3 voxels once to $raw (a few minutes)" >&2
+    "$cube5" cast "$scene" --views 1 --size 64 --save-raw "$raw.part" >/dev/null
+    mv "$raw.part" "$raw"
+fi
+
+# run LABEL CMD...: one line LABEL|EXIT|MAXRSS_KIB|STDOUT (a refusal's message as STDOUT)
+run() {
+    python3 - "$@" <<'PY'
+import resource, subprocess, sys
+p = subprocess.run(sys.argv[2:], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+out = p.stdout.strip() if p.returncode == 0 else p.stderr.strip().splitlines()[-1]
+print("%s|%d|%d|%s" % (sys.argv[1], p.returncode, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, out))
+PY
+}
+
+for n in 2 3 4 8 16; do
+    run "render|$n" "$cube5" render "$scene" --volume "$raw" --model rtl --cells "$n" --size "$size" --frames 1 \
+        --json >>"$tmp/runs"
+    rc=$(tail -n 1 "$tmp/runs" | cut -d'|' -f3)
+    [ "$rc" = 0 ] || continue
+    run "schedule|$n" "$cube5" schedule "$scene" --volume "$raw" --cells "$n" --size "$size" --still \
+        --frames "$frames" --exact-states 0 --json >>"$tmp/runs"
+done
+
+python3 - "$tmp/runs" "$build/bench.json" "$size" "$frames" <<'PY'
+import json, os, sys
+runs, out_path, size, frames = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
+rows = {}
+for line in open(runs):
+    kind, n, rc, rss, text = line.rstrip("\n").split("|", 4)
+    r = rows.setdefault(int(n), {"cells_per_axis": int(n), "memory_fraction": "1/%d" % int(n) ** 3})
+    if kind == "render":
+        if rc != "0":
+            r["refused"] = text
+            continue
+        o = json.loads(text)
+        b = o["frames"][0]["board"]
+        r.update(host_s=o["wall_s"], peak_rss_mib=int(rss) / 1024, board_s=b["board_s"], fetches=b["fetches"],
+                 fetch_bytes=b["fetch_bytes"], samples=o["samples"], samples_leaped=b["samples_leaped"],
+                 tree_nodes=b["tree_nodes"], tree_overflow=b["tree_overflow"],
+                 tree_demand_nodes=b["tree_demand_nodes"], tree_demand_bytes=b["tree_demand_slots"] * 12)
+    elif rc == "0":
+        o = json.loads(text)
+        last = o["frames"][-1]
+        r.update(schedule_frames=len(o["frames"]), fetches_maxwork=last["fetches_maxwork"],
+                 fetches_celltree=last["fetches_celltree"], followed=last["followed"],
+                 tree_group=o["frames"][-2]["tree_group"] if len(o["frames"]) > 1 else 1,
+                 schedule_peak_rss_mib=int(rss) / 1024)
+    else:
+        r["schedule_refused"] = text
+table = [rows[k] for k in sorted(rows)]
+print("\nsupervolume: scenes/large/mirror_hall_1024.json, 1024^3 voxels (1 GiB), %s, board model, one frame" % size)
+print("%-9s %8s %9s %8s %8s %9s %8s %11s %12s %8s %s" % ("memory", "host s", "peak MiB", "board s", "fetches",
+      "GB fetched", "tree", "tree needs", "MaxWork->CT", "fewer", "followed (last frame)"))
+for r in table:
+    if "refused" in r:
+        print("%-9s refused: %s" % (r["memory_fraction"], r["refused"].split(": ", 2)[-1]))
+        continue
+    ct = "%d->%d" % (r.get("fetches_maxwork", 0), r.get("fetches_celltree", 0))
+    fewer = 100.0 * (1 - r["fetches_celltree"] / r["fetches_maxwork"]) if r.get("fetches_maxwork") else 0
+    tree = "%d%s" % (r["tree_nodes"], "!" if r["tree_overflow"] else "")
+    print("%-9s %8.1f %9.0f %8.2f %8d %9.2f %8s %9.0f KB %12s %7.1f%% %s" % (
+        r["memory_fraction"], r["host_s"], r["peak_rss_mib"], r["board_s"], r["fetches"], r["fetch_bytes"] / 1e9,
+        tree, r["tree_demand_bytes"] / 1024, ct, fewer, "%s (tree over %d^3 cells)" % (r.get("followed", "-"),
+                                                                                      r.get("tree_group", 1))))
+print("  (tree: the frame's Cell Tree nodes in the 96 KB, ! = overflowed; tree needs: the RAM its dependencies"
+      " need, tree_demand; MaxWork->CT: fetches of the last of %d still frames)" % frames)
+doc = json.load(open(out_path)) if os.path.exists(out_path) else {}
+doc["supervolume"] = {"scene": "mirror_hall_1024", "voxels": 1024 ** 3, "size": size, "rows": table}
+json.dump(doc, open(out_path, "w"), indent=1)
+PY
