@@ -377,9 +377,7 @@ int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out,
             goto done;
         st->n++;
         const size_t *dims = c5_voxsrc_dims(st->src[i]);
-        memcpy(file_sp[i], c5_voxsrc_spacing(st->src[i]), sizeof file_sp[i]);
         memcpy(st->off[i], s->volumes[i].offset, sizeof st->off[i]);
-        snprintf(out->source_label[i], sizeof out->source_label[i], "%s", c5_voxsrc_label(st->src[i]));
         out->n_sources++;
         for (int a = 0; a < 3; a++)
             if ((size_t)s->volumes[i].offset[a] + dims[a] > need[a])
@@ -393,13 +391,21 @@ int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out,
             goto done;
         }
     }
-    if (resolve_spacing(s, file_sp, out, err) != 0)
-        goto done;
     size_t n;
     if (c5_dims_product(out->dims, &n) != 0) {
         c5_fail(err, "grid: %zux%zux%zu voxels is too large", out->dims[0], out->dims[1], out->dims[2]);
         goto done;
     }
+    /* the grid's size is settled and within its limits: now the files' data (checks,
+     * inflating, the window pass) */
+    for (int i = 0; i < st->n; i++) {
+        if (c5_voxsrc_prepare(st->src[i], err) != 0)
+            goto done;
+        memcpy(file_sp[i], c5_voxsrc_spacing(st->src[i]), sizeof file_sp[i]);
+        snprintf(out->source_label[i], sizeof out->source_label[i], "%s", c5_voxsrc_label(st->src[i]));
+    }
+    if (resolve_spacing(s, file_sp, out, err) != 0)
+        goto done;
     if (s->grid.size > 0) {
         c5_vec3 ext = v3(out->dims[0] * out->spacing.x, out->dims[1] * out->spacing.y, out->dims[2] * out->spacing.z);
         out->spacing = v3_scale(out->spacing, s->grid.size / v3_maxc(ext));

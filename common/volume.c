@@ -532,6 +532,27 @@ static int raw_open(const char *path, const c5_raw_spec *spec, c5_volume_file *o
     return 0;
 }
 
+int c5_volume_probe(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err)
+{
+    memset(out, 0, sizeof *out);
+    out->fd = -1;
+    if (!path)
+        return c5_fail(err, "(null): no file name");
+    if (!(has_ext(path, ".nrrd") || has_ext(path, ".nhdr"))) {
+        if (raw_open(path, spec, out, err) != 0)
+            return -1;
+        close(out->fd);
+        out->fd = -1;
+        return 0;
+    }
+    c5_nrrd_header h;
+    if (c5_nrrd_header_info(path, &h, err) != 0)
+        return -1;
+    memcpy(out->dims, h.dims, sizeof h.dims);
+    out->type = h.type;
+    return 0;
+}
+
 int c5_volume_open(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err)
 {
     memset(out, 0, sizeof *out);

@@ -68,6 +68,9 @@ typedef struct {
     long long offset;
 } c5_volume_file;
 int c5_volume_open(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err);
+/* The dims and type alone, before any data is read, inflated or handed to Teem: a raw file's
+ * checks (they cost a stat), a NRRD's header rules (c5_nrrd_header_info). fd stays -1. */
+int c5_volume_probe(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err);
 
 size_t c5_volume_count(const c5_volume *v);
 /* Voxel value as an unsigned integer, whatever the type. No bounds check. */

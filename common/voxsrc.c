@@ -128,15 +128,29 @@ int c5_voxsrc_open(const c5_volume_desc *d, c5_voxsrc **out, c5_err *err)
         return 0;
     }
     snprintf(s->path, sizeof s->path, "%s", d->path);
-    if (c5_volume_open(d->path, &d->raw, &s->f, err) != 0) {
+    s->d = *d;
+    if (c5_volume_probe(d->path, &d->raw, &s->f, err) != 0) {
         free(s);
         return -1;
     }
     memcpy(s->dims, s->f.dims, sizeof s->dims);
-    if (s->f.spacing[0] > 0 && s->f.spacing[1] > 0 && s->f.spacing[2] > 0)
-        memcpy(s->spacing, s->f.spacing, sizeof s->spacing);
     snprintf(s->label, sizeof s->label, "file %.90s %zux%zux%zu %s", base_name(d->path), s->dims[0], s->dims[1],
              s->dims[2], s->f.type == C5_VOX_U16 ? "uint16" : "uint8");
+    *out = s;
+    return 0;
+}
+
+int c5_voxsrc_prepare(c5_voxsrc *s, c5_err *err)
+{
+    if (s->is_gen || s->f.fd >= 0)
+        return 0;
+    const c5_volume_desc *d = &s->d;
+    if (c5_volume_open(d->path, &d->raw, &s->f, err) != 0)
+        return -1;
+    if (s->f.dims[0] != s->dims[0] || s->f.dims[1] != s->dims[1] || s->f.dims[2] != s->dims[2])
+        return c5_fail(err, "%s: the file changed while it was read", s->path);
+    if (s->f.spacing[0] > 0 && s->f.spacing[1] > 0 && s->f.spacing[2] > 0)
+        memcpy(s->spacing, s->f.spacing, sizeof s->spacing);
     if (s->f.type == C5_VOX_U16) {
         if (d->has_window) {
             s->wlo = d->window[0];
@@ -144,11 +158,9 @@ int c5_voxsrc_open(const c5_volume_desc *d, c5_voxsrc **out, c5_err *err)
             size_t used = strlen(s->label);
             snprintf(s->label + used, sizeof s->label - used, " window [%g, %g]", d->window[0], d->window[1]);
         } else if (auto_window(s, err) != 0) {
-            c5_voxsrc_close(s);
             return -1;
         }
     }
-    *out = s;
     return 0;
 }
 

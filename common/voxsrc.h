@@ -13,14 +13,19 @@
 
 typedef struct c5_voxsrc c5_voxsrc;
 
-/* Opens the volume d describes: a file with every check of c5_volume_load (c5_volume_open),
- * and for uint16 without a window the file's min and max (one streaming pass in chunks); a
- * generator's set-up. 0, or -1 with "PATH: ..." in err. */
+/* Opens the volume d describes as far as its dims and type (c5_volume_probe: no data read,
+ * so that the grid's limits come before any volume work); a generator's set-up. 0, or -1
+ * with "PATH: ..." in err. */
 int c5_voxsrc_open(const c5_volume_desc *d, c5_voxsrc **out, c5_err *err);
+/* Then, before the first read: a file with every check of c5_volume_load (c5_volume_open:
+ * the NRRD precheck, gzip inflated, Teem on the header), its own spacing, and for uint16
+ * without a window the file's min and max (one streaming pass in chunks). */
+int c5_voxsrc_prepare(c5_voxsrc *s, c5_err *err);
 void c5_voxsrc_close(c5_voxsrc *s);
 
 const size_t *c5_voxsrc_dims(const c5_voxsrc *s);
-/* The file's own spacing, all 0 when it states none (raw files, generators). */
+/* The file's own spacing, all 0 when it states none (raw files, generators); known after
+ * c5_voxsrc_prepare. */
 const double *c5_voxsrc_spacing(const c5_voxsrc *s);
 /* "generator NAME XxYxZ" or "file NAME XxYxZ TYPE[ window [lo, hi]]" */
 const char *c5_voxsrc_label(const c5_voxsrc *s);
