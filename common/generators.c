@@ -107,6 +107,13 @@ void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_
 {
     size_t nx = d->gen_dims[0], ny = d->gen_dims[1], nz = d->gen_dims[2];
     double rad = d->radius * (double)(nx < ny ? (nx < nz ? nx : nz) : (ny < nz ? ny : nz));
+    /* locals: a store through out (uint8_t) could alias *d and *g for all the compiler knows */
+    const c5_generator gen = d->generator;
+    const double f_m = d->f_m, alpha = d->alpha, value = d->value;
+    const uint64_t seed = d->seed;
+    const int axis = d->axis, nb = g->n_blobs;
+    const c5_gen_blob *blobs = g->blobs;
+    const size_t n_axis = d->gen_dims[axis < 0 || axis > 2 ? 0 : axis];
     for (size_t z = lo[2]; z < hi[2]; z++)
         for (size_t y = lo[1]; y < hi[1]; y++) {
             uint8_t *row = out + (z - lo[2]) * sz + (y - lo[1]) * sy - lo[0];
@@ -114,21 +121,21 @@ void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_
                 /* the voxel's own definition: nothing depends on the box */
                 double p[3] = {2 * (x + 0.5) / nx - 1, 2 * (y + 0.5) / ny - 1, 2 * (z + 0.5) / nz - 1};
                 double u = 0;
-                switch (d->generator) {
-                case C5_GEN_MARSCHNER_LOBB: u = c5_marschner_lobb(p[0], p[1], p[2], d->f_m, d->alpha); break;
-                case C5_GEN_BLOBS: u = blobs_value(p, g->blobs, g->n_blobs); break;
-                case C5_GEN_CLOUD: u = cloud_value(p, d->seed); break;
+                switch (gen) {
+                case C5_GEN_MARSCHNER_LOBB: u = c5_marschner_lobb(p[0], p[1], p[2], f_m, alpha); break;
+                case C5_GEN_BLOBS: u = blobs_value(p, blobs, nb); break;
+                case C5_GEN_CLOUD: u = cloud_value(p, seed); break;
                 case C5_GEN_SPHERE: {
                     /* Distance in voxels from the centre, with a one-voxel linear edge. */
                     double dx = x + 0.5 - nx / 2.0, dy = y + 0.5 - ny / 2.0, dz = z + 0.5 - nz / 2.0;
                     double e = rad - sqrt(dx * dx + dy * dy + dz * dz) + 0.5;
-                    u = (e < 0 ? 0 : e > 1 ? 1 : e) * d->value / 255.0;
+                    u = (e < 0 ? 0 : e > 1 ? 1 : e) * value / 255.0;
                     break;
                 }
-                case C5_GEN_CONSTANT: u = d->value / 255.0; break;
+                case C5_GEN_CONSTANT: u = value / 255.0; break;
                 case C5_GEN_RAMP: {
-                    size_t idx[3] = {x, y, z}, n = d->gen_dims[d->axis];
-                    u = (idx[d->axis] + 0.5) / (double)n;
+                    size_t idx[3] = {x, y, z};
+                    u = (idx[axis] + 0.5) / (double)n_axis;
                     break;
                 }
                 }
