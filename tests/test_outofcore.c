@@ -170,7 +170,23 @@ TEST(ooc_sources_offsets_fill_every_voxel_and_box)
                      " " TAIL "}",
                      &p) == 0);
     CHECK_INT(p.ooc.dims[0], 70);
-    CHECK(p.res.v[0] == 17); /* voxel (0,0,0): no source covers it */
+    /* the grid by hand: the fill, then each volume pasted in the scene's order (the cloud
+     * covers part of the file) */
+    static uint8_t want[70 * 45 * 33], cloud[20 * 20 * 20], ramp[9 * 40 * 7];
+    memset(want, 17, sizeof want);
+    c5_generate(&p.s.volumes[1], cloud);
+    c5_generate(&p.s.volumes[2], ramp);
+    const struct {
+        const uint8_t *v;
+        size_t d[3], o[3];
+    } put[3] = {{raw, {37, 29, 23}, {3, 2, 1}}, {cloud, {20, 20, 20}, {30, 10, 5}}, {ramp, {9, 40, 7}, {61, 5, 26}}};
+    for (int i = 0; i < 3; i++)
+        for (size_t z = 0; z < put[i].d[2]; z++)
+            for (size_t y = 0; y < put[i].d[1]; y++)
+                for (size_t x = 0; x < put[i].d[0]; x++)
+                    want[((z + put[i].o[2]) * 45 + y + put[i].o[1]) * 70 + x + put[i].o[0]] =
+                        put[i].v[(z * put[i].d[1] + y) * put[i].d[0] + x];
+    CHECK(!memcmp(p.res.v, want, sizeof want));
     CHECK(same_grids(&p.res, &p.ooc) == 0);
     c5_supervol_cache_stats cs;
     c5_supervol_cache_stats_get(&p.ooc, &cs);
