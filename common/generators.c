@@ -1,6 +1,7 @@
 #include "generators.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "rng.h"
 
@@ -38,7 +39,7 @@ static double smoothstep(double e0, double e1, double x)
 
 /* CT-like stand-in: a bright ellipsoidal shell (bone) around smooth Gaussian blobs of
  * mid-range tissue, so that a CT transfer function shows both. */
-static double blobs_value(double p[3], const c5_gen_blob *b, int n)
+__attribute__((noinline)) static double blobs_value(const double p[3], const c5_gen_blob *b, int n)
 {
     double d = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) / 0.92;
     double shell = smoothstep(0.80, 0.86, d) * (1 - smoothstep(0.94, 1.0, d));
@@ -112,7 +113,8 @@ void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_
     const double f_m = d->f_m, alpha = d->alpha, value = d->value;
     const uint64_t seed = d->seed;
     const int axis = d->axis, nb = g->n_blobs;
-    const c5_gen_blob *blobs = g->blobs;
+    c5_gen_blob blobs[C5_GEN_MAX_BLOBS]; /* a local copy: known not to alias out */
+    memcpy(blobs, g->blobs, sizeof blobs[0] * (size_t)(nb > 0 ? nb : 0));
     const size_t n_axis = d->gen_dims[axis < 0 || axis > 2 ? 0 : axis];
     for (size_t z = lo[2]; z < hi[2]; z++)
         for (size_t y = lo[1]; y < hi[1]; y++) {
