@@ -230,7 +230,7 @@ C5_SOVERSION := $(firstword $(subst ., ,$(C5_VERSION)))
 DRV_SONAME := libc5drv.so.$(C5_SOVERSION)
 DRV_SO     := $(BUILD)/libc5drv.so.$(C5_VERSION)
 DRV_STATIC := $(BUILD)/pic/libc5drv.a
-DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/tlp.c common/volume.c common/nrrd_precheck.c \
+DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/voxsrc.c common/tlp.c common/volume.c common/nrrd_precheck.c \
   common/generators.c common/tf.c common/camera.c rtl_model/cells.c rtl_model/regs.c rtl_model/model_limits.c \
   rtl_model/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c
 DRV_PIC_OBJ := $(patsubst %.c,$(BUILD)/pic/%.o,$(DRV_SRC) $(DRV_MODEL_SRC)) $(CREFL_SRC:cref/%.c=$(BUILD)/pic/cref-long/%.o)

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <strings.h>
 #include <time.h>
+#include <errno.h>
+#include <unistd.h>
 
 #include "cast_peer.h"
 #include "cli.h"
@@ -243,19 +245,41 @@ static int load_input(const args *a, input *in, c5_err *err)
     } else if (has_ext(a->input, ".raw") || has_ext(a->input, ".nrrd") || has_ext(a->input, ".nhdr")) {
         c5_raw_spec spec = {.type = a->has_dims ? C5_VOX_U8 : C5_VOX_NONE};
         memcpy(spec.dims, a->dims, sizeof spec.dims);
-        c5_volume v;
-        if (c5_volume_load(a->input, &spec, &v, err))
+        /* opened and checked without reading (c5_volume_open), sized against the memory
+         * budget, then read whole: the caster holds its volume in memory */
+        c5_volume_file v;
+        size_t budget, count;
+        if (c5_mem_budget(&budget, err) || c5_volume_open(a->input, &spec, &v, err))
             return -1;
         if (v.type != C5_VOX_U8) {
-            c5_volume_free(&v);
+            close(v.fd);
             return c5_fail(err, "%s: cast takes uint8 volumes (the peer's convention); use the _uint8 file or a "
                                 "scene with a window",
                            a->input);
         }
+        count = v.dims[0] * v.dims[1] * v.dims[2];
+        if (count > budget) {
+            close(v.fd);
+            return c5_fail(err, "%s: %zux%zux%zu voxels are above the memory budget (C5_MEM_BUDGET, here %zu bytes): "
+                                "the caster needs the whole volume in memory; raise C5_MEM_BUDGET or render with cref",
+                           a->input, v.dims[0], v.dims[1], v.dims[2], budget);
+        }
+        if (!(in->vox = malloc(count))) {
+            close(v.fd);
+            return c5_fail(err, "%s: out of memory for %zu voxels", a->input, count);
+        }
+        for (size_t got = 0; got < count;) {
+            ssize_t r = pread(v.fd, in->vox + got, count - got, (off_t)(v.offset + (long long)got));
+            if (r <= 0 && !(r < 0 && errno == EINTR)) {
+                close(v.fd);
+                return c5_fail(err, "%s: read failed: %s", a->input, r < 0 ? strerror(errno) : "the file ends early");
+            }
+            got += r > 0 ? (size_t)r : 0;
+        }
+        close(v.fd);
         memcpy(in->dims, v.dims, sizeof in->dims);
         if (!a->has_spacing && v.spacing[0] > 0 && v.spacing[1] > 0 && v.spacing[2] > 0)
             memcpy(in->spacing, v.spacing, sizeof in->spacing);
-        in->vox = v.data;
         const char *base = strrchr(a->input, '/');
         snprintf(in->name, sizeof in->name, "%s", base ? base + 1 : a->input);
         char *dot = strrchr(in->name, '.');
@@ -271,6 +295,11 @@ static int load_input(const args *a, input *in, c5_err *err)
         if (c5_supervol_empty(&sv)) {
             c5_supervol_free(&sv);
             return c5_fail(err, "%s: the scene has no volume to cast", label);
+        }
+        if (!sv.v) {
+            int rc = c5_supervol_cast_refusal(&sv, label, err);
+            c5_supervol_free(&sv);
+            return rc;
         }
         memcpy(in->dims, sv.dims, sizeof in->dims);
         double sp[3] = {sv.spacing.x, sv.spacing.y, sv.spacing.z};

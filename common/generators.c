@@ -1,6 +1,7 @@
 #include "generators.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "rng.h"
 
@@ -38,11 +39,7 @@ static double smoothstep(double e0, double e1, double x)
 
 /* CT-like stand-in: a bright ellipsoidal shell (bone) around smooth Gaussian blobs of
  * mid-range tissue, so that a CT transfer function shows both. */
-typedef struct {
-    double c[3], inv_s2, amp;
-} blob;
-
-static double blobs_value(double p[3], const blob *b, int n)
+__attribute__((noinline)) static double blobs_value(const double p[3], const c5_gen_blob *b, int n)
 {
     double d = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) / 0.92;
     double shell = smoothstep(0.80, 0.86, d) * (1 - smoothstep(0.94, 1.0, d));
@@ -87,48 +84,74 @@ static double cloud_value(double p[3], uint64_t seed)
     return (density - 0.22) * 2.2;
 }
 
-void c5_generate(const c5_volume_desc *d, uint8_t *out)
+void c5_gen_prepare(const c5_volume_desc *d, c5_gen_state *g)
+{
+    g->n_blobs = 0;
+    if (d->generator != C5_GEN_BLOBS)
+        return;
+    uint64_t st = d->seed;
+    g->n_blobs = d->count < C5_GEN_MAX_BLOBS ? d->count : C5_GEN_MAX_BLOBS;
+    for (int i = 0; i < g->n_blobs; i++) {
+        double r = 0.55 * cbrt(c5_uniform(&st)), z = 1 - 2 * c5_uniform(&st), phi = 2 * M_PI * c5_uniform(&st);
+        double s = sqrt(fmax(0, 1 - z * z)), sigma = 0.12 + 0.18 * c5_uniform(&st);
+        c5_gen_blob *b = &g->blobs[i];
+        b->c[0] = r * s * cos(phi);
+        b->c[1] = r * s * sin(phi);
+        b->c[2] = r * z;
+        b->inv_s2 = 1 / (sigma * sigma);
+        b->amp = 0.35 + 0.35 * c5_uniform(&st);
+    }
+}
+
+void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_t lo[3], const size_t hi[3],
+                     uint8_t *out, size_t sy, size_t sz)
 {
     size_t nx = d->gen_dims[0], ny = d->gen_dims[1], nz = d->gen_dims[2];
-    blob blobs[256];
-    int nb = 0;
-    if (d->generator == C5_GEN_BLOBS) {
-        uint64_t st = d->seed;
-        nb = d->count < 256 ? d->count : 256;
-        for (int i = 0; i < nb; i++) {
-            double r = 0.55 * cbrt(c5_uniform(&st)), z = 1 - 2 * c5_uniform(&st), phi = 2 * M_PI * c5_uniform(&st);
-            double s = sqrt(fmax(0, 1 - z * z)), sigma = 0.12 + 0.18 * c5_uniform(&st);
-            blobs[i] = (blob){{r * s * cos(phi), r * s * sin(phi), r * z}, 1 / (sigma * sigma),
-                              0.35 + 0.35 * c5_uniform(&st)};
-        }
-    }
     double rad = d->radius * (double)(nx < ny ? (nx < nz ? nx : nz) : (ny < nz ? ny : nz));
-    size_t i = 0;
-    for (size_t z = 0; z < nz; z++)
-        for (size_t y = 0; y < ny; y++)
-            for (size_t x = 0; x < nx; x++, i++) {
+    /* locals: a store through out (uint8_t) could alias *d and *g for all the compiler knows */
+    const c5_generator gen = d->generator;
+    const double f_m = d->f_m, alpha = d->alpha, value = d->value;
+    const uint64_t seed = d->seed;
+    const int axis = d->axis, nb = g->n_blobs;
+    c5_gen_blob blobs[C5_GEN_MAX_BLOBS]; /* a local copy: known not to alias out */
+    memcpy(blobs, g->blobs, sizeof blobs[0] * (size_t)(nb > 0 ? nb : 0));
+    const size_t n_axis = d->gen_dims[axis < 0 || axis > 2 ? 0 : axis];
+    for (size_t z = lo[2]; z < hi[2]; z++)
+        for (size_t y = lo[1]; y < hi[1]; y++) {
+            uint8_t *row = out + (z - lo[2]) * sz + (y - lo[1]) * sy - lo[0];
+            for (size_t x = lo[0]; x < hi[0]; x++) {
+                /* the voxel's own definition: nothing depends on the box */
                 double p[3] = {2 * (x + 0.5) / nx - 1, 2 * (y + 0.5) / ny - 1, 2 * (z + 0.5) / nz - 1};
                 double u = 0;
-                switch (d->generator) {
-                case C5_GEN_MARSCHNER_LOBB: u = c5_marschner_lobb(p[0], p[1], p[2], d->f_m, d->alpha); break;
+                switch (gen) {
+                case C5_GEN_MARSCHNER_LOBB: u = c5_marschner_lobb(p[0], p[1], p[2], f_m, alpha); break;
                 case C5_GEN_BLOBS: u = blobs_value(p, blobs, nb); break;
-                case C5_GEN_CLOUD: u = cloud_value(p, d->seed); break;
+                case C5_GEN_CLOUD: u = cloud_value(p, seed); break;
                 case C5_GEN_SPHERE: {
                     /* Distance in voxels from the centre, with a one-voxel linear edge. */
                     double dx = x + 0.5 - nx / 2.0, dy = y + 0.5 - ny / 2.0, dz = z + 0.5 - nz / 2.0;
                     double e = rad - sqrt(dx * dx + dy * dy + dz * dz) + 0.5;
-                    u = (e < 0 ? 0 : e > 1 ? 1 : e) * d->value / 255.0;
+                    u = (e < 0 ? 0 : e > 1 ? 1 : e) * value / 255.0;
                     break;
                 }
-                case C5_GEN_CONSTANT: u = d->value / 255.0; break;
+                case C5_GEN_CONSTANT: u = value / 255.0; break;
                 case C5_GEN_RAMP: {
-                    size_t idx[3] = {x, y, z}, n = d->gen_dims[d->axis];
-                    u = (idx[d->axis] + 0.5) / (double)n;
+                    size_t idx[3] = {x, y, z};
+                    u = (idx[axis] + 0.5) / (double)n_axis;
                     break;
                 }
                 }
-                out[i] = quantise(u);
+                row[x] = quantise(u);
             }
+        }
+}
+
+void c5_generate(const c5_volume_desc *d, uint8_t *out)
+{
+    c5_gen_state g;
+    c5_gen_prepare(d, &g);
+    size_t lo[3] = {0, 0, 0};
+    c5_generate_box(d, &g, lo, d->gen_dims, out, d->gen_dims[0], d->gen_dims[0] * d->gen_dims[1]);
 }
 
 const char *c5_generator_name(c5_generator g)

@@ -4,6 +4,7 @@
 #ifndef C5_GENERATORS_H
 #define C5_GENERATORS_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "scene.h"
@@ -17,6 +18,22 @@ void c5_marschner_lobb_grad(double x, double y, double z, double f_m, double alp
 
 /* Fills out (d->gen_dims voxels, x fastest) from the generator description. */
 void c5_generate(const c5_volume_desc *d, uint8_t *out);
+
+/* What a generator computes once from its parameters (the blobs of C5_GEN_BLOBS). */
+#define C5_GEN_MAX_BLOBS 256
+typedef struct {
+    double c[3], inv_s2, amp;
+} c5_gen_blob;
+typedef struct {
+    int n_blobs;
+    c5_gen_blob blobs[C5_GEN_MAX_BLOBS];
+} c5_gen_state;
+void c5_gen_prepare(const c5_volume_desc *d, c5_gen_state *g);
+/* Voxels [lo, hi) of the generated volume (hi <= gen_dims), each by its own definition, so
+ * any box holds the same bits as the whole volume there: voxel (x, y, z) of the box at
+ * out[(z - lo[2]) sz + (y - lo[1]) sy + x - lo[0]]. Thread-safe (g is only read). */
+void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_t lo[3], const size_t hi[3],
+                     uint8_t *out, size_t sy, size_t sz);
 
 const char *c5_generator_name(c5_generator g);
 

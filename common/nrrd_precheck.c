@@ -337,9 +337,25 @@ static long long skip_lines(int fd, long lines)
     return used;
 }
 
-/* Inflates one gzip member from fd, counting its output without keeping it; 0 when it
- * gives exactly `want` bytes and nothing follows it. */
-static int check_gzip(int fd, const char *path, size_t want, c5_err *err)
+/* Writes all n bytes at the descriptor's position; 0, or -1 with errno. */
+static int write_full(int fd, const unsigned char *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return -1;
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* Inflates one gzip member from fd, counting its output; 0 when it gives exactly `want`
+ * bytes and nothing follows it. With out_fd >= 0 the output after its first `skip` bytes
+ * (the voxels) is written there as it comes, else it is not kept. */
+static int check_gzip(int fd, const char *path, size_t want, int out_fd, size_t skip, c5_err *err)
 {
     z_stream z;
     memset(&z, 0, sizeof z);
@@ -375,11 +391,19 @@ static int check_gzip(int fd, const char *path, size_t want, c5_err *err)
             FAIL("%s: gzip data is corrupt (%s)", path, z.msg ? z.msg : "inflate failed");
             goto done;
         }
-        total += OUT - z.avail_out;
-        if (total > want) {
+        size_t made = OUT - z.avail_out;
+        if (total + made > want) {
             FAIL("%s: gzip data holds more than the %zu bytes the header declares", path, want);
             goto done;
         }
+        if (out_fd >= 0 && total + made > skip) {
+            size_t from = total >= skip ? 0 : (size_t)(skip - total);
+            if (write_full(out_fd, out + from, made - from) != 0) {
+                FAIL("%s: cannot write the inflated data to a temporary file: %s", path, strerror(errno));
+                goto done;
+            }
+        }
+        total += made;
     }
     if (total != want) {
         FAIL("%s: gzip data holds %llu bytes, the header declares %zu", path, total, want);
@@ -398,7 +422,7 @@ done:
 }
 
 /* Checks the data at offset `at` of the open file fd (of `size` bytes) against the header. */
-static int check_data(int fd, const char *path, long long size, long long at, const c5_nrrd_header *h,
+static int check_data(int fd, const char *path, long long size, long long at, c5_nrrd_header *h, int out_fd,
                       c5_err *err)
 {
     if (lseek(fd, (off_t)at, SEEK_SET) < 0)
@@ -413,13 +437,16 @@ static int check_data(int fd, const char *path, long long size, long long at, co
     if (h->encoding == C5_NRRD_GZIP) {
         if (h->byte_skip < 0)
             return FAIL("%s: byte skip -1 with gzip encoding is not supported", path);
-        return check_gzip(fd, path, h->data_bytes + (size_t)h->byte_skip, err);
+        h->data_offset = at;
+        return check_gzip(fd, path, h->data_bytes + (size_t)h->byte_skip, out_fd, (size_t)h->byte_skip, err);
     }
     if (h->byte_skip < 0) {
         if (left < h->data_bytes)
             return FAIL("%s: data is %llu bytes, expected at least %zu", path, left, h->data_bytes);
+        h->data_offset = size - (long long)h->data_bytes; /* byte skip -1: the data ends the file */
         return 0;
     }
+    h->data_offset = at + h->byte_skip;
     unsigned long long want = (unsigned long long)h->byte_skip + h->data_bytes;
     if (left != want) /* a raw loader's rule: the exact size, so that /etc/passwd is no volume */
         return FAIL("%s: data is %llu bytes, expected %llu (%zux%zux%zu %s%s): %s", path, left, want,
@@ -428,7 +455,7 @@ static int check_data(int fd, const char *path, long long size, long long at, co
     return 0;
 }
 
-static int precheck(const char *path, c5_nrrd_header *info, int with_data, c5_err *err)
+static int precheck(const char *path, c5_nrrd_header *info, int with_data, int out_fd, c5_err *err)
 {
     c5_nrrd_header local;
     c5_nrrd_header *h = info ? info : &local;
@@ -475,7 +502,7 @@ static int precheck(const char *path, c5_nrrd_header *info, int with_data, c5_er
             FAIL("%s: cannot read NRRD: the header ends without a blank line or a data file", path);
             goto done;
         }
-        rc = check_data(fd, path, size, (long long)data_at, h, err);
+        rc = check_data(fd, path, size, (long long)data_at, h, out_fd, err);
         goto done;
     }
     close(fd);
@@ -484,7 +511,7 @@ static int precheck(const char *path, c5_nrrd_header *info, int with_data, c5_er
     snprintf(where, sizeof where, "%s: data file %s", path, h->data_path);
     fd = c5_open_regular(h->data_path, where, &size, err);
     if (fd >= 0)
-        rc = check_data(fd, where, size, 0, h, err);
+        rc = check_data(fd, where, size, 0, h, out_fd, err);
 done:
     free(buf);
     if (fd >= 0)
@@ -494,12 +521,17 @@ done:
 
 int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err)
 {
-    return precheck(path, info, 1, err);
+    return precheck(path, info, 1, -1, err);
+}
+
+int c5_nrrd_precheck_inflate(const char *path, c5_nrrd_header *info, int out_fd, c5_err *err)
+{
+    return precheck(path, info, 1, out_fd, err);
 }
 
 int c5_nrrd_precheck(const char *path, c5_err *err) { return c5_nrrd_precheck_info(path, NULL, err); }
 
 int c5_nrrd_header_info(const char *path, c5_nrrd_header *info, c5_err *err)
 {
-    return precheck(path, info, 0, err);
+    return precheck(path, info, 0, -1, err);
 }

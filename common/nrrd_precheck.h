@@ -38,6 +38,8 @@ typedef struct {
     size_t data_bytes;              /* dims x bytes of the type */
     c5_nrrd_encoding encoding;
     long line_skip, byte_skip;
+    long long data_offset;          /* after the whole precheck: raw, the first voxel's byte in
+                                       the data file; gzip, the gzip member's first byte */
     int detached;                   /* the data is in data_path, not after the header */
     char data_path[4096];           /* detached: the data file, resolved like Teem does
                                        (relative names against the header's folder) */
@@ -48,6 +50,9 @@ typedef struct {
  * allocates nothing in proportion to what the header claims. */
 int c5_nrrd_precheck_info(const char *path, c5_nrrd_header *info, c5_err *err);
 int c5_nrrd_precheck(const char *path, c5_err *err);
+/* The whole precheck; for gzip data, the voxels (the inflated stream after its byte skip)
+ * are also written to out_fd as the check inflates them: one pass, never whole in memory. */
+int c5_nrrd_precheck_inflate(const char *path, c5_nrrd_header *info, int out_fd, c5_err *err);
 /* The header part alone (every header rule, nothing of the data: a gzip member is not
  * inflated, a detached data file not opened), for what needs only the declared sizes and
  * the data file's name; the load runs the whole precheck. */

@@ -5,34 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "generators.h"
+#include <pthread.h>
 
-/* uint16 -> uint8 through [lo, hi]: round((v - lo) * 255 / (hi - lo)), clamped. */
-static void window_to_u8(const c5_volume *v, const c5_volume_desc *d, uint8_t *out, char *label, size_t label_len)
-{
-    size_t n = c5_volume_count(v);
-    double lo, hi;
-    if (d->has_window) {
-        lo = d->window[0];
-        hi = d->window[1];
-    } else {
-        unsigned mn = 65535, mx = 0;
-        for (size_t i = 0; i < n; i++) {
-            unsigned x = c5_volume_at(v, i);
-            mn = x < mn ? x : mn;
-            mx = x > mx ? x : mx;
-        }
-        lo = mn;
-        hi = mx > mn ? mx : mn + 1;
-    }
-    double scale = 255.0 / (hi - lo);
-    for (size_t i = 0; i < n; i++) {
-        double x = floor((c5_volume_at(v, i) - lo) * scale + 0.5);
-        out[i] = (uint8_t)(x < 0 ? 0 : x > 255 ? 255 : x);
-    }
-    size_t used = strlen(label);
-    snprintf(label + used, label_len - used, " window [%g, %g]", lo, hi);
-}
+#include "generators.h"
+#include "voxsrc.h"
 
 static const char *base_name(const char *path)
 {
@@ -40,45 +16,300 @@ static const char *base_name(const char *path)
     return b ? b + 1 : path;
 }
 
-/* One source volume as 8-bit voxels (malloc'd) with its dims, and the file's own spacing
- * (all 0 when it gives none for every axis: raw files, generators). */
-static int load_source(const c5_volume_desc *d, uint8_t **out, size_t dims[3], double spacing[3], char *label,
-                       size_t label_len, c5_err *err)
+/* ---- the store: sources and brick cache ------------------------------------------------- */
+
+/* A set of the brick cache: `ways` slots, least recently used evicted, one lock. */
+typedef struct {
+    pthread_mutex_t lock;
+    unsigned long long tick, hits, misses;
+} cache_set;
+
+struct c5_svstore {
+    int n;
+    c5_voxsrc *src[C5_MAX_VOLUMES];
+    long off[C5_MAX_VOLUMES][3];
+    unsigned fill;
+    size_t budget;
+    size_t nb[3];                 /* bricks per axis */
+    size_t nsets, ways;
+    cache_set *set;
+    uint64_t *tag;                /* [nsets * ways]: brick id + 1, 0 = empty */
+    unsigned long long *used;     /* [nsets * ways]: the set's tick at the last use */
+    uint8_t *data;                /* [nsets * ways] bricks of C5_BRICK^3 voxels, x fastest */
+};
+
+#define BRICK_VOXELS ((size_t)1 << (3 * C5_BRICK_LOG2))
+#define CACHE_WAYS 8
+
+static void store_free(struct c5_svstore *st)
 {
-    spacing[0] = spacing[1] = spacing[2] = 0;
-    if (d->kind == C5_SRC_GENERATOR) {
-        size_t n;
-        if (c5_dims_product(d->gen_dims, &n) != 0)
-            return c5_fail(err, "generator %s: dims %zux%zux%zu too large", c5_generator_name(d->generator),
-                           d->gen_dims[0], d->gen_dims[1], d->gen_dims[2]);
-        *out = malloc(n);
-        if (!*out)
-            return c5_fail(err, "generator %s: out of memory for %zu voxels", c5_generator_name(d->generator), n);
-        c5_generate(d, *out);
-        memcpy(dims, d->gen_dims, sizeof d->gen_dims);
-        snprintf(label, label_len, "generator %s %zux%zux%zu", c5_generator_name(d->generator), dims[0], dims[1],
-                 dims[2]);
+    if (!st)
+        return;
+    for (int i = 0; i < st->n; i++)
+        c5_voxsrc_close(st->src[i]);
+    if (st->set)
+        for (size_t i = 0; i < st->nsets; i++)
+            pthread_mutex_destroy(&st->set[i].lock);
+    free(st->set);
+    free(st->tag);
+    free(st->used);
+    free(st->data);
+    free(st);
+}
+
+/* Voxels [lo, hi) inside the grid from the sources: grid.fill, then each source in the
+ * scene's order (a later one covers an earlier one), as the grid was always pasted. */
+static int sources_read(const struct c5_svstore *st, const size_t lo[3], const size_t hi[3], uint8_t *out, size_t sy,
+                        size_t sz, c5_err *err)
+{
+    size_t w = hi[0] - lo[0];
+    for (size_t z = lo[2]; z < hi[2]; z++)
+        for (size_t y = lo[1]; y < hi[1]; y++)
+            memset(out + (z - lo[2]) * sz + (y - lo[1]) * sy, (int)st->fill, w);
+    for (int i = 0; i < st->n; i++) {
+        const size_t *d = c5_voxsrc_dims(st->src[i]);
+        size_t slo[3], shi[3];
+        int empty = 0;
+        for (int a = 0; a < 3; a++) {
+            size_t o = (size_t)st->off[i][a];
+            size_t b0 = lo[a] > o ? lo[a] : o, b1 = hi[a] < o + d[a] ? hi[a] : o + d[a];
+            empty |= b0 >= b1;
+            slo[a] = b0 - o;
+            shi[a] = b1 - o;
+        }
+        if (empty)
+            continue;
+        uint8_t *dst = out + (slo[2] + (size_t)st->off[i][2] - lo[2]) * sz +
+                       (slo[1] + (size_t)st->off[i][1] - lo[1]) * sy + (slo[0] + (size_t)st->off[i][0] - lo[0]);
+        if (c5_voxsrc_read(st->src[i], slo, shi, dst, sy, sz, err) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+static size_t brick_set(const struct c5_svstore *st, uint64_t id)
+{
+    return (size_t)((id * 0x9E3779B97F4A7C15ull) >> 17) % st->nsets;
+}
+
+/* Voxels [lo, hi) inside the grid through the brick cache: one set locked at a time, each
+ * brick's part copied out under its lock. A missing brick is read from the sources into the
+ * set's least recently used slot. */
+static int cached_read(const c5_supervol *sv, const size_t lo[3], const size_t hi[3], uint8_t *out, size_t sy,
+                       size_t sz, c5_err *err)
+{
+    struct c5_svstore *st = sv->store;
+    size_t b0[3], b1[3];
+    for (int a = 0; a < 3; a++) {
+        b0[a] = lo[a] >> C5_BRICK_LOG2;
+        b1[a] = (hi[a] - 1) >> C5_BRICK_LOG2;
+    }
+    for (size_t bz = b0[2]; bz <= b1[2]; bz++)
+        for (size_t by = b0[1]; by <= b1[1]; by++)
+            for (size_t bx = b0[0]; bx <= b1[0]; bx++) {
+                uint64_t id = ((uint64_t)bz * st->nb[1] + by) * st->nb[0] + bx;
+                size_t si = brick_set(st, id);
+                cache_set *set = &st->set[si];
+                uint64_t *tag = st->tag + si * st->ways;
+                unsigned long long *used = st->used + si * st->ways;
+                pthread_mutex_lock(&set->lock);
+                size_t way = st->ways;
+                for (size_t k = 0; k < st->ways; k++)
+                    if (tag[k] == id + 1) {
+                        way = k;
+                        break;
+                    }
+                if (way < st->ways) {
+                    set->hits++;
+                } else {
+                    set->misses++;
+                    way = 0;
+                    for (size_t k = 1; k < st->ways && tag[way]; k++)
+                        if (!tag[k] || used[k] < used[way])
+                            way = k;
+                    tag[way] = 0;
+                    size_t org[3] = {bx << C5_BRICK_LOG2, by << C5_BRICK_LOG2, bz << C5_BRICK_LOG2}, end[3];
+                    for (int a = 0; a < 3; a++)
+                        end[a] = org[a] + C5_BRICK < sv->dims[a] ? org[a] + C5_BRICK : sv->dims[a];
+                    if (sources_read(st, org, end, st->data + (si * st->ways + way) * BRICK_VOXELS, C5_BRICK,
+                                     (size_t)C5_BRICK * C5_BRICK, err) != 0) {
+                        pthread_mutex_unlock(&set->lock);
+                        return -1;
+                    }
+                    tag[way] = id + 1;
+                }
+                used[way] = ++set->tick;
+                const uint8_t *brick = st->data + (si * st->ways + way) * BRICK_VOXELS;
+                size_t org[3] = {bx << C5_BRICK_LOG2, by << C5_BRICK_LOG2, bz << C5_BRICK_LOG2}, c0[3], c1[3];
+                for (int a = 0; a < 3; a++) {
+                    c0[a] = lo[a] > org[a] ? lo[a] : org[a];
+                    c1[a] = hi[a] < org[a] + C5_BRICK ? hi[a] : org[a] + C5_BRICK;
+                }
+                for (size_t z = c0[2]; z < c1[2]; z++)
+                    for (size_t y = c0[1]; y < c1[1]; y++)
+                        memcpy(out + (z - lo[2]) * sz + (y - lo[1]) * sy + (c0[0] - lo[0]),
+                               brick + (((z - org[2]) << C5_BRICK_LOG2) + (y - org[1])) * C5_BRICK + (c0[0] - org[0]),
+                               c1[0] - c0[0]);
+                pthread_mutex_unlock(&set->lock);
+            }
+    return 0;
+}
+
+/* Voxels [lo, hi) inside the grid, from wherever they are. */
+static int core_read(const c5_supervol *sv, const size_t lo[3], const size_t hi[3], uint8_t *out, size_t sy, size_t sz,
+                     c5_err *err)
+{
+    if (sv->v) {
+        size_t w = hi[0] - lo[0];
+        for (size_t z = lo[2]; z < hi[2]; z++)
+            for (size_t y = lo[1]; y < hi[1]; y++)
+                memcpy(out + (z - lo[2]) * sz + (y - lo[1]) * sy,
+                       sv->v + (z * sv->dims[1] + y) * sv->dims[0] + lo[0], w);
         return 0;
     }
-    c5_volume v;
-    if (c5_volume_load(d->path, &d->raw, &v, err) != 0)
-        return -1;
-    size_t n = c5_volume_count(&v);
-    *out = malloc(n ? n : 1);
-    if (!*out) {
-        c5_volume_free(&v);
-        return c5_fail(err, "%s: out of memory for %zu voxels", d->path, n);
+    if (!sv->store)
+        return c5_fail(err, "the grid's voxels are not here (a shell: the host holds them)");
+    size_t n = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    if (n >= C5_SV_DIRECT_VOXELS)
+        return sources_read(sv->store, lo, hi, out, sy, sz, err);
+    return cached_read(sv, lo, hi, out, sy, sz, err);
+}
+
+static long clampl(long i, size_t n) { return i < 0 ? 0 : i >= (long)n ? (long)n - 1 : i; }
+
+int c5_supervol_read_box(const c5_supervol *sv, const long lo[3], const long hi[3], uint8_t *out, c5_err *err)
+{
+    size_t w[3], clo[3], chi[3];
+    int inside = 1;
+    for (int a = 0; a < 3; a++) {
+        if (hi[a] <= lo[a])
+            return 0;
+        w[a] = (size_t)(hi[a] - lo[a]);
+        clo[a] = (size_t)clampl(lo[a], sv->dims[a]);
+        chi[a] = (size_t)clampl(hi[a] - 1, sv->dims[a]) + 1;
+        inside &= lo[a] >= 0 && hi[a] <= (long)sv->dims[a];
     }
-    snprintf(label, label_len, "file %s %zux%zux%zu %s", base_name(d->path), v.dims[0], v.dims[1], v.dims[2],
-             v.type == C5_VOX_U16 ? "uint16" : "uint8");
-    if (v.type == C5_VOX_U16)
-        window_to_u8(&v, d, *out, label, label_len);
-    else
-        memcpy(*out, v.data, n);
-    memcpy(dims, v.dims, sizeof v.dims);
-    if (v.spacing[0] > 0 && v.spacing[1] > 0 && v.spacing[2] > 0)
-        memcpy(spacing, v.spacing, sizeof v.spacing);
-    c5_volume_free(&v);
+    if (inside)
+        return core_read(sv, clo, chi, out, w[0], w[0] * w[1], err);
+    /* the part inside the grid, then every voxel of the box from its clamped position */
+    size_t cw[3] = {chi[0] - clo[0], chi[1] - clo[1], chi[2] - clo[2]}, n = cw[0] * cw[1] * cw[2];
+    uint8_t small[4096], *tmp = n <= sizeof small ? small : malloc(n);
+    if (!tmp)
+        return c5_fail(err, "out of memory for a box of %zu voxels", n);
+    int rc = core_read(sv, clo, chi, tmp, cw[0], cw[0] * cw[1], err);
+    if (rc == 0)
+        for (size_t z = 0; z < w[2]; z++)
+            for (size_t y = 0; y < w[1]; y++) {
+                const uint8_t *src = tmp + ((size_t)clampl(lo[2] + (long)z, sv->dims[2]) - clo[2]) * cw[0] * cw[1] +
+                                     ((size_t)clampl(lo[1] + (long)y, sv->dims[1]) - clo[1]) * cw[0];
+                uint8_t *dst = out + (z * w[1] + y) * w[0];
+                for (size_t x = 0; x < w[0]; x++)
+                    dst[x] = src[(size_t)clampl(lo[0] + (long)x, sv->dims[0]) - clo[0]];
+            }
+    if (tmp != small)
+        free(tmp);
+    return rc;
+}
+
+void c5_supervol_read_box_or_exit(const c5_supervol *sv, const long lo[3], const long hi[3], uint8_t *out)
+{
+    c5_err err;
+    if (c5_supervol_read_box(sv, lo, hi, out, &err) != 0) {
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
+        exit(C5_EXIT_INPUT);
+    }
+}
+
+unsigned c5_supervol_at_store(const c5_supervol *sv, long i, long j, long k)
+{
+    long lo[3] = {i, j, k}, hi[3] = {i + 1, j + 1, k + 1};
+    uint8_t v;
+    c5_supervol_read_box_or_exit(sv, lo, hi, &v);
+    return v;
+}
+
+int c5_supervol_cast_refusal(const c5_supervol *sv, const char *what, c5_err *err)
+{
+    size_t budget = sv->store ? sv->store->budget : 0;
+    return c5_fail(err, "%s: the grid of %zux%zux%zu voxels is above the memory budget (C5_MEM_BUDGET, here %zu "
+                        "bytes): the caster needs the whole grid in memory; raise C5_MEM_BUDGET or render with cref",
+                   what, sv->dims[0], sv->dims[1], sv->dims[2], budget);
+}
+
+void c5_supervol_cache_stats_get(const c5_supervol *sv, c5_supervol_cache_stats *out)
+{
+    memset(out, 0, sizeof *out);
+    const struct c5_svstore *st = sv->store;
+    if (!st)
+        return;
+    for (size_t i = 0; i < st->nsets; i++) {
+        pthread_mutex_lock(&st->set[i].lock);
+        out->hits += st->set[i].hits;
+        out->misses += st->set[i].misses;
+        pthread_mutex_unlock(&st->set[i].lock);
+    }
+    out->bricks = st->nsets * st->ways;
+    out->bytes = out->bricks * BRICK_VOXELS;
+}
+
+/* The brick cache of `budget` bytes (at least one brick) over the grid's dims. */
+static int cache_make(struct c5_svstore *st, const size_t dims[3], size_t budget, c5_err *err)
+{
+    for (int a = 0; a < 3; a++)
+        st->nb[a] = (dims[a] + C5_BRICK - 1) >> C5_BRICK_LOG2;
+    size_t slots = budget / BRICK_VOXELS;
+    if (slots < 1)
+        slots = 1;
+    st->ways = slots < CACHE_WAYS ? slots : CACHE_WAYS;
+    st->nsets = slots / st->ways;
+    size_t n = st->nsets * st->ways;
+    st->set = calloc(st->nsets, sizeof *st->set);
+    st->tag = calloc(n, sizeof *st->tag);
+    st->used = calloc(n, sizeof *st->used);
+    st->data = malloc(n * BRICK_VOXELS);
+    if (!st->set || !st->tag || !st->used || !st->data) {
+        free(st->set);
+        st->set = NULL;
+        return c5_fail(err, "out of memory for a brick cache of %zu bytes (C5_MEM_BUDGET)", n * BRICK_VOXELS);
+    }
+    for (size_t i = 0; i < st->nsets; i++)
+        pthread_mutex_init(&st->set[i].lock, NULL);
+    return 0;
+}
+
+int c5_mem_budget(size_t *out, c5_err *err)
+{
+    const char *e = getenv("C5_MEM_BUDGET");
+    *out = C5_MEM_BUDGET_DEFAULT;
+    if (!e)
+        return 0;
+    const char *p = e;
+    unsigned long long v = 0;
+    int digits = 0;
+    for (; *p >= '0' && *p <= '9'; p++, digits++) {
+        if (v > (~0ull - 9) / 10)
+            return c5_fail(err, "C5_MEM_BUDGET: '%.40s' is too large", e);
+        v = v * 10 + (unsigned)(*p - '0');
+    }
+    int shift = 0;
+    if (*p) {
+        const char *units = "KMGT", *u = strchr(units, *p == 'k' ? 'K' : *p);
+        if (!u || !*u)
+            shift = -1;
+        else {
+            shift = 10 * (int)(u - units + 1);
+            p++;
+            if (*p == 'i' && p[1] == 'B')
+                p += 2;
+            else if (*p == 'B')
+                p++;
+        }
+    }
+    if (!digits || shift < 0 || *p)
+        return c5_fail(err, "C5_MEM_BUDGET: expected a byte count such as 268435456, 512M or 4G, got '%.40s'", e);
+    if (v > (SIZE_MAX >> shift) || v == 0)
+        return c5_fail(err, "C5_MEM_BUDGET: '%.40s' is %s", e, v ? "too large" : "zero: give at least one byte");
+    *out = (size_t)(v << shift);
     return 0;
 }
 
@@ -116,16 +347,17 @@ static int resolve_spacing(const c5_scene *s, const double file_sp[][3], c5_supe
     return 0;
 }
 
-static void paste(c5_supervol *sv, const uint8_t *src, const size_t d[3], const long off[3])
+int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
 {
-    for (size_t z = 0; z < d[2]; z++)
-        for (size_t y = 0; y < d[1]; y++) {
-            size_t gi = (((size_t)off[2] + z) * sv->dims[1] + (size_t)off[1] + y) * sv->dims[0] + (size_t)off[0];
-            memcpy(sv->v + gi, src + (z * d[1] + y) * d[0], d[0]);
-        }
+    size_t budget;
+    if (c5_mem_budget(&budget, err) != 0) {
+        memset(out, 0, sizeof *out);
+        return -1;
+    }
+    return c5_supervol_build_budget(s, budget, out, err);
 }
 
-int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
+int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out, c5_err *err)
 {
     memset(out, 0, sizeof *out);
     out->spacing = s->grid.spacing;
@@ -133,19 +365,23 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
     if (s->n_volumes == 0)
         return 0;
 
-    uint8_t *src[C5_MAX_VOLUMES] = {0};
-    size_t dims[C5_MAX_VOLUMES][3];
+    struct c5_svstore *st = calloc(1, sizeof *st);
+    if (!st)
+        return c5_fail(err, "out of memory for the grid's sources");
+    st->fill = s->grid.fill;
     double file_sp[C5_MAX_VOLUMES][3];
     size_t need[3] = {0, 0, 0};
     int rc = -1;
     for (int i = 0; i < s->n_volumes; i++) {
-        if (load_source(&s->volumes[i], &src[i], dims[i], file_sp[i], out->source_label[i],
-                        sizeof out->source_label[i], err) != 0)
+        if (c5_voxsrc_open(&s->volumes[i], &st->src[i], err) != 0)
             goto done;
+        st->n++;
+        const size_t *dims = c5_voxsrc_dims(st->src[i]);
+        memcpy(st->off[i], s->volumes[i].offset, sizeof st->off[i]);
         out->n_sources++;
         for (int a = 0; a < 3; a++)
-            if ((size_t)s->volumes[i].offset[a] + dims[i][a] > need[a])
-                need[a] = (size_t)s->volumes[i].offset[a] + dims[i][a];
+            if ((size_t)s->volumes[i].offset[a] + dims[a] > need[a])
+                need[a] = (size_t)s->volumes[i].offset[a] + dims[a];
     }
     for (int a = 0; a < 3; a++) {
         out->dims[a] = s->grid.dims[a] ? s->grid.dims[a] : need[a];
@@ -155,13 +391,21 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
             goto done;
         }
     }
-    if (resolve_spacing(s, file_sp, out, err) != 0)
-        goto done;
     size_t n;
     if (c5_dims_product(out->dims, &n) != 0) {
         c5_fail(err, "grid: %zux%zux%zu voxels is too large", out->dims[0], out->dims[1], out->dims[2]);
         goto done;
     }
+    /* the grid's size is settled and within its limits: now the files' data (checks,
+     * inflating, the window pass) */
+    for (int i = 0; i < st->n; i++) {
+        if (c5_voxsrc_prepare(st->src[i], err) != 0)
+            goto done;
+        memcpy(file_sp[i], c5_voxsrc_spacing(st->src[i]), sizeof file_sp[i]);
+        snprintf(out->source_label[i], sizeof out->source_label[i], "%s", c5_voxsrc_label(st->src[i]));
+    }
+    if (resolve_spacing(s, file_sp, out, err) != 0)
+        goto done;
     if (s->grid.size > 0) {
         c5_vec3 ext = v3(out->dims[0] * out->spacing.x, out->dims[1] * out->spacing.y, out->dims[2] * out->spacing.z);
         out->spacing = v3_scale(out->spacing, s->grid.size / v3_maxc(ext));
@@ -189,22 +433,34 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
                 s->source, *s->source ? ": " : "", key, v3_len(ext), samples, step, C5_MAX_RAY_SAMPLES);
         goto done;
     }
-    out->v = malloc(n);
-    if (!out->v) {
-        c5_fail(err, "grid: out of memory for %zu voxels", n);
+    if (n <= budget) {
+        /* resident: the whole grid read from the sources, slab by slab of z */
+        out->v = malloc(n);
+        if (!out->v) {
+            c5_fail(err, "grid: out of memory for %zu voxels (C5_MEM_BUDGET is %zu bytes)", n, budget);
+            goto done;
+        }
+        size_t plane = out->dims[0] * out->dims[1];
+        for (size_t z = 0; z < out->dims[2]; z += 16) {
+            size_t lo[3] = {0, 0, z}, hi[3] = {out->dims[0], out->dims[1], z + 16 < out->dims[2] ? z + 16 : out->dims[2]};
+            if (sources_read(st, lo, hi, out->v + z * plane, out->dims[0], plane, err) != 0)
+                goto done;
+        }
+        rc = 0;
         goto done;
     }
-    memset(out->v, (int)s->grid.fill, n);
-    for (int i = 0; i < s->n_volumes; i++)
-        paste(out, src[i], dims[i], s->volumes[i].offset);
-
+    st->budget = budget;
+    if (cache_make(st, out->dims, budget, err) != 0)
+        goto done;
+    out->store = st;
+    st = NULL;
     rc = 0;
 done:
-    for (int i = 0; i < s->n_volumes; i++)
-        free(src[i]);
+    store_free(st);
     if (rc != 0) {
         free(out->v);
         out->v = NULL;
+        out->store = NULL;
     }
     return rc;
 }
@@ -212,9 +468,9 @@ done:
 void c5_supervol_free(c5_supervol *sv)
 {
     free(sv->v);
+    store_free(sv->store);
     memset(sv, 0, sizeof *sv);
 }
-
 void c5_supervol_marschner_lobb(const c5_supervol *sv, double f_m, double alpha, c5_vec3 p, double *value,
                                 c5_vec3 *grad)
 {

@@ -10,17 +10,34 @@
 #include "err.h"
 #include "scene.h"
 
+struct c5_svstore;
+
 typedef struct {
     size_t dims[3];
     c5_vec3 origin, spacing;
-    uint8_t *v;           /* dims[0]*dims[1]*dims[2], x fastest; NULL when the scene has no volume (dims 0) */
+    uint8_t *v;           /* resident: dims[0]*dims[1]*dims[2], x fastest; NULL when the scene has
+                             no volume (dims 0), when the grid is out of core (store), or a shell */
     /* what was placed, for summaries */
     int n_sources;
     char source_label[C5_MAX_VOLUMES][160];
     /* where the spacing came from (docs/scene-format.md, "Spacing"): "scene" (grid.spacing),
      * "file NAME" (a volume file's own spacing) or "default" (1, 1, 1); before grid.size */
     char spacing_source[180];
+    /* Out of core (docs/out-of-core.md): the grid is above the memory budget, so its voxels
+     * stay in their sources (files read at an offset, generators evaluated per voxel), read
+     * box by box and through a brick cache of the budget's size; NULL when resident. */
+    struct c5_svstore *store;
 } c5_supervol;
+
+/* The memory budget, bytes: a grid of at most this many voxels is held whole (resident);
+ * a larger one is out of core behind a brick cache of this many bytes. */
+#define C5_MEM_BUDGET_DEFAULT ((size_t)1 << 30)
+/* C5_MEM_BUDGET from the environment (a byte count, with an optional suffix K, M, G or T,
+ * powers of 1024), else C5_MEM_BUDGET_DEFAULT; -1 with err when set but not such a size. */
+int c5_mem_budget(size_t *out, c5_err *err);
+/* The brick cache's bricks: C5_BRICK^3 voxels, aligned to the grid. */
+#define C5_BRICK_LOG2 5
+#define C5_BRICK (1 << C5_BRICK_LOG2)
 
 /* Loads or generates every volume of the scene, maps uint16 through its window, places
  * each at its offset and resolves the grid's dims, spacing and origin (grid.center). The
@@ -28,7 +45,30 @@ typedef struct {
  * must agree), else (1, 1, 1); grid.size then scales it. A scene without volumes gives an
  * empty super volume (v == NULL). */
 int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err);
+/* The same with the budget given (c5_supervol_build takes c5_mem_budget's). */
+int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out, c5_err *err);
 void c5_supervol_free(c5_supervol *sv);
+
+/* Voxels [lo, hi) of the grid (clamp-to-edge outside it) into out, x fastest, (hi - lo)
+ * per axis: voxel (x, y, z) at out[((z - lo[2]) (hi[1] - lo[1]) + y - lo[1]) (hi[0] - lo[0])
+ * + x - lo[0]] = c5_supervol_at(sv, x, y, z). Out of core, small boxes go through the brick
+ * cache and large ones (C5_SV_DIRECT_VOXELS and up) straight to the sources; either way the
+ * bits are the grid's. Thread-safe. 0, or -1 with err (a file that fails to read). */
+#define C5_SV_DIRECT_VOXELS ((size_t)4 << (3 * C5_BRICK_LOG2))
+int c5_supervol_read_box(const c5_supervol *sv, const long lo[3], const long hi[3], uint8_t *out, c5_err *err);
+/* The same where no error can be passed on (a renderer's inner loop): on a read failure it
+ * prints "cube5: error: MSG" and exits with C5_EXIT_INPUT. */
+void c5_supervol_read_box_or_exit(const c5_supervol *sv, const long lo[3], const long hi[3], uint8_t *out);
+/* Out of core: the brick cache's counters and capacity (all 0 when resident). */
+typedef struct {
+    unsigned long long hits, misses;
+    size_t bricks, bytes;
+} c5_supervol_cache_stats;
+void c5_supervol_cache_stats_get(const c5_supervol *sv, c5_supervol_cache_stats *st);
+/* The caster (cube5 cast, sweep --knob k) holds its volume whole: its refusal of an
+ * out-of-core grid, "WHAT: the grid of XxYxZ voxels is above the memory budget ...", -1. */
+int c5_supervol_cast_refusal(const c5_supervol *sv, const char *what, c5_err *err);
+unsigned c5_supervol_at_store(const c5_supervol *sv, long i, long j, long k);
 
 /* The analytic Marschner-Lobb signal (f_m, alpha) that the marschner_lobb generator samples
  * when it fills this whole grid, at world point p: value in 0..255 and its gradient per world
@@ -45,13 +85,25 @@ static inline double c5_supervol_min_spacing(const c5_supervol *sv)
 {
     return fmin(sv->spacing.x, fmin(sv->spacing.y, sv->spacing.z));
 }
-/* Voxel value with indices clamped to the grid (clamp-to-edge). */
+/* c5_supervol_at of a resident grid (v != NULL), without the test. */
+static inline unsigned c5_supervol_at_resident(const c5_supervol *sv, long i, long j, long k)
+{
+    long nx = (long)sv->dims[0], ny = (long)sv->dims[1], nz = (long)sv->dims[2];
+    i = i < 0 ? 0 : i >= nx ? nx - 1 : i;
+    j = j < 0 ? 0 : j >= ny ? ny - 1 : j;
+    k = k < 0 ? 0 : k >= nz ? nz - 1 : k;
+    return sv->v[((size_t)k * (size_t)ny + (size_t)j) * (size_t)nx + (size_t)i];
+}
+/* Voxel value with indices clamped to the grid (clamp-to-edge); out of core through the
+ * brick cache (c5_supervol_read_box_or_exit). */
 static inline unsigned c5_supervol_at(const c5_supervol *sv, long i, long j, long k)
 {
     long nx = (long)sv->dims[0], ny = (long)sv->dims[1], nz = (long)sv->dims[2];
     i = i < 0 ? 0 : i >= nx ? nx - 1 : i;
     j = j < 0 ? 0 : j >= ny ? ny - 1 : j;
     k = k < 0 ? 0 : k >= nz ? nz - 1 : k;
+    if (__builtin_expect(!sv->v, 0))
+        return c5_supervol_at_store(sv, i, j, k);
     return sv->v[((size_t)k * (size_t)ny + (size_t)j) * (size_t)nx + (size_t)i];
 }
 

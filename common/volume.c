@@ -358,13 +358,10 @@ static int same_reading(const Nrrd *n, const NrrdIoState *nio, const c5_nrrd_hea
     return 1;
 }
 
-/* The precheck, then Teem's full read (nothing else of Teem ever sees a user's file). */
-static int nrrd_load(const char *path, Nrrd **n, c5_err *err)
+/* Teem's reading of a prechecked header h: the data too, or (header_only) the header alone,
+ * with the byte order it states in *endian. */
+static int nrrd_teem(const char *path, const c5_nrrd_header *h, int header_only, Nrrd **n, int *endian, c5_err *err)
 {
-    c5_nrrd_header h;
-    *n = NULL;
-    if (c5_nrrd_precheck_info(path, &h, err) != 0)
-        return -1;
     *n = nrrdNew();
     NrrdIoState *nio = nrrdIoStateNew();
     if (!*n || !nio) {
@@ -372,8 +369,11 @@ static int nrrd_load(const char *path, Nrrd **n, c5_err *err)
         *n = nrrdNuke(*n);
         return c5_fail(err, "%s: out of memory", path);
     }
+    nio->skipData = header_only ? AIR_TRUE : AIR_FALSE;
     int rc = nrrdLoad(*n, path, nio);
-    int same = rc == 0 && same_reading(*n, nio, &h);
+    int same = rc == 0 && same_reading(*n, nio, h);
+    if (endian)
+        *endian = nio->endian;
     nrrdIoStateNix(nio);
     if (rc != 0) {
         *n = nrrdNuke(*n);
@@ -384,6 +384,16 @@ static int nrrd_load(const char *path, Nrrd **n, c5_err *err)
         return c5_fail(err, "%s: " C5_NRRD_DISAGREE, path);
     }
     return 0;
+}
+
+/* The precheck, then Teem's full read (nothing else of Teem ever sees a user's file). */
+static int nrrd_load(const char *path, Nrrd **n, c5_err *err)
+{
+    c5_nrrd_header h;
+    *n = NULL;
+    if (c5_nrrd_precheck_info(path, &h, err) != 0)
+        return -1;
+    return nrrd_teem(path, &h, 0, n, NULL, err);
 }
 
 int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err)
@@ -415,6 +425,146 @@ int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err)
     memcpy(out->dims, dims, sizeof dims);
     out->type = type;
     return 0;
+}
+
+static int has_ext(const char *path, const char *ext);
+
+/* ---- opened for reads at an offset (c5_volume_open) -------------------------------- */
+
+/* An unlinked temporary file in $TMPDIR (else /tmp): gone when closed, even after a crash. */
+static int temp_file(const char *path, c5_err *err)
+{
+    const char *dir = getenv("TMPDIR");
+    if (!dir || !*dir)
+        dir = "/tmp";
+    char name[4200];
+    if (snprintf(name, sizeof name, "%s/cube5-inflate-XXXXXX", dir) >= (int)sizeof name)
+        return c5_fail(err, "%s: TMPDIR is too long for a temporary file name", path);
+    int fd = mkstemp(name);
+    if (fd < 0)
+        return c5_fail(err, "%s: cannot create a temporary file in %s for the inflated data: %s", path, dir,
+                       strerror(errno));
+    unlink(name);
+    return fd;
+}
+
+static int nrrd_open(const char *path, c5_volume_file *out, c5_err *err)
+{
+    c5_nrrd_header h;
+    int tmp = -1;
+    if (c5_nrrd_header_info(path, &h, err) != 0)
+        return -1;
+    if (h.encoding == C5_NRRD_GZIP && (tmp = temp_file(path, err)) < 0)
+        return -1;
+    /* the whole precheck; gzip data is inflated into tmp on the way */
+    if (c5_nrrd_precheck_inflate(path, &h, tmp, err) != 0) {
+        if (tmp >= 0)
+            close(tmp);
+        return -1;
+    }
+    Nrrd *n;
+    int endian = 0;
+    if (nrrd_teem(path, &h, 1, &n, &endian, err) != 0) {
+        if (tmp >= 0)
+            close(tmp);
+        return -1;
+    }
+    size_t dims[3];
+    c5_voxel_type type = C5_VOX_NONE;
+    if (nrrd_check(path, n, dims, &type, err) != 0) {
+        nrrdNuke(n);
+        if (tmp >= 0)
+            close(tmp);
+        return -1;
+    }
+    for (unsigned a = 0; a < 3; a++)
+        out->spacing[a] = nrrd_spacing(n, a);
+    nrrdNuke(n);
+    memcpy(out->dims, dims, sizeof dims);
+    out->type = type;
+    out->big_endian = type == C5_VOX_U16 && endian == airEndianBig;
+    if (tmp >= 0) {
+        out->fd = tmp;
+        out->offset = 0;
+        return 0;
+    }
+    long long size;
+    char where[sizeof h.data_path + 600];
+    snprintf(where, sizeof where, "%s: data file %s", path, h.data_path);
+    out->fd = c5_open_regular(h.detached ? h.data_path : path, h.detached ? where : path, &size, err);
+    if (out->fd < 0)
+        return -1;
+    if (size < h.data_offset || (unsigned long long)(size - h.data_offset) < h.data_bytes) {
+        close(out->fd);
+        out->fd = -1;
+        return c5_fail(err, "%s: the file shrank after its check", path);
+    }
+    out->offset = h.data_offset;
+    return 0;
+}
+
+static int raw_open(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err)
+{
+    size_t count, bytes;
+    long long size;
+    int fd = c5_open_regular(path, path, &size, err);
+    if (fd < 0)
+        return -1;
+    if (raw_layout(path, spec, out->dims, &out->type, err) != 0) {
+        close(fd);
+        return -1;
+    }
+    if (c5_dims_product(out->dims, &count) != 0 || mul_size(count, voxel_size(out->type), &bytes) != 0) {
+        close(fd);
+        return c5_dims_fail(path, out->dims, err);
+    }
+    if ((unsigned long long)size != bytes) {
+        char why[64] = "truncated";
+        if ((unsigned long long)size > bytes)
+            snprintf(why, sizeof why, "%llu extra bytes", (unsigned long long)size - bytes);
+        close(fd);
+        return c5_fail(err, "%s: file is %lld bytes, expected %zu (%zux%zux%zu %s): %s", path, size, bytes,
+                       out->dims[0], out->dims[1], out->dims[2], type_name(out->type), why);
+    }
+    out->big_endian = out->type == C5_VOX_U16 && spec && spec->big_endian;
+    out->fd = fd;
+    out->offset = 0;
+    return 0;
+}
+
+int c5_volume_probe(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err)
+{
+    memset(out, 0, sizeof *out);
+    out->fd = -1;
+    if (!path)
+        return c5_fail(err, "(null): no file name");
+    if (!(has_ext(path, ".nrrd") || has_ext(path, ".nhdr"))) {
+        if (raw_open(path, spec, out, err) != 0)
+            return -1;
+        close(out->fd);
+        out->fd = -1;
+        return 0;
+    }
+    c5_nrrd_header h;
+    if (c5_nrrd_header_info(path, &h, err) != 0)
+        return -1;
+    memcpy(out->dims, h.dims, sizeof h.dims);
+    out->type = h.type;
+    return 0;
+}
+
+int c5_volume_open(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err)
+{
+    memset(out, 0, sizeof *out);
+    out->fd = -1;
+    if (!path)
+        return c5_fail(err, "(null): no file name");
+    int rc = has_ext(path, ".nrrd") || has_ext(path, ".nhdr") ? nrrd_open(path, out, err) : raw_open(path, spec, out, err);
+    if (rc != 0) {
+        memset(out, 0, sizeof *out);
+        out->fd = -1;
+    }
+    return rc;
 }
 
 /* ---- common ---------------------------------------------------------------------- */

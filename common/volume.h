@@ -13,10 +13,14 @@
 
 typedef enum { C5_VOX_NONE = 0, C5_VOX_U8 = 1, C5_VOX_U16 = 2 } c5_voxel_type;
 
-/* Largest accepted extent per axis and in total. The board addresses volumes up to 512^3;
- * files may be bigger, but not beyond what this process can hold without doubt. */
+/* Largest accepted extent per axis and in total. Per axis: the scene format's and the scene
+ * descriptor's 16 bits. In total 2^44 voxels (16 TiB of 8-bit voxels; 16384^3 and 65535^2 x
+ * 4096 pass): a volume is never held whole unless it fits the memory budget (supervol.h), so
+ * the bound is file offsets and voxel indices far inside 64 bits, not this host's memory
+ * (docs/out-of-core.md). c5_volume_load, which does read a whole file, is used only where its
+ * caller bounds the size (cube5 cast). */
 #define C5_VOLUME_MAX_DIM 65535u
-#define C5_VOLUME_MAX_VOXELS ((size_t)1 << 32)
+#define C5_VOLUME_MAX_VOXELS ((size_t)1 << 44)
 
 typedef struct {
     size_t dims[3];     /* x, y, z */
@@ -47,6 +51,26 @@ int c5_volume_load_nrrd(const char *path, c5_volume *out, c5_err *err);
 /* Dispatches on the extension: .nrrd/.nhdr to NRRD, anything else to raw. */
 int c5_volume_load(const char *path, const c5_raw_spec *spec, c5_volume *out, c5_err *err);
 void c5_volume_free(c5_volume *v);
+
+/* A volume file opened for reads at an offset (common/voxsrc.c reads it box by box): the
+ * same checks as c5_volume_load (the NRRD precheck, then Teem on the header alone), no voxel
+ * in memory. The voxels are `count` values of `type` from byte `offset` of fd, x fastest, in
+ * the file's byte order (big_endian). Raw data is read in place (the raw file, or the NRRD's
+ * own or detached data file); gzip NRRD data cannot be read at an offset, so the precheck's
+ * one inflating pass writes it to an unlinked temporary file in $TMPDIR (else /tmp), which fd
+ * then is (gone when closed). The caller closes fd. */
+typedef struct {
+    size_t dims[3];
+    c5_voxel_type type;
+    int big_endian;
+    double spacing[3];   /* as c5_volume's */
+    int fd;
+    long long offset;
+} c5_volume_file;
+int c5_volume_open(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err);
+/* The dims and type alone, before any data is read, inflated or handed to Teem: a raw file's
+ * checks (they cost a stat), a NRRD's header rules (c5_nrrd_header_info). fd stays -1. */
+int c5_volume_probe(const char *path, const c5_raw_spec *spec, c5_volume_file *out, c5_err *err);
 
 size_t c5_volume_count(const c5_volume *v);
 /* Voxel value as an unsigned integer, whatever the type. No bounds check. */

@@ -7,7 +7,9 @@
  *      follows is v.raw (the header names its data file itself).
  * Files go to a fresh folder in /dev/shm (or /tmp). Promises: 0 with a volume whose size
  * is its dims, or -1 with a one-line message and an empty volume; never a disagreement
- * between the precheck and Teem (C5_NRRD_DISAGREE). */
+ * between the precheck and Teem (C5_NRRD_DISAGREE). The out-of-core opening of the same file
+ * (c5_volume_open: read at the data's offset, gzip inflated to a temporary file) agrees with
+ * the load: both fail, or both succeed with the same dims, type, spacing and voxels. */
 #include <math.h>
 #include <unistd.h>
 
@@ -114,6 +116,33 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             c5_fuzz_expect(v.spacing[a] >= 0 && isfinite(v.spacing[a]), "a spacing is finite and >= 0 (0: unknown)");
         c5_volume_free(&v);
     }
+    c5_volume_file vf;
+    c5_err err2 = {{0}};
+    int rc2 = c5_volume_open(path, NULL, &vf, &err2);
+    c5_fuzz_expect(rc2 == rc, "c5_volume_open fails exactly when c5_volume_load does");
+    if (rc2 != 0)
+        c5_fuzz_expect(c5_fuzz_one_line(err2.msg, sizeof err2.msg), "a one-line error message");
+    if (rc2 == 0 && rc == 0) {
+        c5_volume w;
+        c5_fuzz_expect(c5_volume_load(path, NULL, &w, &err) == 0, "the load repeats");
+        size_t vb = vf.type == C5_VOX_U16 ? 2 : 1, bytes = c5_volume_count(&w) * vb;
+        c5_fuzz_expect(!memcmp(vf.dims, w.dims, sizeof vf.dims) && vf.type == w.type &&
+                           !memcmp(vf.spacing, w.spacing, sizeof vf.spacing), "the same dims, type and spacing");
+        uint8_t *buf = malloc(bytes ? bytes : 1);
+        c5_fuzz_expect(buf && pread(vf.fd, buf, bytes, (off_t)vf.offset) == (ssize_t)bytes, "the voxels at the offset");
+        for (size_t i = 0; i < c5_volume_count(&w); i++) {
+            unsigned x = vb == 1 ? buf[i] : vf.big_endian ? (unsigned)(buf[2 * i] << 8 | buf[2 * i + 1])
+                                                         : (unsigned)(buf[2 * i + 1] << 8 | buf[2 * i]);
+            if (x != c5_volume_at(&w, i)) {
+                c5_fuzz_expect(0, "the voxels read at the offset are the loaded ones");
+                break;
+            }
+        }
+        free(buf);
+        c5_volume_free(&w);
+    }
+    if (rc2 == 0)
+        close(vf.fd);
     unlink(path);
     if (data_path[0])
         unlink(data_path);

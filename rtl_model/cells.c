@@ -4,21 +4,47 @@
 
 #include "cells.h"
 
-/* No sample whose trilinear corners lie in [lo, hi] (voxels, inclusive, clamped) can have
+/* No sample whose trilinear corners lie in a voxel range of values vmin..vmax can have
  * alpha > 0: every table entry the interpolated value can touch, floor(min) .. max + 1,
  * has alpha 0. */
-static int range_empty(const c5_supervol *sv, const int lo[3], const int hi[3], const int nz_prefix[257])
+static int range_empty(unsigned vmin, unsigned vmax, const int nz_prefix[257])
 {
-    unsigned vmin = 255, vmax = 0;
-    for (int z = lo[2]; z <= hi[2]; z++)
-        for (int y = lo[1]; y <= hi[1]; y++)
-            for (int x = lo[0]; x <= hi[0]; x++) {
-                unsigned v = c5_supervol_at(sv, x, y, z);
-                vmin = v < vmin ? v : vmin;
-                vmax = v > vmax ? v : vmax;
-            }
     unsigned top = vmax + 1 > 255 ? 255 : vmax + 1;
     return nz_prefix[top + 1] - nz_prefix[vmin] == 0;
+}
+
+static void minmax(const uint8_t *p, size_t n, unsigned *mn, unsigned *mx)
+{
+    unsigned a = *mn, b = *mx;
+    for (size_t i = 0; i < n; i++) {
+        a = p[i] < a ? p[i] : a;
+        b = p[i] > b ? p[i] : b;
+    }
+    *mn = a;
+    *mx = b;
+}
+
+/* Bytes of one read of the flag passes: they stream the grid in pieces of this size (or one
+ * row of blocks, (dims_x + 2) x 10 x 10), never the grid or a cell whole. */
+#define FLAG_READ_BYTES ((size_t)1 << 22)
+
+/* Values of voxels [lo, hi] (inclusive, clamped) read in rows of planes of at most
+ * FLAG_READ_BYTES bytes through buf. */
+static int box_range(const c5_supervol *sv, const int lo[3], const int hi[3], uint8_t *buf, unsigned *mn,
+                     unsigned *mx, c5_err *err)
+{
+    size_t w = (size_t)(hi[0] - lo[0] + 1), band = FLAG_READ_BYTES / w > 0 ? FLAG_READ_BYTES / w : 1;
+    *mn = 255;
+    *mx = 0;
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y += (int)band) {
+            int y1 = y + (int)band - 1 < hi[1] ? y + (int)band - 1 : hi[1];
+            long blo[3] = {lo[0], y, z}, bhi[3] = {(long)hi[0] + 1, (long)y1 + 1, (long)z + 1};
+            if (c5_supervol_read_box(sv, blo, bhi, buf, err) != 0)
+                return -1;
+            minmax(buf, w * (size_t)(y1 - y + 1), mn, mx);
+        }
+    return 0;
 }
 
 void c5_cell_box(const c5_cells *c, int cell, int lo[3], int hi[3])
@@ -75,25 +101,46 @@ int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint
     int nz_prefix[257] = {0};
     for (int i = 0; i < 256; i++)
         nz_prefix[i + 1] = nz_prefix[i] + (alpha_nz[i] != 0);
+    /* one row of blocks with its apron: x in [-1, 8 bdims_x], 10 rows, 10 planes */
+    size_t row_w = (size_t)c->bdims[0] * C5_BLOCK + 2, row_bytes = row_w * (C5_BLOCK + 2) * (C5_BLOCK + 2);
+    size_t cap = row_bytes > FLAG_READ_BYTES + (size_t)c->dims[0] + 2 ? row_bytes : FLAG_READ_BYTES + (size_t)c->dims[0] + 2;
+    uint8_t *buf = malloc(cap);
+    if (!buf) {
+        c5_cells_free(c);
+        return c5_fail(err, "out of memory for the cell flags' read buffer (%zu bytes)", cap);
+    }
     for (int cell = 0; cell < c->count; cell++) {
         int lo[3], hi[3];
+        unsigned mn, mx;
         c5_cell_box(c, cell, lo, hi);
         for (int a = 0; a < 3; a++)
             lo[a]--; /* hi is already the first voxel past the cell: the upper corner */
-        c->empty[cell] = (uint8_t)range_empty(sv, lo, hi, nz_prefix);
+        if (box_range(sv, lo, hi, buf, &mn, &mx, err) != 0)
+            goto fail;
+        c->empty[cell] = (uint8_t)range_empty(mn, mx, nz_prefix);
     }
     for (int bz = 0; bz < c->bdims[2]; bz++)
-        for (int by = 0; by < c->bdims[1]; by++)
+        for (int by = 0; by < c->bdims[1]; by++) {
+            long lo[3] = {-1, (long)by * C5_BLOCK - 1, (long)bz * C5_BLOCK - 1};
+            long hi[3] = {lo[0] + (long)row_w, lo[1] + C5_BLOCK + 2, lo[2] + C5_BLOCK + 2};
+            if (c5_supervol_read_box(sv, lo, hi, buf, err) != 0)
+                goto fail;
             for (int bx = 0; bx < c->bdims[0]; bx++) {
-                int b[3] = {bx, by, bz}, lo[3], hi[3];
-                for (int a = 0; a < 3; a++) {
-                    lo[a] = b[a] * C5_BLOCK - 1;
-                    hi[a] = (b[a] + 1) * C5_BLOCK;
-                }
+                unsigned mn = 255, mx = 0;
+                for (int z = 0; z < C5_BLOCK + 2; z++)
+                    for (int y = 0; y < C5_BLOCK + 2; y++)
+                        minmax(buf + ((size_t)z * (C5_BLOCK + 2) + (size_t)y) * row_w + (size_t)bx * C5_BLOCK,
+                               C5_BLOCK + 2, &mn, &mx);
                 c->block_empty[((size_t)bz * c->bdims[1] + by) * c->bdims[0] + bx] =
-                    (uint8_t)range_empty(sv, lo, hi, nz_prefix);
+                    (uint8_t)range_empty(mn, mx, nz_prefix);
             }
+        }
+    free(buf);
     return 0;
+fail:
+    free(buf);
+    c5_cells_free(c);
+    return -1;
 }
 
 int c5_cells_init_flags(c5_cells *c, const size_t dims[3], const int n[3], const uint8_t *cell_empty,
@@ -146,28 +193,9 @@ int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
 {
     if (c5_rdram_place(m, c, cell, err) != 0)
         return -1;
-    /* Row by row: the part of a row inside the grid is one copy of the volume's row (the
-     * clamp changes no index there), the ghost voxels beyond the grid's faces are clamped. */
-    long nx = (long)sv->dims[0], x0 = -m->org[0], x1 = nx - m->org[0];
-    x0 = x0 < 0 ? 0 : x0 > m->ext[0] ? m->ext[0] : x0;
-    x1 = x1 < x0 ? x0 : x1 > m->ext[0] ? m->ext[0] : x1;
-    size_t o = 0;
-    for (int z = 0; z < m->ext[2]; z++)
-        for (int y = 0; y < m->ext[1]; y++) {
-            for (long x = 0; x < x0; x++)
-                m->v[o + (size_t)x] = (uint8_t)c5_supervol_at(sv, m->org[0] + x, m->org[1] + y, m->org[2] + z);
-            if (x1 > x0) {
-                long ny = (long)sv->dims[1], nz = (long)sv->dims[2], j = m->org[1] + y, k = m->org[2] + z;
-                j = j < 0 ? 0 : j >= ny ? ny - 1 : j;
-                k = k < 0 ? 0 : k >= nz ? nz - 1 : k;
-                const uint8_t *row = sv->v + ((size_t)k * (size_t)ny + (size_t)j) * (size_t)nx;
-                memcpy(m->v + o + x0, row + m->org[0] + x0, (size_t)(x1 - x0));
-            }
-            for (long x = x1; x < m->ext[0]; x++)
-                m->v[o + (size_t)x] = (uint8_t)c5_supervol_at(sv, m->org[0] + x, m->org[1] + y, m->org[2] + z);
-            o += (size_t)m->ext[0];
-        }
-    return 0;
+    long lo[3] = {m->org[0], m->org[1], m->org[2]};
+    long hi[3] = {lo[0] + m->ext[0], lo[1] + m->ext[1], lo[2] + m->ext[2]};
+    return c5_supervol_read_box(sv, lo, hi, m->v, err);
 }
 
 void c5_rdram_free(c5_rdram *m)

@@ -8,7 +8,10 @@
 # the cell count (the default scene at 96^3 and 192^3 voxels, 1, 8 and 64 cells).
 # Printed as tables and written to BUILD/bench.json.
 # With ../shared/data/volumes/ present, also brain_mirrors with a real CT volume.
-# Then the caster section (cube5 cast, the paper's Figures 11-13 and Table 2): scripts/bench-cast.sh.
+# Then the out-of-core section (cref over a 384^3 grid, generated and a raw file, resident and
+# out of core: wall seconds and peak RSS; BENCH_LARGE=1 adds 1024^3 and 2048^3):
+# scripts/bench-ooc.sh; then the caster section (cube5 cast, the paper's Figures 11-13 and
+# Table 2): scripts/bench-cast.sh.
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -142,5 +145,6 @@ json.dump({"cref": cref, "rtl": rtl, "rtl_scaling": scale, "compare": cmp, "link
           indent=1)
 print("written:", sys.argv[2])
 PY
+bash "$(dirname "$0")/bench-ooc.sh" "$build"
 bash "$(dirname "$0")/bench-cast.sh" "$build"
 bash "$(dirname "$0")/bench-supervol.sh" "$build"

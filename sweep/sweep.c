@@ -266,6 +266,8 @@ static int cast_setup(c5_sweep_ctx *c, c5_err *err)
     if (!c->has_volume)
         return c5_fail(err, "--knob k: the scene has no volume to cast");
     double sp[3] = {sv->spacing.x, sv->spacing.y, sv->spacing.z};
+    if (!sv->v)
+        return c5_supervol_cast_refusal(sv, "--knob k", err);
     if (c5_cast_volume_make(sv->v, sv->dims, sp, &c->cv, err) != 0)
         return -1;
     /* The caster puts voxel (i,j,k) at (i sx, j sy, k sz) (VTK's point positions), cref at the

@@ -50,6 +50,17 @@ expect raw_oversized 2 "long_10x10x10_uint8.raw: .*extra bytes" -- "$cube5" rend
 expect raw_dims_mismatch 2 "vol_10x10x10_uint8.raw: .*expected 1100" -- "$cube5" render "$tmp/mismatch.json"
 expect raw_unsupported_type 2 "odd_10x10x10_float32.raw: unsupported voxel type" -- "$cube5" render "$tmp/type.json"
 expect raw_dims_overflow 2 "huge_4294967296x4294967296x2_uint8.raw: dims .*overflow" -- "$cube5" render "$tmp/overflow.json"
+# The memory budget (docs/out-of-core.md): a bad value is refused; a grid above it renders
+# out of core with the same image, and the caster, which needs it whole, refuses it.
+expect mem_budget_bad 2 "C5_MEM_BUDGET: expected a byte count" -- env C5_MEM_BUDGET=lots "$cube5" render "$tmp/ok.json"
+expect mem_budget_zero 2 "C5_MEM_BUDGET: '0' is zero" -- env C5_MEM_BUDGET=0 "$cube5" render "$tmp/ok.json"
+expect mem_budget_cast_refused 2 "default: the grid of 96x96x96 voxels is above the memory budget .C5_MEM_BUDGET, here 65536 bytes." \
+    -- env C5_MEM_BUDGET=64K "$cube5" cast default --views 1
+expect mem_budget_cast_raw_refused 2 "vol_10x10x10_uint8.raw: 10x10x10 voxels are above the memory budget" \
+    -- env C5_MEM_BUDGET=999 "$cube5" cast "$tmp/vol_10x10x10_uint8.raw" --views 1
+crc() { "$@" --json | python3 -c 'import json, sys; print([f["crc32"] for f in json.load(sys.stdin)["frames"]])'; }
+a=$(crc "$cube5" render default --size 24x24 --threads 2) && b=$(crc env C5_MEM_BUDGET=100K "$cube5" render default --size 24x24 --threads 2)
+if [ -n "$a" ] && [ "$a" = "$b" ]; then ok "mem_budget_out_of_core_same_image"; else bad "mem_budget_out_of_core_same_image" "resident $a, out of core $b"; fi
 expect raw_missing 2 "nowhere_2x2x2_uint8.raw: cannot open" -- "$cube5" render "$tmp/missing.json"
 expect volume_option_bad 2 "short_10x10x10_uint8.raw: .*truncated" -- \
     "$cube5" render default --volume "$tmp/short_10x10x10_uint8.raw"

@@ -104,7 +104,10 @@ TEST(volume_dims_product)
     CHECK_INT(n, 65535);
     CHECK_INT(c5_dims_product((size_t[3]){4096, 4096, 256}, &n), 0);
     CHECK_INT(n, (size_t)1 << 32);
-    CHECK_INT(c5_dims_product((size_t[3]){4096, 4096, 257}, &n), -1);
+    CHECK_INT(c5_dims_product((size_t[3]){2048, 2048, 2048}, &n), 0); /* 8 GiB: out of core */
+    CHECK_INT(n, (size_t)1 << 33);
+    CHECK_INT(c5_dims_product((size_t[3]){65535, 65535, 4096}, &n), 0);
+    CHECK_INT(c5_dims_product((size_t[3]){65535, 65535, 4097}, &n), -1); /* past 2^44 */
     CHECK_INT(c5_dims_product((size_t[3]){0, 10, 10}, &n), -1);
     CHECK_INT(c5_dims_product((size_t[3]){65536, 1, 1}, &n), -1);
     CHECK_INT(c5_dims_product((size_t[3]){(size_t)1 << 32, (size_t)1 << 32, 2}, &n), -1);
@@ -272,10 +275,10 @@ TEST(volume_raw_dims_overflow)
     rc = c5_volume_load_raw(p, &s2, &v, &e);
     CHECK_FAILS(rc, v, e);
     CHECK_HAS(e.msg, "big.raw: dims 65536x65536x65536: every dim must be 1..65535");
-    c5_raw_spec s3 = {{4096, 4096, 512}, C5_VOX_U8, 0};
+    c5_raw_spec s3 = {{65535, 65535, 65535}, C5_VOX_U8, 0};
     rc = c5_volume_load_raw(p, &s3, &v, &e);
     CHECK_FAILS(rc, v, e);
-    CHECK_HAS(e.msg, "big.raw: dims 4096x4096x512:");
+    CHECK_HAS(e.msg, "big.raw: dims 65535x65535x65535:");
     CHECK_HAS(e.msg, "limit");
 }
 
@@ -618,10 +621,10 @@ TEST(volume_nrrd_huge_sizes_refused_before_reading)
     CHECK_FAILS(rc, v, e);
     CHECK_HAS(e.msg, "huge.nrrd: dims 65536x65536x65536: every dim must be 1..65535");
     const char *q = c5t_path(1, "wide.nrrd");
-    CHECK(write_file(q, NRRD_HEAD("ushort", "4096 4096 512", "endian: little\nencoding: gzip\n\n"), NULL, 0) == 0);
+    CHECK(write_file(q, NRRD_HEAD("ushort", "65535 65535 4097", "endian: little\nencoding: gzip\n\n"), NULL, 0) == 0);
     rc = c5_volume_load(q, NULL, &v, &e);
     CHECK_FAILS(rc, v, e);
-    CHECK_HAS(e.msg, "wide.nrrd: dims 4096x4096x512:");
+    CHECK_HAS(e.msg, "wide.nrrd: dims 65535x65535x4097:");
     CHECK_HAS(e.msg, "limit");
 }
 
