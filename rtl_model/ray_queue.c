@@ -153,23 +153,10 @@ static void edge_pop(c5_rq *q, const c5_rq_slot *ins, uint32_t in_flight)
 void c5_rq_step(c5_rq *q, const c5_rq_in *in, c5_rq_out *out)
 {
     uint32_t count = q->count;
-    int ins_valid = in->insert_valid != 0;
-    uint32_t key = in->insert_key;
-    if (ins_valid && (key & ~q->key_mask)) {
-        q->stats.masked_keys++;
-        key &= q->key_mask;
-    }
-    int pop = in->pop_ready && count > 0;
-    int full = count == q->cfg.capacity && !pop;
-    int accepted = ins_valid && !full;
-
-    out->pop_valid = pop;
-    out->pop_key = pop ? q->held[0].key : 0;
-    out->pop_payload = pop ? q->held[0].payload : 0;
-    out->insert_accepted = accepted;
-    out->full = full;
-    out->count = count;
-    out->empty = count == 0;
+    c5_rq_cycle c = c5_rq_ports(count, q->cfg.capacity, q->key_mask, &q->stats, in, q->held[0].key,
+                                q->held[0].payload, out);
+    uint32_t key = c.key;
+    int pop = c.pop, accepted = c.accepted;
 
     /* the clock edge */
     c5_rq_slot ins = EMPTY;
@@ -185,11 +172,5 @@ void c5_rq_step(c5_rq *q, const c5_rq_in *in, c5_rq_out *out)
     else if (accepted || in_flight > 0)
         edge_hold(q, &ins, in_flight);
 
-    q->count = count + (uint32_t)accepted - (uint32_t)pop;
-    q->stats.cycles++;
-    q->stats.inserts += (uint64_t)accepted;
-    q->stats.pops += (uint64_t)pop;
-    q->stats.refused += (uint64_t)(ins_valid && full);
-    if (q->count > q->stats.max_count)
-        q->stats.max_count = q->count;
+    c5_rq_account(&q->count, &q->stats, &c);
 }

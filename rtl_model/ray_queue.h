@@ -84,6 +84,48 @@ typedef struct {
     uint32_t max_count;   /* largest occupancy reached */
 } c5_rq_stats;
 
+/* The ports of one cycle, the same for the sorter and its equivalent model (rq_heap.h): the
+ * key as masked to key_bits, and whether the cycle pops, refuses and accepts. */
+typedef struct {
+    uint32_t key;
+    int ins_valid, pop, full, accepted;
+} c5_rq_cycle;
+
+/* The cycle's outputs from the occupancy and the smallest element (min_key, min_payload:
+ * read only when the cycle pops). */
+static inline c5_rq_cycle c5_rq_ports(uint32_t count, uint32_t capacity, uint32_t key_mask, c5_rq_stats *st,
+                                      const c5_rq_in *in, uint32_t min_key, uint32_t min_payload, c5_rq_out *out)
+{
+    c5_rq_cycle c = {in->insert_key, in->insert_valid != 0, 0, 0, 0};
+    if (c.ins_valid && (c.key & ~key_mask)) {
+        st->masked_keys++;
+        c.key &= key_mask;
+    }
+    c.pop = in->pop_ready && count > 0;
+    c.full = count == capacity && !c.pop;
+    c.accepted = c.ins_valid && !c.full;
+    out->pop_valid = c.pop;
+    out->pop_key = c.pop ? min_key : 0;
+    out->pop_payload = c.pop ? min_payload : 0;
+    out->insert_accepted = c.accepted;
+    out->full = c.full;
+    out->count = count;
+    out->empty = count == 0;
+    return c;
+}
+
+/* The occupancy and statistics after the cycle's edge. */
+static inline void c5_rq_account(uint32_t *count, c5_rq_stats *st, const c5_rq_cycle *c)
+{
+    *count += (uint32_t)c->accepted - (uint32_t)c->pop;
+    st->cycles++;
+    st->inserts += (uint64_t)c->accepted;
+    st->pops += (uint64_t)c->pop;
+    st->refused += (uint64_t)(c->ins_valid && c->full);
+    if (*count > st->max_count)
+        st->max_count = *count;
+}
+
 /* Registers and statistics. Read freely; write only through the functions. */
 typedef struct {
     c5_rq_cfg cfg;
