@@ -4,7 +4,7 @@
 # and BUILD (as build/), and exits 0 (or the status its comment states: "exits N"). An example
 # marked "data: NAME" reads a real volume from data/: it is not run, and the README must say
 # where that file comes from (a download line ending in its name). No example may need
-# ../shared/. Long examples run small: render, compare, schedule and sweep get --size 64x64
+# ../shared/. Long examples (also behind VAR=value) run small: render, compare, schedule and sweep get --size 64x64
 # unless they give a size, schedule --frames 2 unless it gives frames, cast --views 2 --size 64.
 # Usage: readme_test.sh BUILD
 set -u
@@ -47,11 +47,11 @@ while IFS= read -r line; do
         bad "$name" "reads data/ without a 'data:' mark: $line"
         continue
     fi
-    # small sizes for the long ones (the words after build/cube5)
-    if [[ $cmd =~ ^build/cube5\ (render|compare|schedule|sweep)\  ]]; then
+    # small sizes for the long ones (the words after build/cube5, past any VAR=value before it)
+    if [[ $cmd =~ ^([A-Z0-9_]+=[^\ ]*\ )*build/cube5\ (render|compare|schedule|sweep)\  ]]; then
         [[ $cmd == *--size* ]] || cmd+=" --size 64x64"
-        [[ ${BASH_REMATCH[1]} == schedule && $cmd != *--frames* ]] && cmd+=" --frames 2"
-    elif [[ $cmd =~ ^build/cube5\ cast\  ]]; then
+        [[ ${BASH_REMATCH[2]} == schedule && $cmd != *--frames* ]] && cmd+=" --frames 2"
+    elif [[ $cmd =~ ^([A-Z0-9_]+=[^\ ]*\ )*build/cube5\ cast\  ]]; then
         [[ $cmd == *--views* ]] || cmd+=" --views 2"
         [[ $cmd == *--size* ]] || cmd+=" --size 64"
     fi
