@@ -197,14 +197,22 @@ int c5_supervol_read_box(const c5_supervol *sv, const long lo[3], const long hi[
     if (!tmp)
         return c5_fail(err, "out of memory for a box of %zu voxels", n);
     int rc = core_read(sv, clo, chi, tmp, cw[0], cw[0] * cw[1], err);
+    /* Along x a row is the edge voxel before the grid, the grid's span, the edge voxel after
+     * it: two fills and one copy (a clamp per voxel was most of a cell fetch's cost). */
+    long nx = (long)sv->dims[0], wx = (long)w[0], la = lo[0] < 0 ? -lo[0] : 0, lb = nx - lo[0];
+    la = la > wx ? wx : la;
+    lb = lb > wx ? wx : lb < la ? la : lb;
+    size_t xa = (size_t)la, xb = (size_t)lb;
     if (rc == 0)
         for (size_t z = 0; z < w[2]; z++)
             for (size_t y = 0; y < w[1]; y++) {
                 const uint8_t *src = tmp + ((size_t)clampl(lo[2] + (long)z, sv->dims[2]) - clo[2]) * cw[0] * cw[1] +
                                      ((size_t)clampl(lo[1] + (long)y, sv->dims[1]) - clo[1]) * cw[0];
                 uint8_t *dst = out + (z * w[1] + y) * w[0];
-                for (size_t x = 0; x < w[0]; x++)
-                    dst[x] = src[(size_t)clampl(lo[0] + (long)x, sv->dims[0]) - clo[0]];
+                memset(dst, src[0], xa);
+                if (xb > xa)
+                    memcpy(dst + xa, src + (size_t)(lo[0] + (long)xa) - clo[0], xb - xa);
+                memset(dst + xb, src[cw[0] - 1], w[0] - xb);
             }
     if (tmp != small)
         free(tmp);

@@ -480,3 +480,31 @@ TEST(ooc_budget_boundary_and_cast_refusal)
     c5_supervol_free(&a);
     c5_supervol_free(&b);
 }
+
+/* A resident grid whose voxels all differ along x: boxes wholly before, across and wholly
+ * after the grid on each axis read the clamp-to-edge voxels (the row fills and copy of
+ * c5_supervol_read_box). */
+TEST(ooc_resident_boxes_beyond_every_face)
+{
+    static uint8_t vox[13 * 7 * 5];
+    for (size_t i = 0; i < sizeof vox; i++)
+        vox[i] = (uint8_t)(i * 7 + 3);
+    c5_supervol sv = {.dims = {13, 7, 5}, .v = vox};
+    const long spans[][2] = {{-9, -4}, {-3, 2}, {-2, 16}, {4, 9}, {11, 20}, {14, 19}, {0, 13}};
+    uint8_t out[32 * 32 * 32];
+    int bad = 0;
+    for (int ax = 0; ax < 3; ax++)
+        for (size_t k = 0; k < sizeof spans / sizeof spans[0]; k++) {
+            long lo[3] = {1, 1, 1}, hi[3] = {5, 4, 3};
+            lo[ax] = spans[k][0] * (long)sv.dims[ax] / 13;
+            hi[ax] = spans[k][1] * (long)sv.dims[ax] / 13 + 1;
+            c5_err err;
+            CHECK(c5_supervol_read_box(&sv, lo, hi, out, &err) == 0);
+            size_t o = 0;
+            for (long z = lo[2]; z < hi[2]; z++)
+                for (long y = lo[1]; y < hi[1]; y++)
+                    for (long x = lo[0]; x < hi[0]; x++, o++)
+                        bad += out[o] != c5_supervol_at(&sv, x, y, z);
+        }
+    CHECK_INT(bad, 0);
+}
