@@ -138,6 +138,14 @@ static int edram_insert(board *b, const c5_bray *r)
     return 1;
 }
 
+/* Cells a group holds along an axis (`want`, at most the axis's cells; < 2: one) and the
+ * groups along it. */
+static void group_axis(int want, int cells, int *g, int *n)
+{
+    *g = want > 1 ? (want < cells ? want : cells) : 1;
+    *n = (cells + *g - 1) / *g;
+}
+
 /* The group of `cell` with g cells a group per axis and ng groups per axis. */
 static int group_of(const board *b, int cell, const int g[3], const int ng[3])
 {
@@ -366,21 +374,19 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     b.mem.cell = -1;
     if (c5_regs_build(s, sv, &o, &b.r, err) != 0)
         return -1;
-    int ncells = 1;
+    int units = 1; /* what the schedule's entries name: cells, or groups */
     for (int a = 0; a < 3; a++) {
-        b.group[a] = o.tree_group[a] > 1 ? (o.tree_group[a] < o.cells[a] ? o.tree_group[a] : o.cells[a]) : 1;
-        b.ngroup[a] = (o.cells[a] + b.group[a] - 1) / b.group[a];
-        b.sgroup[a] = o.schedule_group[a] > 1 ? (o.schedule_group[a] < o.cells[a] ? o.schedule_group[a] : o.cells[a]) : 1;
-        b.nsgroup[a] = (o.cells[a] + b.sgroup[a] - 1) / b.sgroup[a];
-        ncells *= b.nsgroup[a];
+        group_axis(o.tree_group[a], o.cells[a], &b.group[a], &b.ngroup[a]);
+        group_axis(o.schedule_group[a], o.cells[a], &b.sgroup[a], &b.nsgroup[a]);
+        units *= b.nsgroup[a];
     }
     b.cur_group = -1;
+    const char *unit = b.sgroup[0] * b.sgroup[1] * b.sgroup[2] > 1 ? "group" : "cell";
     if (o.sched == C5_SCHED_EXTERNAL)
         for (int i = 0; i < o.schedule_len; i++)
-            if (o.schedule[i] < 0 || o.schedule[i] >= ncells)
-                return c5_fail(err, "schedule entry %d: %s %d is outside the %d %s of the split", i,
-                               ncells == o.cells[0] * o.cells[1] * o.cells[2] ? "cell" : "group", o.schedule[i],
-                               ncells, ncells == o.cells[0] * o.cells[1] * o.cells[2] ? "cells" : "groups");
+            if (o.schedule[i] < 0 || o.schedule[i] >= units)
+                return c5_fail(err, "schedule entry %d: %s %d is outside the %d %ss of the split", i, unit,
+                               o.schedule[i], units, unit);
     c5_supervol dummy;
     uint8_t voxel;
     const c5_supervol *grid = grid_or_dummy(sv, &dummy, &voxel);
