@@ -107,3 +107,12 @@ const char *c5t_json(const char *s)
     buf[i] = 0;
     return buf;
 }
+
+int c5t_write_file(const char *path, const char *header, const void *data, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return -1;
+    int ok = (!header || fputs(header, f) >= 0) && (n == 0 || fwrite(data, 1, n, f) == n);
+    return (fclose(f) == 0 && ok) ? 0 : -1;
+}

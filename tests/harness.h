@@ -18,6 +18,8 @@ const char *c5t_json(const char *s);
 const char *c5t_tmpdir(void);
 /* Path of a file inside c5t_tmpdir(); valid until the next call with the same slot. */
 const char *c5t_path(int slot, const char *name);
+/* Writes an optional text header followed by n raw bytes to path; 0 on success. */
+int c5t_write_file(const char *path, const char *header, const void *data, size_t n);
 
 #define TEST(name)                                                                       \
     static void name(void);                                                              \

@@ -29,14 +29,6 @@ static size_t tiny_budget = 20000;
     "'transfer_function': {'opacity': [[0, 0], [255, 1]], 'color': [[0, 1, 1, 1], [255, 1, 1, 1]]},"                   \
     " 'camera': {'eye': [0, 0, 100], 'target': [0, 0, 0], 'up': [0, 1, 0]}"
 
-static int write_file(const char *path, const char *header, const void *data, size_t n)
-{
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return -1;
-    int ok = (!header || fputs(header, f) >= 0) && (n == 0 || fwrite(data, 1, n, f) == n);
-    return (fclose(f) == 0 && ok) ? 0 : -1;
-}
 
 /* A deterministic pattern with structure at every scale (not a ramp a wrong stride hides). */
 static unsigned pattern(size_t i, uint64_t seed)
@@ -160,7 +152,7 @@ TEST(ooc_sources_offsets_fill_every_voxel_and_box)
     uint8_t raw[37 * 29 * 23];
     for (size_t i = 0; i < sizeof raw; i++)
         raw[i] = (uint8_t)pattern(i, 1);
-    CHECK(write_file(c5t_path(0, "a_37x29x23_uint8.raw"), NULL, raw, sizeof raw) == 0);
+    CHECK(c5t_write_file(c5t_path(0, "a_37x29x23_uint8.raw"), NULL, raw, sizeof raw) == 0);
     pair p;
     tiny_budget = 3 * BRICK_BYTES;
     CHECK(build_pair("{'grid': {'dims': [70, 45, 33], 'fill': 17},"
@@ -211,8 +203,8 @@ TEST(ooc_uint16_auto_and_explicit_window)
         le[2 * i] = (uint8_t)v, le[2 * i + 1] = (uint8_t)(v >> 8);
         be[2 * i] = (uint8_t)(v >> 8), be[2 * i + 1] = (uint8_t)v;
     }
-    CHECK(write_file(c5t_path(0, "w_37x29x23_uint16.raw"), NULL, le, sizeof le) == 0);
-    CHECK(write_file(c5t_path(1, "b.raw"), NULL, be, sizeof be) == 0);
+    CHECK(c5t_write_file(c5t_path(0, "w_37x29x23_uint16.raw"), NULL, le, sizeof le) == 0);
+    CHECK(c5t_write_file(c5t_path(1, "b.raw"), NULL, be, sizeof be) == 0);
     char json[600];
     pair a, b, c;
     CHECK(build_pair("{'volumes': [{'file': 'w_37x29x23_uint16.raw'}],"
@@ -270,7 +262,7 @@ TEST(ooc_nrrd_attached_detached_gzip)
         u16[i] = (uint16_t)(1000 + pattern(i, 3) * 9);
     }
     const size_t sizes[3] = {37, 29, 23};
-    CHECK(write_file(c5t_path(0, "ref_37x29x23_uint8.raw"), NULL, u8, N) == 0);
+    CHECK(c5t_write_file(c5t_path(0, "ref_37x29x23_uint8.raw"), NULL, u8, N) == 0);
     CHECK(save_nrrd(c5t_path(1, "att.nrrd"), u8, nrrdTypeUChar, sizes, 0) == 0);
     CHECK(save_nrrd(c5t_path(2, "gz.nrrd"), u8, nrrdTypeUChar, sizes, 1) == 0);
     CHECK(save_nrrd(c5t_path(3, "gz16.nrrd"), u16, nrrdTypeUShort, sizes, 1) == 0);
@@ -279,8 +271,8 @@ TEST(ooc_nrrd_attached_detached_gzip)
     uint8_t skipped[5 + N];
     memset(skipped, 0xEE, 5);
     memcpy(skipped + 5, u8, N);
-    CHECK(write_file(c5t_path(5, "det.data"), NULL, skipped, sizeof skipped) == 0);
-    CHECK(write_file(c5t_path(6, "det.nhdr"),
+    CHECK(c5t_write_file(c5t_path(5, "det.data"), NULL, skipped, sizeof skipped) == 0);
+    CHECK(c5t_write_file(c5t_path(6, "det.nhdr"),
                      "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 37 29 23\nspacings: 1 1 1\nencoding: raw\n"
                      "byte skip: 5\ndata file: det.data\n",
                      NULL, 0) == 0);
@@ -316,13 +308,13 @@ TEST(ooc_file_shrunk_after_open_fails_cleanly)
     for (size_t i = 0; i < sizeof raw; i++)
         raw[i] = (uint8_t)pattern(i, 6);
     const char *path = c5t_path(0, "s_37x29x23_uint8.raw");
-    CHECK(write_file(path, NULL, raw, sizeof raw) == 0);
+    CHECK(c5t_write_file(path, NULL, raw, sizeof raw) == 0);
     c5_volume_desc d = {.kind = C5_SRC_FILE};
     snprintf(d.path, sizeof d.path, "%s", path);
     c5_voxsrc *s;
     c5_err err;
     CHECK_MSG(c5_voxsrc_open(&d, &s, &err) == 0, "%s", err.msg);
-    CHECK(write_file(path, NULL, raw, 100) == 0); /* truncated in place */
+    CHECK(c5t_write_file(path, NULL, raw, 100) == 0); /* truncated in place */
     uint8_t out[37 * 29];
     size_t lo[3] = {0, 0, 10}, hi[3] = {37, 29, 11};
     int rc = c5_voxsrc_read(s, lo, hi, out, 37, 37 * 29, &err);
@@ -351,7 +343,7 @@ static int render_pair(pair *p)
     uint8_t raw[37 * 29 * 23];
     for (size_t i = 0; i < sizeof raw; i++)
         raw[i] = (uint8_t)(pattern(i, 8) & 0xFF);
-    if (write_file(c5t_path(0, "r_37x29x23_uint8.raw"), NULL, raw, sizeof raw) != 0)
+    if (c5t_write_file(c5t_path(0, "r_37x29x23_uint8.raw"), NULL, raw, sizeof raw) != 0)
         return -1;
     tiny_budget = 2 * BRICK_BYTES;
     int rc = build_pair(render_scene, p);

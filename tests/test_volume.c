@@ -12,16 +12,6 @@
 
 /* ---- helpers --------------------------------------------------------------------- */
 
-/* Writes an optional text header followed by raw bytes; 0 on success. */
-static int write_file(const char *path, const char *header, const void *data, size_t n)
-{
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return -1;
-    int ok = (!header || fputs(header, f) >= 0) && (n == 0 || fwrite(data, 1, n, f) == n);
-    return (fclose(f) == 0 && ok) ? 0 : -1;
-}
-
 static void fill_ramp(unsigned char *p, size_t n)
 {
     for (size_t i = 0; i < n; i++)
@@ -121,7 +111,7 @@ TEST(volume_raw_u8_scivis)
     unsigned char buf[4 * 3 * 2];
     fill_ramp(buf, sizeof buf);
     const char *p = c5t_path(0, "vol_4x3x2_uint8.raw");
-    CHECK(write_file(p, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NULL, buf, sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
     CHECK_MSG(c5_volume_load(p, NULL, &v, &e) == 0, "%s", e.msg);
@@ -149,7 +139,7 @@ TEST(volume_raw_u16_little_explicit)
     unsigned char buf[2 * N];
     put_u16(buf, N, 0);
     const char *p = c5t_path(0, "data.bin");
-    CHECK(write_file(p, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NULL, buf, sizeof buf) == 0);
     c5_raw_spec spec = {{5, 2, 3}, C5_VOX_U16, 0};
     c5_volume v;
     c5_err e = {{0}};
@@ -170,7 +160,7 @@ TEST(volume_raw_u16_big_explicit)
     unsigned char buf[2 * N];
     put_u16(buf, N, 1);
     const char *p = c5t_path(0, "data.be16");
-    CHECK(write_file(p, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NULL, buf, sizeof buf) == 0);
     c5_raw_spec spec = {{3, 3, 3}, C5_VOX_U16, 1};
     c5_volume v;
     c5_err e = {{0}};
@@ -188,8 +178,8 @@ TEST(volume_raw_u16_scivis_both_endians)
     put_u16(be, N, 1);
     const char *pl = c5t_path(0, "le_2x2x2_uint16.raw");
     const char *pb = c5t_path(1, "be_2x2x2_uint16.raw");
-    CHECK(write_file(pl, NULL, le, sizeof le) == 0);
-    CHECK(write_file(pb, NULL, be, sizeof be) == 0);
+    CHECK(c5t_write_file(pl, NULL, le, sizeof le) == 0);
+    CHECK(c5t_write_file(pb, NULL, be, sizeof be) == 0);
     c5_volume v;
     c5_err e = {{0}};
     CHECK_MSG(c5_volume_load(pl, NULL, &v, &e) == 0, "%s", e.msg);
@@ -209,7 +199,7 @@ TEST(volume_raw_truncated)
 {
     static unsigned char buf[900];
     const char *p = c5t_path(0, "vol_10x10x10_uint8.raw");
-    CHECK(write_file(p, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NULL, buf, sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -222,7 +212,7 @@ TEST(volume_raw_oversized)
 {
     static unsigned char buf[1024];
     const char *p = c5t_path(0, "vol_10x10x10_uint8.raw");
-    CHECK(write_file(p, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NULL, buf, sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -234,7 +224,7 @@ TEST(volume_raw_oversized)
 TEST(volume_raw_empty_file)
 {
     const char *p = c5t_path(0, "vol_2x2x2_uint16.raw");
-    CHECK(write_file(p, NULL, NULL, 0) == 0);
+    CHECK(c5t_write_file(p, NULL, NULL, 0) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -246,7 +236,7 @@ TEST(volume_raw_explicit_dims_mismatch)
 {
     static unsigned char buf[1000];
     const char *p = c5t_path(0, "vol_10x10x10_uint8.raw");
-    CHECK(write_file(p, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NULL, buf, sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
     /* Explicit dims win over the name. */
@@ -263,7 +253,7 @@ TEST(volume_raw_explicit_dims_mismatch)
 TEST(volume_raw_dims_overflow)
 {
     const char *p = c5t_path(0, "big.raw");
-    CHECK(write_file(p, NULL, "x", 1) == 0);
+    CHECK(c5t_write_file(p, NULL, "x", 1) == 0);
     c5_volume v;
     c5_err e = {{0}};
     size_t g = (size_t)1 << 32;
@@ -286,7 +276,7 @@ TEST(volume_raw_name_dims_overflow)
 {
     /* Digits beyond size_t saturate, so the name still ends in the dims check. */
     const char *p = c5t_path(0, "v_99999999999999999999999x99999999999x2_uint8.raw");
-    CHECK(write_file(p, NULL, "x", 1) == 0);
+    CHECK(c5t_write_file(p, NULL, "x", 1) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -298,7 +288,7 @@ TEST(volume_raw_name_dims_overflow)
 TEST(volume_raw_zero_dim)
 {
     const char *p = c5t_path(0, "vol_0x10x10_uint8.raw");
-    CHECK(write_file(p, NULL, NULL, 0) == 0);
+    CHECK(c5t_write_file(p, NULL, NULL, 0) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -314,7 +304,7 @@ TEST(volume_raw_zero_dim)
 TEST(volume_raw_spec_needs_both)
 {
     const char *p = c5t_path(0, "vol_2x2x2_uint8.raw");
-    CHECK(write_file(p, NULL, "12345678", 8) == 0);
+    CHECK(c5t_write_file(p, NULL, "12345678", 8) == 0);
     c5_volume v;
     c5_err e = {{0}};
     c5_raw_spec dims_only = {{2, 2, 2}, C5_VOX_NONE, 0};
@@ -336,7 +326,7 @@ TEST(volume_raw_spec_needs_both)
 TEST(volume_raw_name_without_dims)
 {
     const char *p = c5t_path(0, "data.raw");
-    CHECK(write_file(p, NULL, "12345678", 8) == 0);
+    CHECK(c5t_write_file(p, NULL, "12345678", 8) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -348,7 +338,7 @@ TEST(volume_raw_name_without_dims)
 TEST(volume_raw_name_unsupported_type)
 {
     const char *p = c5t_path(0, "vol_2x2x2_float32.raw");
-    CHECK(write_file(p, NULL, "12345678", 8) == 0);
+    CHECK(c5t_write_file(p, NULL, "12345678", 8) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -393,7 +383,7 @@ TEST(volume_nrrd_attached_raw_u8)
     unsigned char buf[3 * 2 * 4];
     fill_ramp(buf, sizeof buf);
     const char *p = c5t_path(0, "a.nrrd");
-    CHECK(write_file(p, NRRD_HEAD("uchar", "3 2 4", "encoding: raw\n\n"), buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NRRD_HEAD("uchar", "3 2 4", "encoding: raw\n\n"), buf, sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
     CHECK_MSG(c5_volume_load(p, NULL, &v, &e) == 0, "%s", e.msg);
@@ -418,9 +408,9 @@ TEST(volume_nrrd_u16_little_and_big_endian)
     put_u16(be, N, 1);
     const char *pl = c5t_path(0, "le.nrrd");
     const char *pb = c5t_path(1, "be.nrrd");
-    CHECK(write_file(pl, NRRD_HEAD("unsigned short", "2 3 2", "endian: little\nencoding: raw\n\n"),
+    CHECK(c5t_write_file(pl, NRRD_HEAD("unsigned short", "2 3 2", "endian: little\nencoding: raw\n\n"),
                      le, sizeof le) == 0);
-    CHECK(write_file(pb, NRRD_HEAD("ushort", "2 3 2", "endian: big\nencoding: raw\n\n"), be,
+    CHECK(c5t_write_file(pb, NRRD_HEAD("ushort", "2 3 2", "endian: big\nencoding: raw\n\n"), be,
                      sizeof be) == 0);
     const char *paths[2] = {pl, pb};
     for (int k = 0; k < 2; k++) {
@@ -490,10 +480,10 @@ TEST(volume_nrrd_detached_raw)
     const char *ph = c5t_path(0, "d.nhdr");
     const char *pd = c5t_path(1, "d.raw");
     /* The data file name is relative to the header's folder. */
-    CHECK(write_file(ph, NRRD_HEAD("ushort", "3 3 2",
+    CHECK(c5t_write_file(ph, NRRD_HEAD("ushort", "3 3 2",
                                    "endian: big\nencoding: raw\ndata file: d.raw\n"),
                      NULL, 0) == 0);
-    CHECK(write_file(pd, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(pd, NULL, buf, sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
     CHECK_MSG(c5_volume_load(ph, NULL, &v, &e) == 0, "%s", e.msg);
@@ -508,7 +498,7 @@ TEST(volume_nrrd_detached_raw)
 TEST(volume_nrrd_detached_missing_data)
 {
     const char *ph = c5t_path(0, "lonely.nhdr");
-    CHECK(write_file(ph, NRRD_HEAD("uchar", "2 2 2", "encoding: raw\ndata file: gone.raw\n"),
+    CHECK(c5t_write_file(ph, NRRD_HEAD("uchar", "2 2 2", "encoding: raw\ndata file: gone.raw\n"),
                      NULL, 0) == 0);
     c5_volume v;
     c5_err e = {{0}};
@@ -534,7 +524,7 @@ TEST(volume_nrrd_signed_short_refused)
 {
     static unsigned char buf[16];
     const char *p = c5t_path(0, "s.nrrd");
-    CHECK(write_file(p, NRRD_HEAD("short", "2 2 2", "endian: little\nencoding: raw\n\n"), buf,
+    CHECK(c5t_write_file(p, NRRD_HEAD("short", "2 2 2", "endian: little\nencoding: raw\n\n"), buf,
                      sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
@@ -547,7 +537,7 @@ TEST(volume_nrrd_2d_refused)
 {
     static unsigned char buf[12];
     const char *p = c5t_path(0, "flat.nrrd");
-    CHECK(write_file(p, "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 4 3\nencoding: raw\n\n", buf,
+    CHECK(c5t_write_file(p, "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 4 3\nencoding: raw\n\n", buf,
                      sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
@@ -573,7 +563,7 @@ TEST(volume_nrrd_color_axis_refused)
 {
     static unsigned char buf[3 * 2 * 2];
     const char *p = c5t_path(0, "rgb.nrrd");
-    CHECK(write_file(p, NRRD_HEAD("uchar", "3 2 2", "kinds: RGB-color domain domain\nencoding: raw\n\n"),
+    CHECK(c5t_write_file(p, NRRD_HEAD("uchar", "3 2 2", "kinds: RGB-color domain domain\nencoding: raw\n\n"),
                      buf, sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
@@ -586,7 +576,7 @@ TEST(volume_nrrd_spacing)
 {
     static unsigned char buf[8];
     const char *p = c5t_path(0, "sp.nrrd");
-    CHECK(write_file(p, NRRD_HEAD("uchar", "2 2 2", "spacings: 0.5 1.25 NaN\nencoding: raw\n\n"), buf,
+    CHECK(c5t_write_file(p, NRRD_HEAD("uchar", "2 2 2", "spacings: 0.5 1.25 NaN\nencoding: raw\n\n"), buf,
                      sizeof buf) == 0);
     c5_volume v;
     c5_err e = {{0}};
@@ -598,7 +588,7 @@ TEST(volume_nrrd_spacing)
 
     /* With a world space, the voxel step is the length of each space direction. */
     const char *q = c5t_path(1, "dir.nrrd");
-    CHECK(write_file(q, NRRD_HEAD("uchar", "2 2 2",
+    CHECK(c5t_write_file(q, NRRD_HEAD("uchar", "2 2 2",
                                   "space: right-anterior-superior\n"
                                   "space directions: (0.5,0,0) (0,0,-2) (0,3,4)\n"
                                   "encoding: raw\n\n"),
@@ -614,14 +604,14 @@ TEST(volume_nrrd_huge_sizes_refused_before_reading)
 {
     /* Teem would try to allocate these sizes; the header is checked first. */
     const char *p = c5t_path(0, "huge.nrrd");
-    CHECK(write_file(p, NRRD_HEAD("uchar", "65536 65536 65536", "encoding: raw\n\n"), NULL, 0) == 0);
+    CHECK(c5t_write_file(p, NRRD_HEAD("uchar", "65536 65536 65536", "encoding: raw\n\n"), NULL, 0) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
     CHECK_FAILS(rc, v, e);
     CHECK_HAS(e.msg, "huge.nrrd: dims 65536x65536x65536: every dim must be 1..65535");
     const char *q = c5t_path(1, "wide.nrrd");
-    CHECK(write_file(q, NRRD_HEAD("ushort", "65535 65535 4097", "endian: little\nencoding: gzip\n\n"), NULL, 0) == 0);
+    CHECK(c5t_write_file(q, NRRD_HEAD("ushort", "65535 65535 4097", "endian: little\nencoding: gzip\n\n"), NULL, 0) == 0);
     rc = c5_volume_load(q, NULL, &v, &e);
     CHECK_FAILS(rc, v, e);
     CHECK_HAS(e.msg, "wide.nrrd: dims 65535x65535x4097:");
@@ -631,7 +621,7 @@ TEST(volume_nrrd_huge_sizes_refused_before_reading)
 TEST(volume_nrrd_truncated_data)
 {
     const char *p = c5t_path(0, "short.nrrd");
-    CHECK(write_file(p, NRRD_HEAD("uchar", "2 2 2", "encoding: raw\n\n"), "abc", 3) == 0);
+    CHECK(c5t_write_file(p, NRRD_HEAD("uchar", "2 2 2", "encoding: raw\n\n"), "abc", 3) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -642,7 +632,7 @@ TEST(volume_nrrd_truncated_data)
 TEST(volume_nrrd_garbage_refused)
 {
     const char *p = c5t_path(0, "junk.nrrd");
-    CHECK(write_file(p, "this is not a nrrd\n", NULL, 0) == 0);
+    CHECK(c5t_write_file(p, "this is not a nrrd\n", NULL, 0) == 0);
     c5_volume v;
     c5_err e = {{0}};
     int rc = c5_volume_load(p, NULL, &v, &e);
@@ -650,13 +640,13 @@ TEST(volume_nrrd_garbage_refused)
     CHECK_HAS(e.msg, "junk.nrrd: cannot read NRRD: ");
 
     const char *q = c5t_path(1, "badsizes.nrrd");
-    CHECK(write_file(q, NRRD_HEAD("uchar", "2 2 bogus", "encoding: raw\n\n"), NULL, 0) == 0);
+    CHECK(c5t_write_file(q, NRRD_HEAD("uchar", "2 2 bogus", "encoding: raw\n\n"), NULL, 0) == 0);
     rc = c5_volume_load(q, NULL, &v, &e);
     CHECK_FAILS(rc, v, e);
     CHECK_HAS(e.msg, "badsizes.nrrd: cannot read NRRD: ");
 
     const char *r = c5t_path(2, "empty.nhdr");
-    CHECK(write_file(r, NULL, NULL, 0) == 0);
+    CHECK(c5t_write_file(r, NULL, NULL, 0) == 0);
     rc = c5_volume_load(r, NULL, &v, &e);
     CHECK_FAILS(rc, v, e);
     CHECK_HAS(e.msg, "empty.nhdr: cannot read NRRD: ");
@@ -667,7 +657,7 @@ TEST(volume_load_dispatch_by_extension)
     static unsigned char buf[8] = {1, 2, 3, 4, 5, 6, 7, 8};
     /* A .nrrd name goes to NRRD even with a raw spec, and the extension ignores case. */
     const char *p = c5t_path(0, "UP.NRRD");
-    CHECK(write_file(p, NRRD_HEAD("uchar", "2 2 2", "encoding: raw\n\n"), buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(p, NRRD_HEAD("uchar", "2 2 2", "encoding: raw\n\n"), buf, sizeof buf) == 0);
     c5_raw_spec spec = {{8, 1, 1}, C5_VOX_U8, 0};
     c5_volume v;
     c5_err e = {{0}};
@@ -677,7 +667,7 @@ TEST(volume_load_dispatch_by_extension)
     c5_volume_free(&v);
     /* Anything else is raw, even a file that holds a NRRD. */
     const char *q = c5t_path(1, "nrrd.dat");
-    CHECK(write_file(q, NULL, buf, sizeof buf) == 0);
+    CHECK(c5t_write_file(q, NULL, buf, sizeof buf) == 0);
     CHECK_MSG(c5_volume_load(q, &spec, &v, &e) == 0, "%s", e.msg);
     CHECK_INT(v.dims[0], 8);
     CHECK_INT(c5_volume_at(&v, 0), 1);
