@@ -13,12 +13,13 @@ static inline __int128 c5_shl128(__int128 x, int s) { return x * ((__int128)1 <<
 /* floor(x / 2^s) rounded half to even; s in 1..62. Arithmetic on negatives too. */
 static inline int64_t c5_rshift_he(int64_t x, int s)
 {
+    /* Without a branch (the rounding direction is data, which a predictor guesses badly in
+     * the sample loop): with r in [0, 2^s), r + half - 1 + (q & 1) reaches 2^s exactly when
+     * r > half, or r == half and q is odd; it stays below 2^(s + 1) and 2^63. */
     int64_t q = x >> s; /* floor */
-    int64_t r = x - c5_shl(q, s);
+    int64_t r = x & (((int64_t)1 << s) - 1);
     int64_t half = (int64_t)1 << (s - 1);
-    if (r > half || (r == half && (q & 1)))
-        q++;
-    return q;
+    return q + ((r + half - 1 + (q & 1)) >> s);
 }
 
 /* The same on a 128-bit product. */
@@ -42,6 +43,28 @@ static inline int64_t c5_div_he64(int64_t n, int64_t d)
     if (r < 0) {
         q--;
         r += d;
+    }
+    int64_t twice = 2 * r;
+    if (twice > d || (twice == d && (q & 1)))
+        q++;
+    return q;
+}
+
+/* c5_div_he64(n, d) for d > 0 and |n / d| < 2^40, with inv ~ 1 / d given: the quotient from
+ * a double product, then the remainder taken exactly and the quotient moved until
+ * 0 <= r < d, so the result is the same integer whatever inv's error (the estimate is off
+ * by at most one). One division shared by a vector's three components instead of three
+ * integer divisions: the shading normalises three vectors a sample. */
+static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
+{
+    int64_t q = (int64_t)((double)n * inv), r = n - q * d;
+    while (r < 0) {
+        q--;
+        r += d;
+    }
+    while (r >= d) {
+        q++;
+        r -= d;
     }
     int64_t twice = 2 * r;
     if (twice > d || (twice == d && (q & 1)))

@@ -52,8 +52,9 @@ static inline int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
         out[0] = out[1] = out[2] = 0;
         return 0;
     }
+    double inv = 1.0 / (double)len; /* |v * 2^28 / len| <= 2^14 */
     for (int a = 0; a < 3; a++)
-        out[a] = c5_div_he64(c5_shl(v[a], 28), (int64_t)len);
+        out[a] = c5_div_he64_inv(c5_shl(v[a], 28), (int64_t)len, inv);
     return (int64_t)(len >> 14);
 }
 

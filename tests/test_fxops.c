@@ -25,6 +25,49 @@ TEST(fxops_rshift_matches_fx_shift)
     }
 }
 
+/* The branch-free rounding for every shift 1..62 over the whole int64 range, ties and the
+ * extremes included, against the same rounding in 128 bits. */
+TEST(fxops_rshift_every_shift_full_range)
+{
+    uint64_t rng = 19;
+    for (int s = 1; s <= 62; s++)
+        for (int i = 0; i < 20000; i++) {
+            int64_t x = (int64_t)c5_splitmix64(&rng);
+            if (i < 8)
+                x = (int64_t[]){INT64_MIN, INT64_MAX, 0, -1, (int64_t)1 << (s - 1), -((int64_t)1 << (s - 1)),
+                                3 * ((int64_t)1 << (s - 1)), -3 * ((int64_t)1 << (s - 1))}[i];
+            else if (i % 3 == 0) /* a tie above some multiple of 2^s */
+                x = (x & ~(((int64_t)1 << s) - 1)) | ((int64_t)1 << (s - 1));
+            __int128 q = (__int128)x >> s, r = (__int128)x - q * ((__int128)1 << s), half = (__int128)1 << (s - 1);
+            int64_t want = (int64_t)(q + (r > half || (r == half && (q & 1))));
+            CHECK_MSG(c5_rshift_he(x, s) == want, "x=%lld s=%d: %lld vs %lld", (long long)x, s,
+                      (long long)c5_rshift_he(x, s), (long long)want);
+        }
+}
+
+/* The reciprocal only guides the quotient: a wrong one (off by parts in 2^20, or 2x) gives
+ * the same integer as the division, ties included. */
+TEST(fxops_div_inv_equals_div_whatever_the_reciprocal)
+{
+    uint64_t rng = 23;
+    for (int i = 0; i < 300000; i++) {
+        int64_t d = (int64_t)(c5_splitmix64(&rng) >> (19 + i % 40)) + 1;
+        int64_t n = (int64_t)(c5_splitmix64(&rng) % ((uint64_t)d << 15)) - ((int64_t)d << 14);
+        if (i % 7 == 0 && d % 2 == 0)
+            n = d / 2 + d * (n / d); /* a tie */
+        double inv = 1.0 / (double)d;
+        if (i % 4 == 1)
+            inv *= 1.0 + 1e-6;
+        else if (i % 4 == 2)
+            inv *= 1.0 - 1e-6;
+        int64_t want = c5_div_he64(n, d);
+        CHECK_MSG(c5_div_he64_inv(n, d, inv) == want, "%lld/%lld: %lld vs %lld", (long long)n, (long long)d,
+                  (long long)c5_div_he64_inv(n, d, inv), (long long)want);
+        if (i % 1000 == 0) /* far off: the loops walk it back */
+            CHECK_INT(c5_div_he64_inv(n, d, 2.0 / (double)d), want);
+    }
+}
+
 TEST(fxops_div_matches_fx_div)
 {
     uint64_t rng = 11;
