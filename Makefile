@@ -150,9 +150,12 @@ $(BUILD)/tests/link-tests: $(LINK_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/harness.o
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(EMU_LIBS) $(LDLIBS) -o $@
 
+# The unit tests check the exact optimum against an integer program through GLPK
+# (tests/tree_ilp.c, test profile): only the test binary links it.
+$(BUILD)/tests/tree_ilp.o: | $(DEPS_TEST)
 $(BUILD)/tests/unit: $(TEST_OBJ) $(BUILD)/libcube5.a
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
+	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -lglpk -o $@
 
 # The caster's scalar definition of a sample (cref/cast/cast_sample.h), which machines without
 # SSE2 run: the caster and its tests built once more without the SIMD twin.
