@@ -370,3 +370,92 @@ TEST(tree_bound_beam_schedules)
     CHECK_INT(len, 0);
     free(s);
 }
+
+/* ---- every bound <= the optimum <= every rule ------------------------------------------------ */
+
+/* The board's online rule on a tree: load the cell with most nodes whose parent was served
+ * (lowest id on ties), until every node is served. The tree's stand-in for Max Work. */
+static int maxwork_on_tree(const c5_dep_tree *t, int *sched)
+{
+    unsigned char served[32] = {0};
+    int len = 0, left = t->n;
+    while (left > 0) {
+        int count[64] = {0}, best = -1;
+        for (int i = 0; i < t->n; i++)
+            if (!served[i] && (t->parent[i] < 0 || served[t->parent[i]]))
+                count[t->cell[i]]++;
+        for (int c = 0; c < 64; c++)
+            if (count[c] > 0 && (best < 0 || count[c] > count[best]))
+                best = c;
+        /* one load serves the cell's chains as far as they stay in it: a node whose parent
+         * this load served is not served by it (it waits for the next load of its cell) */
+        unsigned char now[32];
+        memcpy(now, served, sizeof now);
+        for (int i = 0; i < t->n; i++)
+            if (!served[i] && t->cell[i] == best && (t->parent[i] < 0 || served[t->parent[i]])) {
+                now[i] = 1;
+                left--;
+            }
+        memcpy(served, now, sizeof now);
+        sched[len++] = best;
+    }
+    return len;
+}
+
+/* Seeded random trees a little beyond the brute force's reach, their optimum by the A*:
+ * every proven bound (sum of maxGen, pairs, groups of 3 and 4, the slabs of the cells as a
+ * 2x2x2 grid, the exact search's own bound when a small budget makes it give up) is at most
+ * the optimum, and every rule (paper, lookahead, rollout, beam, Max Work on the tree) gives
+ * a feasible schedule at least as long. */
+TEST(tree_bound_sandwich_random)
+{
+    uint64_t rng = 0x5A4D;
+    int par[32], cel[32], sched[64];
+    c5_err err;
+    long gave_up = 0, slabs_bite = 0;
+    for (int trial = 0; trial < 2000 && !c5t_failed_now(); trial++) {
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 24), 2 + (int)(c5_splitmix64(&rng) % 7),
+                                1 + (int)(c5_splitmix64(&rng) % 10), par, cel);
+        c5_dep_tree t = {n, par, cel};
+        int opt = -1;
+        CHECK_INT(c5_sched_optimum(&t, 1000000, 64, &opt, NULL, &err), 1);
+        int bounds[8], nb = 0, pairs = c5_sched_lower_bound_pairs(&t);
+        bounds[nb++] = c5_sched_sum_maxgen(&t);
+        bounds[nb++] = pairs;
+        bounds[nb++] = c5_sched_lower_bound_groups(&t, 3, 100000);
+        bounds[nb++] = c5_sched_lower_bound_groups(&t, 4, 100000);
+        for (int axis = 0; axis < 3; axis++) { /* cell id = x + 2 (y + 2 z) */
+            uint64_t slab[2] = {0, 0};
+            for (int c = 0; c < 8; c++)
+                slab[c >> axis & 1] |= 1ull << c;
+            int v = c5_sched_lower_bound_split(&t, slab, 2, 100000, NULL);
+            slabs_bite += v > pairs;
+            bounds[nb++] = v;
+        }
+        c5_exact_opts small = {20, 64, 0, 2, 0};
+        c5_exact_stats st;
+        int len = -1, rc = c5_sched_optimum_ex(&t, &small, &len, NULL, &st, &err);
+        CHECK(rc == 0 || rc == 1);
+        gave_up += rc == 0;
+        bounds[nb++] = st.lower;
+        for (int k = 0; k < nb; k++)
+            CHECK_MSG(bounds[k] >= 0 && bounds[k] <= opt, "trial %d: bound %d is %d, optimum %d", trial, k, bounds[k],
+                      opt);
+        for (int r = 1; r <= 3; r++) {
+            c5_schedule s;
+            CHECK_INT(c5_sched_celltree(&t, (c5_split_rule)r, &s, &err), 0);
+            CHECK_MSG(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len >= opt, "trial %d rule %d: %d, optimum %d",
+                      trial, r, s.len, opt);
+            c5_schedule_free(&s);
+        }
+        int *b = NULL;
+        CHECK_INT(c5_sched_beam(&t, 8, &len, &b, &err), 0);
+        CHECK_MSG(c5_sched_feasible(&t, b, len) == 1 && len >= opt, "trial %d beam: %d, optimum %d", trial, len, opt);
+        free(b);
+        len = maxwork_on_tree(&t, sched);
+        CHECK_MSG(c5_sched_feasible(&t, sched, len) == 1 && len >= opt, "trial %d Max Work: %d, optimum %d", trial,
+                  len, opt);
+    }
+    CHECK(gave_up > 100);  /* the search's own bound is exercised */
+    CHECK(slabs_bite > 0); /* and the slabs beat the pairs somewhere */
+}
