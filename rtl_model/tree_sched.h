@@ -102,10 +102,11 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
  * before each peel against the peel's worst case and the undo it would need, so out->dsp_ops
  * never exceeds the budget, except that the paper's rule always runs (it is the fallback):
  * a budget below its cost gives its schedule at its cost (out->gave_up 1, fell_back 1).
- * Properties (tests/test_tree_sched.c): feasible, never longer than C5_SPLIT_MOST_LEAVES,
- * never longer than the cheap policy (full cells first, lowest ready, else most leaves)
- * once that policy's first run fits the budget; with an unbounded budget (0) the same
- * length on ... whatever the budget, the same answer for the same tree and budget. */
+ * budget_ops 0: no budget. Properties (tests/test_tree_bounded.c): feasible, never longer
+ * than C5_SPLIT_MOST_LEAVES (ties: its schedule is returned), never longer than the cheap
+ * policy (full cells first, lowest ready, else most leaves) once that policy's first run
+ * fits the budget; a budget that does not bind gives the unbounded run's schedule; the same
+ * tree and budget give the same schedule and count. */
 int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
 
 /* Section 3.4's "bound": sum over cells of the largest generation, + 1 when completion peels
