@@ -7,12 +7,13 @@
 
 #include "board.h"
 #include "cli.h"
+#include "dsp_cost.h"
 #include "dsp_sched.h"
 #include "progress.h"
 
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
-    "                      [--split paper|lookahead|rollout] [--exact-states N] [--tree-nodes N]\n"
+    "                      [--split paper|lookahead|rollout|bounded] [--exact-states N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
@@ -31,7 +32,9 @@ static const char usage_text[] =
     "  --size WxH        image size instead of the scene's\n"
     "  --split R         rule of the schedule the board follows: paper (split peels take the\n"
     "                    cell with most leaf nodes, default), lookahead or rollout (ours,\n"
-    "                    docs/cell-tree.md); the lengths of all three are reported\n"
+    "                    docs/cell-tree.md), or bounded (the rollout within the DSP's budget\n"
+    "                    of counted operations, else the paper's); the lengths of all are\n"
+    "                    reported, with the DSP's operations per frame at 255 MIPS\n"
     "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
     "                    when it gives up: the best proven bound and the best schedule found\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
@@ -100,8 +103,10 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                     a->rule = C5_SPLIT_LOOKAHEAD;
                 else if (!strcmp(v, "rollout"))
                     a->rule = C5_SPLIT_ROLLOUT;
+                else if (!strcmp(v, "bounded"))
+                    a->rule = C5_SPLIT_BOUNDED;
                 else
-                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead or rollout)", v);
+                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead, rollout or bounded)", v);
             } else if (!strcmp(o, "--volume")) {
                 if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
                     return -1;
@@ -143,7 +148,10 @@ static double reduction(uint64_t mw, uint64_t ct)
 
 static const char *rule_name(c5_split_rule r)
 {
-    return r == C5_SPLIT_LOOKAHEAD ? "lookahead" : r == C5_SPLIT_ROLLOUT ? "rollout" : "paper";
+    return r == C5_SPLIT_LOOKAHEAD ? "lookahead"
+           : r == C5_SPLIT_ROLLOUT ? "rollout"
+           : r == C5_SPLIT_BOUNDED ? "bounded"
+                                   : "paper";
 }
 
 /* What became of the exact search on a frame's tree. */
@@ -156,6 +164,53 @@ static const char *exact_status(const c5_dsp_sched_result *s, long exact_states)
     if (s->exact_skipped)
         return "not computed (more than 64 cells)";
     return s->optimum >= 0 ? "optimum" : "gave up (budget): lower_bound and best_known";
+}
+
+/* The DSP's operations of a frame (dsp_cost.h): building the tree during the frame (its
+ * packets' tag decisions and node accesses), scheduling between frames (the chosen rule). */
+static uint64_t dsp_ops_tree(const frame_row *r)
+{
+    return r->ct.tree_tags * C5_OPS_TAG + r->ct.tree_reads * C5_OPS_NODE_READ + r->ct.tree_writes * C5_OPS_NODE_WRITE;
+}
+
+static void dsp_json(json_t *o, const frame_row *r)
+{
+    const c5_dsp_sched_result *s = &r->sch;
+    json_object_set_new(o, "dsp_ops_tree", json_integer((json_int_t)dsp_ops_tree(r)));
+    json_object_set_new(o, "dsp_ops_schedule", json_integer((json_int_t)s->dsp_ops_schedule));
+    json_object_set_new(o, "dsp_ops_schedule_parts",
+                        json_pack("{s:I, s:I, s:I}", "export", (json_int_t)s->dsp_ops_export, "rule",
+                                  (json_int_t)s->dsp_ops_rule, "writeback", (json_int_t)s->dsp_ops_writeback));
+    json_object_set_new(o, "dsp_us_at_255mips",
+                        json_pack("{s:f, s:f}", "tree", c5_dsp_us(dsp_ops_tree(r)), "schedule",
+                                  c5_dsp_us(s->dsp_ops_schedule)));
+    json_object_set_new(o, "dsp_budget_ops", json_integer((json_int_t)C5_DSP_SCHED_BUDGET_OPS));
+    json_object_set_new(o, "dsp_within_budget", json_boolean(s->dsp_ops_schedule <= C5_DSP_SCHED_BUDGET_OPS));
+    json_object_set_new(o, "bounded_gave_up", json_boolean(s->bounded_gave_up));
+    json_object_set_new(o, "bounded_fell_back", json_boolean(s->bounded_fell_back));
+}
+
+/* The DSP's operations per frame, as text. */
+static void dsp_text(const frame_row *rows, int frames)
+{
+    printf("  DSP at %.0f MIPS (dsp_cost.h), scheduling budget between frames %llu ops (%.0f us):\n", C5_DSP_MIPS,
+           (unsigned long long)C5_DSP_SCHED_BUDGET_OPS, c5_dsp_us(C5_DSP_SCHED_BUDGET_OPS));
+    for (int f = 0; f < frames; f++) {
+        const frame_row *r = &rows[f];
+        const c5_dsp_sched_result *s = &r->sch;
+        uint64_t tree = dsp_ops_tree(r);
+        printf("  frame %d: tree %llu ops (%.0f us, %.2f%% of the frame); schedule %llu ops (%.0f us: export %llu, "
+               "rule %llu, write-back %llu)%s; bounded rule %d loads%s\n",
+               f, (unsigned long long)tree, c5_dsp_us(tree),
+               r->ct.board_s > 0 ? 100.0 * c5_dsp_us(tree) * 1e-6 / r->ct.board_s : 0.0,
+               (unsigned long long)s->dsp_ops_schedule, c5_dsp_us(s->dsp_ops_schedule),
+               (unsigned long long)s->dsp_ops_export, (unsigned long long)s->dsp_ops_rule,
+               (unsigned long long)s->dsp_ops_writeback,
+               s->dsp_ops_schedule > C5_DSP_SCHED_BUDGET_OPS ? " OVER BUDGET" : "", s->len_bounded,
+               s->bounded_fell_back ? " (bounded: the paper's schedule)"
+               : s->bounded_gave_up ? " (bounded: stopped at the budget)"
+                                    : "");
+    }
 }
 
 static json_t *row_json(int f, const frame_row *r, long exact_states)
@@ -186,9 +241,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
     /* 0: not run (overflow); null: gave up at the report's cap (more than 64 cells) */
     json_t *lens = json_object();
-    const char *names[3] = {"paper", "lookahead", "rollout"};
-    int lv[3] = {s->len_paper, s->len_lookahead, s->len_rollout};
-    for (int k = 0; k < 3; k++)
+    const char *names[4] = {"paper", "lookahead", "rollout", "bounded"};
+    int lv[4] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded};
+    for (int k = 0; k < 4; k++)
         json_object_set_new(lens, names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
     json_object_set_new(o, "schedule_len", lens);
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
@@ -198,6 +253,7 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
                                               "node_reads", (json_int_t)r->ct.tree_reads, "node_writes",
                                               (json_int_t)r->ct.tree_writes, "host_s", r->ct.tree_wall_s));
     json_object_set_new(o, "schedule_host_s", json_real(s->sched_wall_s));
+    dsp_json(o, r);
     json_object_set_new(o, "exact_host_s", json_real(s->exact_wall_s));
     json_object_set_new(o, "board_s_maxwork", json_real(r->board_s_maxwork));
     json_object_set_new(o, "board_s_celltree", json_real(r->ct.board_s));
@@ -241,7 +297,7 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
     printf("  fetches: Max Work vs the board following the previous frame's Cell Tree schedule;\n"
            "  of this frame's own tree: bound (proven), s3.4 (Section 3.4's formula, not a bound),\n"
            "  optimum (exact search; <=N: not proven, the best schedule found), schedule lengths\n"
-           "  by rule paper/lookahead/rollout, peels\n");
+           "  by rule paper/lookahead/rollout (bounded: below), peels\n");
     printf("%5s %8s %5s %6s %7s %8s %6s %5s %5s %7s %5s %5s %5s %9s %s\n", "frame", "rays", "nodes", "bytes",
            "maxwork", "celltree", "fewer", "bound", "s3.4", "optimum", "paper", "look", "roll", "peels c/s",
            "followed");
@@ -296,6 +352,7 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
         writes += rows[f].ct.tree_writes;
         examined += rows[f].sch.nodes_examined;
     }
+    dsp_text(rows, frames);
     printf("  cost: building %llu node reads, %llu writes, %.3f ms host; scheduling %llu nodes examined, %.3f ms "
            "host (all frames)\n",
            (unsigned long long)reads, (unsigned long long)writes, 1e3 * build, (unsigned long long)examined, 1e3 * sched);

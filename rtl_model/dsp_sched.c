@@ -5,6 +5,7 @@
 
 #include "dsp_sched.h"
 #include "clock.h"
+#include "dsp_cost.h"
 
 void c5_dsp_sched_free(c5_dsp_sched_result *r)
 {
@@ -85,7 +86,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     int *gen = malloc(sizeof *gen * (size_t)(n + 1));
     uint32_t *id = malloc(sizeof *id * (size_t)(n + 1));
     c5_schedule other = {0};
-    int *len_of[4] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout};
+    int *len_of[5] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded};
     if (!parent || !cell || !gen || !id) {
         c5_fail(err, "out of memory for the Cell Tree scheduler (%d nodes)", n);
         goto done;
@@ -102,6 +103,12 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     r->peels_split = r->next.peels_split;
     r->nodes_examined = r->next.nodes_examined;
     r->max_gen = r->next.max_gen;
+    r->dsp_ops_export = (uint64_t)n * C5_OPS_NODE_READ;
+    r->dsp_ops_rule = r->next.dsp_ops;
+    r->dsp_ops_writeback = (uint64_t)n * C5_OPS_NODE_WRITE;
+    r->dsp_ops_schedule = r->dsp_ops_export + r->dsp_ops_rule + r->dsp_ops_writeback;
+    r->bounded_gave_up = r->next.gave_up;
+    r->bounded_fell_back = r->next.fell_back;
     /* The report's: the other rules and the bounds. */
     *len_of[rule] = r->next.len;
     if (!report) {
@@ -111,7 +118,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     /* Above 64 cells the other rules run under a cap on nodes examined (the rollout rule's
      * cost grows with cells times peels squared); over it, their length is -1. */
     uint64_t cap = c5_tree_bound_cells(&dt) ? 0 : C5_DSP_REPORT_MAX_EXAMINED;
-    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_ROLLOUT; k++) {
+    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_BOUNDED; k++) {
         if (k == (int)rule)
             continue;
         int got = c5_sched_celltree_capped(&dt, (c5_split_rule)k, cap, &other, err);

@@ -47,6 +47,13 @@ typedef struct {
                                  * the sum of maxGen, optimum -1, best_known 0 */
     int len_paper, len_lookahead, len_rollout; /* schedule length under each rule; 0: not run;
                                                 * -1: gave up at the cap (all_rules) */
+    int len_bounded;            /* the same for C5_SPLIT_BOUNDED (never capped: its own budget) */
+    /* The DSP's operations between frames for the chosen rule (dsp_cost.h): reading the tree
+     * out of the RAM, the rule, writing generations and ready flags back; their sum against
+     * C5_DSP_SCHED_BUDGET_OPS. bounded_gave_up / bounded_fell_back: C5_SPLIT_BOUNDED stopped
+     * at its budget / returned the paper's rule's schedule. */
+    uint64_t dsp_ops_export, dsp_ops_rule, dsp_ops_writeback, dsp_ops_schedule;
+    int bounded_gave_up, bounded_fell_back;
     int peels_completion, peels_split; /* of the chosen rule */
     uint64_t nodes_examined;    /* of the chosen rule */
     int max_gen;

@@ -10,6 +10,8 @@
  * per candidate. */
 #include "tree_sched.h"
 
+#include "dsp_cost.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -201,6 +203,7 @@ typedef struct {
     uint64_t *bready, *bfull, *bleaf;  /* [words] bitsets over the local cells */
     int sum_maxgen, live_total, max_gen;
     uint64_t examined;
+    uint64_t ops;   /* the DSP's operations (dsp_cost.h) */
     int *log, nlog; /* removed nodes in removal order (for undo) */
     int full_first; /* completion order: cells with only leaves left first (rollout rule) */
     uint64_t cap;   /* give up past this many nodes examined (0: never) */
@@ -236,17 +239,20 @@ static void setbit(uint64_t *b, int c, int on)
 /* The bitsets' bits of cell c from its counts. */
 static void mark(peeler *p, int c)
 {
+    p->ops += C5_OPS_MARK;
     setbit(p->bready, c, ready(p, c));
     setbit(p->bfull, c, p->nlive[c] > 0 && p->nleaf[c] == p->nlive[c]);
     setbit(p->bleaf, c, p->nleaf[c] > 0);
 }
 
 /* The lowest cell in bitset b, -1: none. */
-static int lowest(const peeler *p, const uint64_t *b)
+static int lowest(peeler *p, const uint64_t *b)
 {
-    for (int w = 0; w < p->words; w++)
+    for (int w = 0; w < p->words; w++) {
+        p->ops += C5_OPS_WORD;
         if (b[w])
             return w * 64 + __builtin_ctzll(b[w]);
+    }
     return -1;
 }
 
@@ -332,6 +338,7 @@ static int peeler_init(peeler *p, const c5_dep_tree *t)
     for (int c = 0; c < m; c++)
         mark(p, c);
     p->live_total = n;
+    p->ops += (uint64_t)n * C5_OPS_INIT_NODE + (uint64_t)m * C5_OPS_INIT_CELL;
     return 0;
 fail:
     free(loc);
@@ -347,7 +354,7 @@ fail:
  * tree then has no node of c, so from any optimal forward schedule of the whole tree,
  * deleting one load of c leaves a schedule of the rest: OPT(rest) <= OPT(tree) - 1. The
  * rollout rule therefore takes full cells first (full_first). A full cell is ready. */
-static int first_ready(const peeler *p)
+static int first_ready(peeler *p)
 {
     int c = p->full_first ? lowest(p, p->bfull) : -1;
     return c >= 0 ? c : lowest(p, p->bready);
@@ -361,6 +368,7 @@ static int peel(peeler *p, int c)
 {
     int base = p->cstart[c], k = base, end = base + p->nlive[c], removed = 0;
     p->examined += (uint64_t)p->nlive[c];
+    p->ops += C5_OPS_PEEL + (uint64_t)p->nlive[c] * C5_OPS_EXAMINE;
     while (k < end) {
         int i = p->list[k];
         if (p->livekids[i] != 0) {
@@ -376,9 +384,11 @@ static int peel(peeler *p, int c)
         p->live_total--;
         p->log[p->nlog++] = i;
         removed++;
+        p->ops += C5_OPS_REMOVE;
         int q = p->parent[i];
         if (q >= 0 && --p->livekids[q] == 0) {
             int cq = p->lcell[q];
+            p->ops += C5_OPS_PARENT;
             p->leafcnt[p->gbase[cq] + p->gen[q]]++;
             p->nleaf[cq]++;
             mark(p, cq);
@@ -398,6 +408,7 @@ static void undo(peeler *p, int upto)
 {
     while (p->nlog > upto) {
         int i = p->log[--p->nlog], c = p->lcell[i];
+        p->ops += C5_OPS_RESTORE;
         p->nlive[c]++; /* i sits at list[cstart[c] + old nlive[c]] (see peel) */
         int gk = p->gbase[c] + p->gen[i];
         p->cnt[gk]++;
@@ -430,12 +441,14 @@ static int complete(peeler *p)
 
 /* ---- split rules ----------------------------------------------------------------------- */
 
-static int split_most_leaves(const peeler *p)
+static int split_most_leaves(peeler *p)
 {
     int best = -1;
+    p->ops += (uint64_t)p->words * C5_OPS_WORD;
     for (int w = 0; w < p->words; w++)
         for (uint64_t x = p->bleaf[w]; x; x &= x - 1) {
             int c = w * 64 + __builtin_ctzll(x);
+            p->ops += C5_OPS_CANDIDATE;
             if (best < 0 || p->nleaf[c] > p->nleaf[best])
                 best = c;
         }
@@ -453,6 +466,7 @@ static int best_by_simulation(peeler *p, int (*score)(peeler *))
             int c = w * 64 + __builtin_ctzll(x);
             if (p->cap && p->examined > p->cap)
                 return -1;
+            p->ops += C5_OPS_CANDIDATE;
             int upto = p->nlog;
             peel(p, c);
             int sc = 1 + score(p);
@@ -513,6 +527,8 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
                              c5_err *err)
 {
     memset(out, 0, sizeof *out);
+    if (rule == C5_SPLIT_BOUNDED) /* its own cap: counted operations */
+        return c5_sched_bounded(t, c5_dsp_rule_budget(t->n), out, err) < 0 ? -1 : 0;
     if (rule != C5_SPLIT_MOST_LEAVES && rule != C5_SPLIT_LOOKAHEAD && rule != C5_SPLIT_ROLLOUT)
         return c5_fail(err, "cell tree schedule: unknown split rule %d", (int)rule);
     if (c5_tree_check(t, err) != 0)
@@ -556,8 +572,174 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
     out->len = len;
     out->cells = rev;
     out->nodes_examined = p.examined;
+    out->dsp_ops = p.ops + (uint64_t)len; /* + writing the schedule out */
     out->max_gen = p.max_gen;
     peeler_free(&p);
+    return 0;
+}
+
+/* ---- the bounded rollout (C5_SPLIT_BOUNDED) ---------------------------------------------- */
+
+/* The cheap policy's pick: a full cell, else the lowest ready, else most leaves. */
+static int policy_pick(peeler *p)
+{
+    int c = first_ready(p);
+    return c >= 0 ? c : split_most_leaves(p);
+}
+
+/* The most a peel of c can cost (every live node removed and turning its parent into a
+ * leaf, a mark each), with the schedule entry after it and, as slack, the most the work
+ * between two checks costs: a pick (bitset scans, a pass over the cells) and a candidate's
+ * bookkeeping. */
+static uint64_t peel_worst(const peeler *p, int c)
+{
+    uint64_t nl = (uint64_t)p->nlive[c];
+    return C5_OPS_PEEL + C5_OPS_MARK + nl * (C5_OPS_EXAMINE + C5_OPS_REMOVE + C5_OPS_PARENT + C5_OPS_MARK) +
+           4 * (uint64_t)p->words * C5_OPS_WORD + ((uint64_t)p->m + 2) * C5_OPS_CANDIDATE + 2;
+}
+
+/* Undoing k removals (each may mark its cell and its parent's). */
+static uint64_t undo_worst(uint64_t k) { return k * (C5_OPS_RESTORE + 2 * C5_OPS_MARK); }
+
+typedef struct {
+    peeler *p;
+    uint64_t budget; /* 0: none */
+    uint64_t reserve; /* kept for writing the schedule out */
+} bounded_ctx;
+
+/* 1 when a peel of c fits the budget with the undo of `removed` more nodes. */
+static int affords(const bounded_ctx *b, int c, uint64_t removed)
+{
+    const peeler *p = b->p;
+    if (!b->budget)
+        return 1;
+    uint64_t need = peel_worst(p, c) + undo_worst(removed + (uint64_t)p->nlive[c]) + b->reserve;
+    return p->ops + need <= b->budget;
+}
+
+/* Runs the cheap policy from the current state into seq (2 * cell + ready per peel),
+ * returning its length; stops when `stop` peels so far plus the sum of maxGen reach `stop`
+ * (it cannot beat a schedule of that length: -2) or at the budget (-1). Leaves the peels
+ * in the journal; the caller undoes them. `first` >= 0: that cell first. */
+static int simulate(bounded_ctx *b, int first, int stop, int *seq, int upto)
+{
+    peeler *p = b->p;
+    int k = 0;
+    while (p->live_total > 0) {
+        if (stop > 0 && k + p->sum_maxgen >= stop)
+            return -2;
+        int c = k == 0 && first >= 0 ? first : policy_pick(p);
+        if (!affords(b, c, (uint64_t)(p->nlog - upto)))
+            return -1;
+        seq[k++] = 2 * c + ready(p, c);
+        peel(p, c);
+        p->ops += 1;
+    }
+    return k;
+}
+
+int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err)
+{
+    memset(out, 0, sizeof *out);
+    if (c5_tree_check(t, err) != 0)
+        return -1;
+    size_t sz = (size_t)(t->n > 0 ? t->n : 1);
+    peeler p;
+    /* the paper's reverse schedule, the result, the incumbent continuation and a candidate's */
+    int *paper = malloc(sz * sizeof *paper), *rev = malloc(sz * sizeof *rev);
+    int *inc = malloc(sz * sizeof *inc), *cand = malloc(sz * sizeof *cand);
+    if (!paper || !rev || !inc || !cand || peeler_init(&p, t) != 0) {
+        free(paper);
+        free(rev);
+        free(inc);
+        free(cand);
+        return c5_fail(err, "cell tree schedule: out of memory for %d nodes", t->n);
+    }
+    bounded_ctx b = {&p, budget_ops, 2 * (uint64_t)t->n};
+    /* The fallback: the paper's rule, whatever the budget. */
+    int plen = 0, pcomp = 0;
+    while (p.live_total > 0) {
+        int c = first_ready(&p);
+        if (c < 0)
+            c = split_most_leaves(&p);
+        else
+            pcomp++;
+        peel(&p, c);
+        paper[plen++] = c;
+    }
+    undo(&p, 0);
+    /* The incumbent: the cheap policy's schedule from the start. */
+    p.full_first = 1;
+    int len = 0, comp = 0, head = 0, ilen = simulate(&b, -1, 0, inc, 0);
+    undo(&p, 0);
+    if (ilen < 0) { /* over the budget before the first incumbent */
+        out->gave_up = 1;
+        goto result;
+    }
+    /* inc[head .. ilen) finishes the tree from the current state in ilen - head peels. */
+    while (p.live_total > 0) {
+        int ci = inc[head] >> 1;
+        if (lowest(&p, p.bfull) < 0) {
+            for (int w = 0; w < p.words; w++)
+                for (uint64_t x = p.bleaf[w]; x; x &= x - 1) {
+                    int c = w * 64 + __builtin_ctzll(x);
+                    if (c == ci)
+                        continue;
+                    p.ops += C5_OPS_CANDIDATE;
+                    int upto = p.nlog, k = simulate(&b, c, ilen - head, cand, upto);
+                    if (k == -1) {
+                        out->gave_up = 1;
+                        goto result;
+                    }
+                    undo(&p, upto);
+                    if (k >= 0 && k < ilen - head) { /* shorter: the new incumbent */
+                        int *tmp = inc;
+                        inc = cand;
+                        cand = tmp;
+                        ilen = k;
+                        head = 0;
+                        ci = c;
+                    }
+                }
+        }
+        if (!affords(&b, ci, 0)) {
+            out->gave_up = 1;
+            goto result;
+        }
+        comp += ready(&p, ci);
+        peel(&p, ci);
+        p.ops += 1;
+        rev[len++] = ci;
+        head++;
+    }
+result:
+    /* The result: the committed peels and the incumbent's rest, or the paper's when shorter
+     * or when there is no incumbent. */
+    if (ilen < 0 || plen <= len + (ilen - head)) {
+        memcpy(rev, paper, (size_t)plen * sizeof *rev);
+        len = plen;
+        out->peels_completion = pcomp;
+        out->fell_back = 1;
+    } else {
+        for (int k = head; k < ilen; k++) {
+            comp += inc[k] & 1;
+            rev[len++] = inc[k] >> 1;
+        }
+        out->peels_completion = comp;
+    }
+    out->peels_split = len - out->peels_completion;
+    int *fwd = paper; /* reuse: the forward schedule in cell ids */
+    for (int k = 0; k < len; k++)
+        fwd[k] = p.gid[rev[len - 1 - k]];
+    out->len = len;
+    out->cells = fwd;
+    out->nodes_examined = p.examined;
+    out->dsp_ops = p.ops + 2 * (uint64_t)len;
+    out->max_gen = p.max_gen;
+    peeler_free(&p);
+    free(rev);
+    free(inc);
+    free(cand);
     return 0;
 }
 

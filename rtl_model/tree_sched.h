@@ -53,6 +53,15 @@ typedef enum {
                                  Never longer than that cheap policy. Cost: one cheap run per
                                  candidate cell per peel (about 3000x rule 1's node visits on an
                                  8191-node, 64-cell tree). */
+    C5_SPLIT_BOUNDED = 4,     /* ours, for the DSP: the rollout under a budget of counted DSP
+                                 operations (dsp_cost.h). The cheap policy's schedule is the
+                                 incumbent; at each peel without a full cell the other cells
+                                 with a leaf are tried by rollout, pruned as soon as they
+                                 cannot beat the incumbent (peels so far + sum of maxGen), and
+                                 a shorter one replaces it. At the budget it stops and returns
+                                 the incumbent (a complete schedule); the paper's rule runs
+                                 first, and its schedule is returned when it is no longer.
+                                 Never longer than rule 1 nor than the cheap policy (c5_sched_bounded). */
 } c5_split_rule;
 
 typedef struct {
@@ -61,6 +70,11 @@ typedef struct {
     int peels_completion, peels_split;
     uint64_t nodes_examined; /* node visits by the algorithm (the paper's cost measure) */
     int max_gen;             /* largest generation */
+    uint64_t dsp_ops;        /* the DSP's operations for it (dsp_cost.h): preparation, peels and
+                                simulations, writing the schedule out */
+    int gave_up;             /* C5_SPLIT_BOUNDED: 1 when the budget stopped the search */
+    int fell_back;           /* C5_SPLIT_BOUNDED: 1 when the paper's rule's schedule was returned
+                                (the search found nothing shorter) */
 } c5_schedule;
 
 /* The guarantees above; 0, or -1 with a message naming the first offending node. */
@@ -82,6 +96,18 @@ void c5_schedule_free(c5_schedule *s);
  * rules' cost grows with the cells and the peels (docs/cell-tree.md); the report caps them. */
 int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t max_examined, c5_schedule *out,
                              c5_err *err);
+
+/* C5_SPLIT_BOUNDED with a budget of budget_ops DSP operations (dsp_cost.h) for the rule
+ * itself, preparation included. Deterministic: the budget is counted operations, checked
+ * before each peel against the peel's worst case and the undo it would need, so out->dsp_ops
+ * never exceeds the budget, except that the paper's rule always runs (it is the fallback):
+ * a budget below its cost gives its schedule at its cost (out->gave_up 1, fell_back 1).
+ * budget_ops 0: no budget. Properties (tests/test_tree_bounded.c): feasible, never longer
+ * than C5_SPLIT_MOST_LEAVES (ties: its schedule is returned), never longer than the cheap
+ * policy (full cells first, lowest ready, else most leaves) once that policy's first run
+ * fits the budget; a budget that does not bind gives the unbounded run's schedule; the same
+ * tree and budget give the same schedule and count. */
+int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
 
 /* Section 3.4's "bound": sum over cells of the largest generation, + 1 when completion peels
  * alone (lowest ready id first), from the start, get stuck on a non-empty tree. -1 when out

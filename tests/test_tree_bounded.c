@@ -1,0 +1,134 @@
+/* The bounded rollout (C5_SPLIT_BOUNDED, rtl_model/tree_sched.c) and the DSP's operation
+ * count (rtl_model/dsp_cost.h): feasible, never longer than the paper's rule, deterministic,
+ * within its budget, and the paper's schedule when the budget is too small. */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dsp_cost.h"
+#include "harness.h"
+#include "rng.h"
+#include "tree_fixtures.h"
+#include "tree_sched.h"
+
+/* What the bounded rule may spend beyond its budget: only the paper's rule, which always
+ * runs (preparation and peels: its own dsp_ops), the undo of its peels, one pick of the
+ * cheap policy (trees of at most 64 cells: one bitset word) and the schedule written out. */
+static uint64_t fallback_cost(const c5_dep_tree *t, const c5_schedule *paper)
+{
+    return paper->dsp_ops + (uint64_t)t->n * (C5_OPS_RESTORE + 2 * C5_OPS_MARK) + 4 * C5_OPS_WORD +
+           66 * C5_OPS_CANDIDATE + 2 * (uint64_t)paper->len;
+}
+
+TEST(tree_bounded_random)
+{
+    uint64_t rng = 0xb0dedull;
+    static int par[400], cel[400];
+    int shorter = 0, trees = 0;
+    c5_err err;
+    for (int it = 0; it < 3000; it++) {
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 120), 2 + (int)(c5_splitmix64(&rng) % 6),
+                                3 + (int)(c5_splitmix64(&rng) % 6), par, cel);
+        c5_dep_tree t = {n, par, cel};
+        c5_schedule paper, free_run;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
+        CHECK_INT(c5_sched_bounded(&t, 0, &free_run, &err), 0);
+        CHECK(!free_run.gave_up);
+        CHECK_MSG(c5_sched_feasible(&t, free_run.cells, free_run.len) == 1, "tree %d: infeasible", it);
+        CHECK_MSG(free_run.len <= paper.len, "tree %d: %d loads, the paper's rule %d", it, free_run.len, paper.len);
+        CHECK_INT(free_run.peels_completion + free_run.peels_split, free_run.len);
+        shorter += free_run.len < paper.len;
+        trees++;
+        /* Budgets from nothing to the unbounded run's cost: feasible, no longer than the
+         * paper's rule, within the budget or only what the fallback costs. */
+        for (int k = 0; k < 3; k++) {
+            uint64_t b = 1 + c5_splitmix64(&rng) % (free_run.dsp_ops + 1);
+            c5_schedule s;
+            CHECK_INT(c5_sched_bounded(&t, b, &s, &err), 0);
+            CHECK_MSG(c5_sched_feasible(&t, s.cells, s.len) == 1, "tree %d budget %llu: infeasible", it,
+                      (unsigned long long)b);
+            CHECK(s.len <= paper.len);
+            CHECK_MSG(s.dsp_ops <= b || (s.gave_up && s.fell_back && s.dsp_ops <= fallback_cost(&t, &paper)),
+                      "tree %d (%d nodes): %llu ops against a budget of %llu (gave up %d, fell back %d, paper %llu)",
+                      it, n, (unsigned long long)s.dsp_ops, (unsigned long long)b, s.gave_up, s.fell_back,
+                      (unsigned long long)paper.dsp_ops);
+            if (!s.gave_up) /* the budget did not bind: the unbounded run */
+                CHECK(s.len == free_run.len && !memcmp(s.cells, free_run.cells, sizeof *s.cells * (size_t)s.len));
+            c5_schedule_free(&s);
+        }
+        c5_schedule_free(&paper);
+        c5_schedule_free(&free_run);
+    }
+    /* the rule does something: shorter than the paper's on some trees */
+    CHECK_MSG(shorter > trees / 50, "shorter than the paper's rule on %d of %d trees", shorter, trees);
+}
+
+TEST(tree_bounded_tiny_budget_is_the_paper)
+{
+    uint64_t rng = 0x7e57ull;
+    static int par[300], cel[300];
+    c5_err err;
+    for (int it = 0; it < 200; it++) {
+        int n = c5t_random_tree(&rng, 50 + (int)(c5_splitmix64(&rng) % 200), 4, 6, par, cel);
+        c5_dep_tree t = {n, par, cel};
+        c5_schedule paper, s;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
+        CHECK_INT(c5_sched_bounded(&t, 1, &s, &err), 0);
+        CHECK(s.gave_up && s.fell_back);
+        CHECK_INT(s.len, paper.len);
+        CHECK(!memcmp(s.cells, paper.cells, sizeof *s.cells * (size_t)s.len));
+        CHECK_INT(s.peels_completion, paper.peels_completion);
+        c5_schedule_free(&paper);
+        c5_schedule_free(&s);
+    }
+}
+
+TEST(tree_bounded_deterministic)
+{
+    uint64_t rng = 0xde7ull;
+    static int par[2000], cel[2000];
+    c5_err err;
+    int n = c5t_random_tree(&rng, 1500, 27, 8, par, cel);
+    c5_dep_tree t = {n, par, cel};
+    uint64_t budgets[3] = {0, C5_DSP_SCHED_BUDGET_OPS, 400000};
+    for (int k = 0; k < 3; k++) {
+        c5_schedule a, b;
+        CHECK_INT(c5_sched_bounded(&t, budgets[k], &a, &err), 0);
+        CHECK_INT(c5_sched_bounded(&t, budgets[k], &b, &err), 0);
+        CHECK_INT(a.len, b.len);
+        CHECK(a.dsp_ops == b.dsp_ops && a.nodes_examined == b.nodes_examined);
+        CHECK(a.gave_up == b.gave_up && a.fell_back == b.fell_back);
+        CHECK(!memcmp(a.cells, b.cells, sizeof *a.cells * (size_t)a.len));
+        c5_schedule_free(&a);
+        c5_schedule_free(&b);
+    }
+}
+
+/* The rule as the DSP runs it (c5_sched_celltree): its share of the budget on the largest
+ * trees the RAM holds, 8191 nodes over 27 and 64 cells; and the paper's rule fits the same
+ * budget with export and write-back. (Over 4096 cell ids the paper's rule alone costs more:
+ * its bitset scans grow with the cells; docs/cell-tree.md.) */
+TEST(tree_bounded_within_budget_big)
+{
+    uint64_t rng = 0xb16ull;
+    static int par[8191], cel[8191], pool[4096];
+    c5_err err;
+    for (int i = 0; i < 4096; i++)
+        pool[i] = i;
+    int sizes[2] = {27, 64};
+    for (int k = 0; k < 2; k++) {
+        int n = c5t_random_tree_wide(&rng, 8191, pool, sizes[k], 8, par, cel);
+        c5_dep_tree t = {n, par, cel};
+        uint64_t io = (uint64_t)n * (C5_OPS_NODE_READ + C5_OPS_NODE_WRITE);
+        c5_schedule s, paper;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_BOUNDED, &s, &err), 0);
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
+        CHECK_MSG(io + paper.dsp_ops <= C5_DSP_SCHED_BUDGET_OPS, "%d cells: the paper's rule %llu ops", sizes[k],
+                  (unsigned long long)(io + paper.dsp_ops));
+        CHECK_MSG(io + s.dsp_ops <= C5_DSP_SCHED_BUDGET_OPS, "%d cells: %llu ops", sizes[k],
+                  (unsigned long long)(io + s.dsp_ops));
+        CHECK(s.len <= paper.len && c5_sched_feasible(&t, s.cells, s.len) == 1);
+        c5_schedule_free(&s);
+        c5_schedule_free(&paper);
+    }
+}
