@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "board.h"
+#include "camera.h"
+#include "camera_motion.h"
 #include "cli.h"
 #include "dsp_sched.h"
 #include "progress.h"
@@ -14,7 +16,8 @@ static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
     "                      [--split paper|lookahead|rollout] [--exact-states N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
-    "                      [--still] [--volume [I=]FILE] [--json] [--progress]\n\n"
+    "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
+    "                      [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
     "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"
@@ -42,6 +45,14 @@ static const char usage_text[] =
     "  --on-overflow maxwork|partial\n"
     "                    a tree that outgrew the RAM: no schedule, the next frame runs Max Work\n"
     "                    (default), or the schedule of the part it holds, then Max Work\n"
+    "  --orbit DEG       camera motion: the eye turns DEG degrees a frame about the target\n"
+    "                    around the camera's up axis (0: still), from the path's first camera\n"
+    "  --jumps SEED[:EVERY|:pPROB]\n"
+    "                    camera motion: cuts to a random view (an eye on the sphere about the\n"
+    "                    target), every EVERY frames (default 4) or with probability PROB a frame\n"
+    "  --dolly F         camera motion: the eye's distance to the target times F a frame\n"
+    "                    (0.5..2; below 1 the eye moves in past surfaces). With any motion,\n"
+    "                    --frames defaults to 8\n"
     "  --json            one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_PROGRESS_HELP;
 
@@ -55,6 +66,7 @@ typedef struct {
     int partial; /* --on-overflow partial */
     long group;  /* --tree-group G: the tree over groups of GxGxG cells; 0: auto (c5_dsp_next_group) */
     c5_split_rule rule;
+    c5_motion motion; /* --orbit, --jumps, --dolly */
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
 } sched_args;
@@ -72,7 +84,8 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
         const char *o = argv[i];
         if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
             !strcmp(o, "--exact-states") || !strcmp(o, "--tree-nodes") || !strcmp(o, "--volume") ||
-            !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group")) {
+            !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group") || !strcmp(o, "--orbit") ||
+            !strcmp(o, "--jumps") || !strcmp(o, "--dolly")) {
             if (i + 1 >= argc)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -88,6 +101,12 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                 return -1;
             else if (!strcmp(o, "--tree-group") && strcmp(v, "auto") &&
                      c5_cli_int(o, v, 1, C5_CLI_MAX_CELLS, &a->group, err))
+                return -1;
+            else if (!strcmp(o, "--orbit") && c5_motion_parse_orbit(o, v, &a->motion, err))
+                return -1;
+            else if (!strcmp(o, "--jumps") && c5_motion_parse_jumps(o, v, &a->motion, err))
+                return -1;
+            else if (!strcmp(o, "--dolly") && c5_motion_parse_dolly(o, v, &a->motion, err))
                 return -1;
             else if (!strcmp(o, "--on-overflow")) {
                 if (strcmp(v, "maxwork") && strcmp(v, "partial"))
@@ -114,6 +133,8 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
             return -1;
         }
     }
+    if (a->still && c5_motion_active(&a->motion))
+        return c5_fail(err, "--still: a still camera cannot also move (--orbit, --jumps, --dolly)");
     return 0;
 }
 
@@ -126,6 +147,7 @@ typedef struct {
     c5_dsp_sched_result sch; /* the DSP's work on this frame's tree */
     int group;               /* cells a group of this frame's tree holds per axis (1: cells) */
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
+    int jump;                /* the camera motion cut to a new view at this frame */
 } frame_row;
 
 static uint64_t rays_of(const c5_board_stats *st)
@@ -163,6 +185,7 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     const c5_dsp_sched_result *s = &r->sch;
     json_t *o = json_object();
     json_object_set_new(o, "frame", json_integer(f));
+    json_object_set_new(o, "jump", json_boolean(r->jump));
     json_object_set_new(o, "rays", json_integer((json_int_t)r->rays));
     json_object_set_new(o, "nodes", json_integer(s->nodes));
     json_object_set_new(o, "tree_slots", json_integer(s->slots));
@@ -221,6 +244,11 @@ static void print_json(const sched_args *a, const c5_scene *s, const frame_row *
     json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a->cells[0], a->cells[1], a->cells[2]));
     json_object_set_new(o, "split_rule", json_string(rule_name(a->rule)));
     json_object_set_new(o, "still", json_boolean(a->still));
+    const c5_motion *m = &a->motion;
+    json_object_set_new(o, "motion", json_pack("{s:f, s:o, s:i, s:f, s:f}", "orbit_deg", m->orbit_deg, "jumps_seed",
+                                               m->jumps ? json_integer((json_int_t)m->jump_seed) : json_null(),
+                                               "jumps_every", m->jumps ? m->jump_every : 0, "jumps_prob",
+                                               m->jumps ? m->jump_prob : 0.0, "dolly", m->dolly ? m->dolly : 1.0));
     json_object_set_new(o, "tree_capacity_nodes", json_integer(a->tree_nodes));
     json_object_set_new(o, "exact_states", json_integer(a->exact_states));
     json_object_set_new(o, "frames", arr);
@@ -326,6 +354,9 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     c5_board_stats mw;
     int g = row->group;
     c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group}};
+    c5_camera cam = c5_motion_camera(&s->camera, &a->motion, f);
+    if (c5_motion_active(&a->motion))
+        o.camera = &cam;
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
@@ -352,6 +383,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         row->followed = prev->overflow ? "partial celltree, then maxwork"
                         : row->ct.sched_fallback ? "celltree, then maxwork" : "celltree";
     }
+    row->jump = c5_motion_jumps_at(&a->motion, f);
     row->rays = rays_of(&mw);
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
@@ -384,11 +416,20 @@ int c5_cmd_schedule(int argc, char **argv)
     if (parse_args(argc, argv, &a, &err) != 0 ||
         c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
         goto fail;
-    if (a.still) {
+    int moving = c5_motion_active(&a.motion);
+    if (a.still || moving) { /* the path's first camera: the still view, or the motion's base */
         s.camera = c5_scene_camera_at(&s, 0);
         s.path.n_keys = 0;
     }
-    frames = a.frames ? (int)a.frames : c5_scene_frames(&s) > 1 ? c5_scene_frames(&s) : 2;
+    frames = a.frames ? (int)a.frames : moving ? 8 : c5_scene_frames(&s) > 1 ? c5_scene_frames(&s) : 2;
+    for (int f = 0; moving && f < frames; f++) {
+        c5_camera cam = c5_motion_camera(&s.camera, &a.motion, f);
+        const char *problem = c5_camera_problem(&cam);
+        if (problem) {
+            c5_fail(&err, "%s: camera motion: frame %d: %s", label, f, problem);
+            goto fail;
+        }
+    }
     if (s.path.n_keys > 0)
         s.path.frames = frames;
     if (c5_scene_check_path(&s, label, &err) != 0)
