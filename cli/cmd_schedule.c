@@ -67,6 +67,7 @@ typedef struct {
     long group;  /* --tree-group G: the tree over groups of GxGxG cells; 0: auto (c5_dsp_next_group) */
     c5_split_rule rule;
     c5_motion motion; /* --orbit, --jumps, --dolly */
+    int moving;       /* one of them given (--orbit 0 too: the path's first camera, still) */
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
 } sched_args;
@@ -89,6 +90,8 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
             if (i + 1 >= argc)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
+            if (!strcmp(o, "--orbit") || !strcmp(o, "--jumps") || !strcmp(o, "--dolly"))
+                a->moving = 1;
             if (!strcmp(o, "--cells") && c5_cli_cells(o, v, a->cells, err))
                 return -1;
             else if (!strcmp(o, "--frames") && c5_cli_int(o, v, 1, C5_MAX_FRAMES, &a->frames, err))
@@ -133,7 +136,7 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
             return -1;
         }
     }
-    if (a->still && c5_motion_active(&a->motion))
+    if (a->still && a->moving)
         return c5_fail(err, "--still: a still camera cannot also move (--orbit, --jumps, --dolly)");
     return 0;
 }
@@ -355,7 +358,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     int g = row->group;
     c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group}};
     c5_camera cam = c5_motion_camera(&s->camera, &a->motion, f);
-    if (c5_motion_active(&a->motion))
+    if (a->moving)
         o.camera = &cam;
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
@@ -416,7 +419,7 @@ int c5_cmd_schedule(int argc, char **argv)
     if (parse_args(argc, argv, &a, &err) != 0 ||
         c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
         goto fail;
-    int moving = c5_motion_active(&a.motion);
+    int moving = a.moving;
     if (a.still || moving) { /* the path's first camera: the still view, or the motion's base */
         s.camera = c5_scene_camera_at(&s, 0);
         s.path.n_keys = 0;
