@@ -17,7 +17,7 @@ static const char usage_text[] =
     "                      [--split paper|lookahead|rollout] [--exact-states N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
-    "                      [--volume [I=]FILE] [--json] [--progress]\n\n"
+    "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
     "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"
@@ -53,6 +53,12 @@ static const char usage_text[] =
     "  --dolly F         camera motion: the eye's distance to the target times F a frame\n"
     "                    (0.5..2; below 1 the eye moves in past surfaces). With any motion,\n"
     "                    --frames defaults to 8\n"
+    "  --stale-check on|off\n"
+    "                    on (default): the board watches for a stale schedule (the queues\n"
+    "                    after the set-up unlike the previous frame's, rays in cells the rest\n"
+    "                    of the schedule never visits, scheduled cells found empty) and\n"
+    "                    switches to Max Work for the rest of the frame; off: it follows the\n"
+    "                    schedule to its end (the paper's board). docs/cell-tree.md\n"
     "  --json            one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_PROGRESS_HELP;
 
@@ -68,6 +74,7 @@ typedef struct {
     c5_split_rule rule;
     c5_motion motion; /* --orbit, --jumps, --dolly */
     int moving;       /* one of them given (--orbit 0 too: the path's first camera, still) */
+    int stale_off;    /* --stale-check off */
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
 } sched_args;
@@ -86,7 +93,7 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
         if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
             !strcmp(o, "--exact-states") || !strcmp(o, "--tree-nodes") || !strcmp(o, "--volume") ||
             !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group") || !strcmp(o, "--orbit") ||
-            !strcmp(o, "--jumps") || !strcmp(o, "--dolly")) {
+            !strcmp(o, "--jumps") || !strcmp(o, "--dolly") || !strcmp(o, "--stale-check")) {
             if (i + 1 >= argc)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -111,7 +118,11 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                 return -1;
             else if (!strcmp(o, "--dolly") && c5_motion_parse_dolly(o, v, &a->motion, err))
                 return -1;
-            else if (!strcmp(o, "--on-overflow")) {
+            else if (!strcmp(o, "--stale-check")) {
+                if (strcmp(v, "on") && strcmp(v, "off"))
+                    return c5_fail(err, "--stale-check: '%s' is not on or off", v);
+                a->stale_off = !strcmp(v, "off");
+            } else if (!strcmp(o, "--on-overflow")) {
                 if (strcmp(v, "maxwork") && strcmp(v, "partial"))
                     return c5_fail(err, "--on-overflow: '%s' is not maxwork or partial", v);
                 a->partial = !strcmp(v, "partial");
@@ -151,6 +162,7 @@ typedef struct {
     int group;               /* cells a group of this frame's tree holds per axis (1: cells) */
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
     int jump;                /* the camera motion cut to a new view at this frame */
+    uint32_t *start;         /* [cells] rays queued per cell after the set-up (stale check) */
 } frame_row;
 
 static uint64_t rays_of(const c5_board_stats *st)
@@ -183,6 +195,27 @@ static const char *exact_status(const c5_dsp_sched_result *s, long exact_states)
     return s->optimum >= 0 ? "optimum" : "gave up (budget): lower_bound and best_known";
 }
 
+/* Why the board stopped following the schedule, in words. */
+static const char *switch_reason(const c5_board_stats *st, char *buf, size_t n)
+{
+    switch (st->switch_reason) {
+    case C5_SWITCH_START:
+        snprintf(buf, n, "queues after the set-up differ from the previous frame's (overlap %.0f%%)",
+                 100 * st->switch_value);
+        break;
+    case C5_SWITCH_ORPHANS:
+        snprintf(buf, n, "%.0f%% of the waiting rays are in cells the schedule no longer visits",
+                 100 * st->switch_value);
+        break;
+    case C5_SWITCH_SKIPS:
+        snprintf(buf, n, "%.0f%% of the scheduled cells passed were empty", 100 * st->switch_value);
+        break;
+    default:
+        snprintf(buf, n, "none");
+    }
+    return buf;
+}
+
 static json_t *row_json(int f, const frame_row *r, long exact_states)
 {
     const c5_dsp_sched_result *s = &r->sch;
@@ -204,6 +237,13 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "sched_loads", json_integer((json_int_t)r->ct.sched_loads));
     json_object_set_new(o, "sched_skipped", json_integer((json_int_t)r->ct.sched_skipped));
     json_object_set_new(o, "sched_fallback", json_integer((json_int_t)r->ct.sched_fallback));
+    json_object_set_new(o, "sched_switches", json_integer((json_int_t)r->ct.sched_switches));
+    json_object_set_new(o, "switched_at_load",
+                        r->ct.sched_switches ? json_integer((json_int_t)r->ct.switched_at_load) : json_null());
+    char why[160];
+    json_object_set_new(o, "switch_reason", r->ct.sched_switches ? json_string(switch_reason(&r->ct, why, sizeof why)) : json_null());
+    json_object_set_new(o, "start_overlap", r->ct.start_overlap >= 0 ? json_real(r->ct.start_overlap) : json_null());
+    json_object_set_new(o, "stale_ops", json_integer((json_int_t)r->ct.stale_ops));
     json_object_set_new(o, "lower_bound", s->overflow ? json_null() : json_integer(s->lower_bound));
     json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
     json_object_set_new(o, "paper_bound", s->overflow ? json_null() : json_integer(s->paper_bound));
@@ -298,6 +338,13 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
                                          : " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)");
         if (r->group > 1)
             printf("%5s this frame's tree is over groups of %dx%dx%d cells\n", "", r->group, r->group, r->group);
+        if (r->ct.sched_switches) {
+            char why[160];
+            printf("%5s WARNING: stale schedule: switched to Max Work at load %lld: %s\n", "",
+                   (long long)r->ct.switched_at_load, switch_reason(&r->ct, why, sizeof why));
+        }
+        if (r->jump)
+            printf("%5s (the camera cut to a new view at this frame)\n", "");
         if (f > 0) {
             mw += r->fetches_maxwork;
             ct += r->fetches_celltree;
@@ -337,6 +384,14 @@ static int same_bits(const c5_image *a, const c5_image *b)
     return a->w == b->w && a->h == b->h && !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * (size_t)a->h);
 }
 
+/* Measurement hook for the thresholds' study (scripts/stale_study.py): C5_STALE=OVERLAP,ORPHAN,SKIPFRAC,SKIPMIN. */
+static void stale_env(c5_stale_thresholds *t)
+{
+    const char *e = getenv("C5_STALE");
+    if (e)
+        sscanf(e, "%lf,%lf,%lf,%d", &t->start_overlap, &t->orphan_frac, &t->skip_frac, &t->skip_min);
+}
+
 /* Why frame f runs Max Work when it does: there is no previous frame, the previous tree
  * overflowed the DSP RAM, or it was empty (no ray reached a cell: nothing to schedule). */
 static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
@@ -350,7 +405,7 @@ static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
  * made from frame f-1's tree, `prev`, when there is one), then the DSP's work on this frame's
  * tree. */
 static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f,
-                     const c5_dsp_sched_result *prev, int prev_group,
+                     const c5_dsp_sched_result *prev, int prev_group, const uint32_t *prev_start,
                      c5_ctree *trees, frame_row *row, c5_progress *prog, c5_err *err)
 {
     c5_image mw_img = {0}, ct_img = {0};
@@ -360,6 +415,11 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     c5_camera cam = c5_motion_camera(&s->camera, &a->motion, f);
     if (a->moving)
         o.camera = &cam;
+    int ncells = a->cells[0] * a->cells[1] * a->cells[2];
+    if (!(row->start = calloc((size_t)ncells, sizeof *row->start)))
+        return c5_fail(err, "out of memory");
+    o.start_counts = row->start;
+    stale_env(&o.stale);
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
@@ -375,6 +435,10 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.sched = C5_SCHED_EXTERNAL;
         o.schedule = prev->next.cells;
         o.schedule_len = prev->next.len;
+        o.stale_check = a->stale_off ? -1 : 0;
+        o.prev_start = prev_start;
+        o.prev_start_len = prev_start ? ncells : 0;
+        o.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
         if (c5_board_render(s, sv, f, &o, &ct_img, &row->ct, err) != 0)
@@ -383,8 +447,10 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
             c5_fail(err, "frame %d: the image under the Cell Tree schedule differs from Max Work's (a model bug)", f);
             goto done;
         }
-        row->followed = prev->overflow ? "partial celltree, then maxwork"
-                        : row->ct.sched_fallback ? "celltree, then maxwork" : "celltree";
+        row->followed = row->ct.sched_switches ? "celltree, switched to maxwork (stale)"
+                        : prev->overflow                        ? "partial celltree, then maxwork"
+                        : row->ct.sched_fallback                ? "celltree, then maxwork"
+                                                                : "celltree";
     }
     row->jump = c5_motion_jumps_at(&a->motion, f);
     row->rays = rays_of(&mw);
@@ -450,7 +516,8 @@ int c5_cmd_schedule(int argc, char **argv)
     for (int f = 0; f < frames; f++) {
         rows[f].group = a.group ? (int)a.group
                         : f == 0 ? 1 : c5_dsp_next_group(rows[f - 1].group, rows[f - 1].sch.overflow, a.cells);
-        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1, trees, &rows[f], &prog,
+        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1,
+                      f ? rows[f - 1].start : NULL, trees, &rows[f], &prog,
                       &err) != 0) {
             c5_progress_end(&prog);
             goto fail;
@@ -466,7 +533,7 @@ int c5_cmd_schedule(int argc, char **argv)
 fail:
     if (rows)
         for (int f = 0; f < frames; f++)
-            c5_dsp_sched_free(&rows[f].sch);
+            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start);
     free(rows);
     c5_supervol_free(&sv);
     if (rc)
