@@ -39,8 +39,8 @@ def main():
     ap.add_argument('--volume')
     ap.add_argument('--frames-detail', action='store_true')
     a = ap.parse_args()
-    print(f'{"scene":15} {"cells":5} {"motion":18} {"maxwork":>7} {"celltree":>8} {"diff%":>6} '
-          f'{"worst%":>6} {"bad":>3} {"switched":>8}')
+    print(f'{"scene":15} {"cells":5} {"motion":18} {"maxwork":>7} | check off: {"celltree":>8} {"diff%":>6} '
+          f'{"worst%":>6} {"bad":>3} | check on: {"celltree":>8} {"diff%":>6} {"worst%":>6} {"bad":>3} {"switched":>8}')
     for scene in a.scenes.split(','):
         for cells in a.cells.split(','):
             for m in a.motions.split(','):
@@ -48,20 +48,24 @@ def main():
                        '--exact-states', '0', '--json'] + motion_args(m)
                 if a.volume and scene == 'brain_mirrors':
                     cmd += ['--volume', a.volume]
-                d = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
-                fr = d['frames'][1:]
-                mw = sum(f['fetches_maxwork'] for f in fr)
-                ct = sum(f['fetches_celltree'] for f in fr)
-                worst = max((f['fetches_celltree'] - f['fetches_maxwork']) / max(1, f['fetches_maxwork'])
-                            for f in fr)
-                bad = sum(f['fetches_celltree'] > max(math.ceil(1.02 * f['fetches_maxwork']),
-                                                      f['fetches_maxwork'] + 1) for f in fr)
-                sw = sum(1 for f in fr if f.get('switched_at_load') is not None)
-                print(f'{scene:15} {cells:5} {m:18} {mw:7} {ct:8} {100 * (ct - mw) / mw:6.1f} '
-                      f'{100 * worst:6.1f} {bad:3} {sw:8}', flush=True)
+                cols, detail = [], []
+                for chk in ('off', 'on'):
+                    out = subprocess.run(cmd + ['--stale-check', chk], check=True, capture_output=True, text=True)
+                    fr = json.loads(out.stdout)['frames'][1:]
+                    mw = sum(f['fetches_maxwork'] for f in fr)
+                    ct = sum(f['fetches_celltree'] for f in fr)
+                    worst = max((f['fetches_celltree'] - f['fetches_maxwork']) / max(1, f['fetches_maxwork'])
+                                for f in fr)
+                    bad = sum(f['fetches_celltree'] > max(math.ceil(1.02 * f['fetches_maxwork']),
+                                                          f['fetches_maxwork'] + 1) for f in fr)
+                    sw = sum(1 for f in fr if f['switched_at_load'] is not None)
+                    cols.append(f'{ct:8} {100 * (ct - mw) / max(1, mw):6.1f} {100 * worst:6.1f} {bad:3}')
+                    detail.append(' '.join(f'{f["fetches_maxwork"]}/{f["fetches_celltree"]}'
+                                           + (f'@{f["switched_at_load"]}' if f['switched_at_load'] is not None else '')
+                                           for f in fr))
+                print(f'{scene:15} {cells:5} {m:18} {mw:7} | {cols[0]} | {cols[1]} {sw:8}', flush=True)
                 if a.frames_detail:
-                    print('   ', ' '.join(f'{f["fetches_maxwork"]}/{f["fetches_celltree"]}'
-                                          f'{"@" + str(f["switched_at_load"]) if f.get("switched_at_load") is not None else ""}'
-                                          for f in fr))
+                    print('    off:', detail[0])
+                    print('    on: ', detail[1])
 
 main()
