@@ -384,14 +384,6 @@ static int same_bits(const c5_image *a, const c5_image *b)
     return a->w == b->w && a->h == b->h && !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * (size_t)a->h);
 }
 
-/* Measurement hook for the thresholds' study (scripts/stale_study.py): C5_STALE=OVERLAP,ORPHAN,SKIPFRAC,SKIPMIN. */
-static void stale_env(c5_stale_thresholds *t)
-{
-    const char *e = getenv("C5_STALE");
-    if (e)
-        sscanf(e, "%lf,%lf,%lf,%d", &t->start_overlap, &t->orphan_frac, &t->skip_frac, &t->skip_min);
-}
-
 /* Why frame f runs Max Work when it does: there is no previous frame, the previous tree
  * overflowed the DSP RAM, or it was empty (no ray reached a cell: nothing to schedule). */
 static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
@@ -419,7 +411,6 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     if (!(row->start = calloc((size_t)ncells, sizeof *row->start)))
         return c5_fail(err, "out of memory");
     o.start_counts = row->start;
-    stale_env(&o.stale);
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
