@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "board.h"
+#include "camera.h"
+#include "camera_motion.h"
 #include "cli.h"
 #include "dsp_cost.h"
 #include "dsp_sched.h"
@@ -15,7 +17,8 @@ static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
     "                      [--split paper|lookahead|rollout|bounded] [--exact-states N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
-    "                      [--still] [--volume [I=]FILE] [--json] [--progress]\n\n"
+    "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
+    "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
     "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"
@@ -45,6 +48,20 @@ static const char usage_text[] =
     "  --on-overflow maxwork|partial\n"
     "                    a tree that outgrew the RAM: no schedule, the next frame runs Max Work\n"
     "                    (default), or the schedule of the part it holds, then Max Work\n"
+    "  --orbit DEG       camera motion: the eye turns DEG degrees a frame about the target\n"
+    "                    around the camera's up axis (0: still), from the path's first camera\n"
+    "  --jumps SEED[:EVERY|:pPROB]\n"
+    "                    camera motion: cuts to a random view (an eye on the sphere about the\n"
+    "                    target), every EVERY frames (default 4) or with probability PROB a frame\n"
+    "  --dolly F         camera motion: the eye's distance to the target times F a frame\n"
+    "                    (0.5..2; below 1 the eye moves in past surfaces). With any motion,\n"
+    "                    --frames defaults to 8\n"
+    "  --stale-check on|off\n"
+    "                    on (default): the board watches for a stale schedule (the queues\n"
+    "                    after the set-up unlike the previous frame's, rays in cells the rest\n"
+    "                    of the schedule never visits, scheduled cells found empty) and\n"
+    "                    switches to Max Work for the rest of the frame; off: it follows the\n"
+    "                    schedule to its end (the paper's board). docs/cell-tree.md\n"
     "  --json            one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_PROGRESS_HELP;
 
@@ -58,6 +75,9 @@ typedef struct {
     int partial; /* --on-overflow partial */
     long group;  /* --tree-group G: the tree over groups of GxGxG cells; 0: auto (c5_dsp_next_group) */
     c5_split_rule rule;
+    c5_motion motion; /* --orbit, --jumps, --dolly */
+    int moving;       /* one of them given (--orbit 0 too: the path's first camera, still) */
+    int stale_off;    /* --stale-check off */
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
 } sched_args;
@@ -75,10 +95,13 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
         const char *o = argv[i];
         if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
             !strcmp(o, "--exact-states") || !strcmp(o, "--tree-nodes") || !strcmp(o, "--volume") ||
-            !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group")) {
+            !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group") || !strcmp(o, "--orbit") ||
+            !strcmp(o, "--jumps") || !strcmp(o, "--dolly") || !strcmp(o, "--stale-check")) {
             if (i + 1 >= argc)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
+            if (!strcmp(o, "--orbit") || !strcmp(o, "--jumps") || !strcmp(o, "--dolly"))
+                a->moving = 1;
             if (!strcmp(o, "--cells") && c5_cli_cells(o, v, a->cells, err))
                 return -1;
             else if (!strcmp(o, "--frames") && c5_cli_int(o, v, 1, C5_MAX_FRAMES, &a->frames, err))
@@ -92,7 +115,17 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
             else if (!strcmp(o, "--tree-group") && strcmp(v, "auto") &&
                      c5_cli_int(o, v, 1, C5_CLI_MAX_CELLS, &a->group, err))
                 return -1;
-            else if (!strcmp(o, "--on-overflow")) {
+            else if (!strcmp(o, "--orbit") && c5_motion_parse_orbit(o, v, &a->motion, err))
+                return -1;
+            else if (!strcmp(o, "--jumps") && c5_motion_parse_jumps(o, v, &a->motion, err))
+                return -1;
+            else if (!strcmp(o, "--dolly") && c5_motion_parse_dolly(o, v, &a->motion, err))
+                return -1;
+            else if (!strcmp(o, "--stale-check")) {
+                if (strcmp(v, "on") && strcmp(v, "off"))
+                    return c5_fail(err, "--stale-check: '%s' is not on or off", v);
+                a->stale_off = !strcmp(v, "off");
+            } else if (!strcmp(o, "--on-overflow")) {
                 if (strcmp(v, "maxwork") && strcmp(v, "partial"))
                     return c5_fail(err, "--on-overflow: '%s' is not maxwork or partial", v);
                 a->partial = !strcmp(v, "partial");
@@ -119,6 +152,8 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
             return -1;
         }
     }
+    if (a->still && a->moving)
+        return c5_fail(err, "--still: a still camera cannot also move (--orbit, --jumps, --dolly)");
     return 0;
 }
 
@@ -131,6 +166,8 @@ typedef struct {
     c5_dsp_sched_result sch; /* the DSP's work on this frame's tree */
     int group;               /* cells a group of this frame's tree holds per axis (1: cells) */
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
+    int jump;                /* the camera motion cut to a new view at this frame */
+    uint32_t *start;         /* [cells] rays queued per cell after the set-up (stale check) */
 } frame_row;
 
 static uint64_t rays_of(const c5_board_stats *st)
@@ -213,11 +250,33 @@ static void dsp_text(const frame_row *rows, int frames)
     }
 }
 
+/* Why the board stopped following the schedule, in words. */
+static const char *switch_reason(const c5_board_stats *st, char *buf, size_t n)
+{
+    switch (st->switch_reason) {
+    case C5_SWITCH_START:
+        snprintf(buf, n, "queues after the set-up differ from the previous frame's (overlap %.0f%%)",
+                 100 * st->switch_value);
+        break;
+    case C5_SWITCH_ORPHANS:
+        snprintf(buf, n, "%.0f%% of the waiting rays are in cells the schedule no longer visits",
+                 100 * st->switch_value);
+        break;
+    case C5_SWITCH_SKIPS:
+        snprintf(buf, n, "%.0f%% of the scheduled cells passed were empty", 100 * st->switch_value);
+        break;
+    default:
+        snprintf(buf, n, "none");
+    }
+    return buf;
+}
+
 static json_t *row_json(int f, const frame_row *r, long exact_states)
 {
     const c5_dsp_sched_result *s = &r->sch;
     json_t *o = json_object();
     json_object_set_new(o, "frame", json_integer(f));
+    json_object_set_new(o, "jump", json_boolean(r->jump));
     json_object_set_new(o, "rays", json_integer((json_int_t)r->rays));
     json_object_set_new(o, "nodes", json_integer(s->nodes));
     json_object_set_new(o, "tree_slots", json_integer(s->slots));
@@ -233,6 +292,13 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "sched_loads", json_integer((json_int_t)r->ct.sched_loads));
     json_object_set_new(o, "sched_skipped", json_integer((json_int_t)r->ct.sched_skipped));
     json_object_set_new(o, "sched_fallback", json_integer((json_int_t)r->ct.sched_fallback));
+    json_object_set_new(o, "sched_switches", json_integer((json_int_t)r->ct.sched_switches));
+    json_object_set_new(o, "switched_at_load",
+                        r->ct.sched_switches ? json_integer((json_int_t)r->ct.switched_at_load) : json_null());
+    char why[160];
+    json_object_set_new(o, "switch_reason", r->ct.sched_switches ? json_string(switch_reason(&r->ct, why, sizeof why)) : json_null());
+    json_object_set_new(o, "start_overlap", r->ct.start_overlap >= 0 ? json_real(r->ct.start_overlap) : json_null());
+    json_object_set_new(o, "stale_ops", json_integer((json_int_t)r->ct.stale_ops));
     json_object_set_new(o, "lower_bound", s->overflow ? json_null() : json_integer(s->lower_bound));
     json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
     json_object_set_new(o, "paper_bound", s->overflow ? json_null() : json_integer(s->paper_bound));
@@ -277,6 +343,11 @@ static void print_json(const sched_args *a, const c5_scene *s, const frame_row *
     json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a->cells[0], a->cells[1], a->cells[2]));
     json_object_set_new(o, "split_rule", json_string(rule_name(a->rule)));
     json_object_set_new(o, "still", json_boolean(a->still));
+    const c5_motion *m = &a->motion;
+    json_object_set_new(o, "motion", json_pack("{s:f, s:o, s:i, s:f, s:f}", "orbit_deg", m->orbit_deg, "jumps_seed",
+                                               m->jumps ? json_integer((json_int_t)m->jump_seed) : json_null(),
+                                               "jumps_every", m->jumps ? m->jump_every : 0, "jumps_prob",
+                                               m->jumps ? m->jump_prob : 0.0, "dolly", m->dolly ? m->dolly : 1.0));
     json_object_set_new(o, "tree_capacity_nodes", json_integer(a->tree_nodes));
     json_object_set_new(o, "exact_states", json_integer(a->exact_states));
     json_object_set_new(o, "frames", arr);
@@ -323,6 +394,13 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
                                          : " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)");
         if (r->group > 1)
             printf("%5s this frame's tree is over groups of %dx%dx%d cells\n", "", r->group, r->group, r->group);
+        if (r->ct.sched_switches) {
+            char why[160];
+            printf("%5s WARNING: stale schedule: switched to Max Work at load %lld: %s\n", "",
+                   (long long)r->ct.switched_at_load, switch_reason(&r->ct, why, sizeof why));
+        }
+        if (r->jump)
+            printf("%5s (the camera cut to a new view at this frame)\n", "");
         if (f > 0) {
             mw += r->fetches_maxwork;
             ct += r->fetches_celltree;
@@ -376,13 +454,20 @@ static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
  * made from frame f-1's tree, `prev`, when there is one), then the DSP's work on this frame's
  * tree. */
 static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f,
-                     const c5_dsp_sched_result *prev, int prev_group,
+                     const c5_dsp_sched_result *prev, int prev_group, const uint32_t *prev_start,
                      c5_ctree *trees, frame_row *row, c5_progress *prog, c5_err *err)
 {
     c5_image mw_img = {0}, ct_img = {0};
     c5_board_stats mw;
     int g = row->group;
     c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group}};
+    c5_camera cam = c5_motion_camera(&s->camera, &a->motion, f);
+    if (a->moving)
+        o.camera = &cam;
+    int ncells = a->cells[0] * a->cells[1] * a->cells[2];
+    if (!(row->start = calloc((size_t)ncells, sizeof *row->start)))
+        return c5_fail(err, "out of memory");
+    o.start_counts = row->start;
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
@@ -398,6 +483,10 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.sched = C5_SCHED_EXTERNAL;
         o.schedule = prev->next.cells;
         o.schedule_len = prev->next.len;
+        o.stale_check = a->stale_off ? -1 : 0;
+        o.prev_start = prev_start;
+        o.prev_start_len = prev_start ? ncells : 0;
+        o.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
         if (c5_board_render(s, sv, f, &o, &ct_img, &row->ct, err) != 0)
@@ -406,9 +495,12 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
             c5_fail(err, "frame %d: the image under the Cell Tree schedule differs from Max Work's (a model bug)", f);
             goto done;
         }
-        row->followed = prev->overflow ? "partial celltree, then maxwork"
-                        : row->ct.sched_fallback ? "celltree, then maxwork" : "celltree";
+        row->followed = row->ct.sched_switches ? "celltree, switched to maxwork (stale)"
+                        : prev->overflow                        ? "partial celltree, then maxwork"
+                        : row->ct.sched_fallback                ? "celltree, then maxwork"
+                                                                : "celltree";
     }
+    row->jump = c5_motion_jumps_at(&a->motion, f);
     row->rays = rays_of(&mw);
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
@@ -441,11 +533,20 @@ int c5_cmd_schedule(int argc, char **argv)
     if (parse_args(argc, argv, &a, &err) != 0 ||
         c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
         goto fail;
-    if (a.still) {
+    int moving = a.moving;
+    if (a.still || moving) { /* the path's first camera: the still view, or the motion's base */
         s.camera = c5_scene_camera_at(&s, 0);
         s.path.n_keys = 0;
     }
-    frames = a.frames ? (int)a.frames : c5_scene_frames(&s) > 1 ? c5_scene_frames(&s) : 2;
+    frames = a.frames ? (int)a.frames : moving ? 8 : c5_scene_frames(&s) > 1 ? c5_scene_frames(&s) : 2;
+    for (int f = 0; moving && f < frames; f++) {
+        c5_camera cam = c5_motion_camera(&s.camera, &a.motion, f);
+        const char *problem = c5_camera_problem(&cam);
+        if (problem) {
+            c5_fail(&err, "%s: camera motion: frame %d: %s", label, f, problem);
+            goto fail;
+        }
+    }
     if (s.path.n_keys > 0)
         s.path.frames = frames;
     if (c5_scene_check_path(&s, label, &err) != 0)
@@ -463,7 +564,8 @@ int c5_cmd_schedule(int argc, char **argv)
     for (int f = 0; f < frames; f++) {
         rows[f].group = a.group ? (int)a.group
                         : f == 0 ? 1 : c5_dsp_next_group(rows[f - 1].group, rows[f - 1].sch.overflow, a.cells);
-        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1, trees, &rows[f], &prog,
+        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1,
+                      f ? rows[f - 1].start : NULL, trees, &rows[f], &prog,
                       &err) != 0) {
             c5_progress_end(&prog);
             goto fail;
@@ -479,7 +581,7 @@ int c5_cmd_schedule(int argc, char **argv)
 fail:
     if (rows)
         for (int f = 0; f < frames; f++)
-            c5_dsp_sched_free(&rows[f].sch);
+            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start);
     free(rows);
     c5_supervol_free(&sv);
     if (rc)

@@ -46,6 +46,9 @@ typedef struct {
     int group[3], ngroup[3]; /* tree_group: cells a group holds per axis, groups per axis */
     int sgroup[3], nsgroup[3]; /* the same for schedule_group */
     int cur_group;           /* the scheduled group being worked off, -1: none */
+    uint32_t *rem;           /* [cells] entries of each cell in the schedule from sched_pos on */
+    int switched;            /* the schedule was judged stale: Max Work for the rest */
+    uint64_t passed, skipped; /* schedule entries passed and found empty (the skip signal) */
     uint64_t queued;         /* rays in the SDRAM queues (progress) */
     uint32_t *free_slots;
     uint32_t n_free;
@@ -208,6 +211,65 @@ static int busiest_in_group(const board *b, int g)
     return best;
 }
 
+static size_t queued_in(const board *b, int c) { return b->q[c].n - b->q[c].head; }
+
+/* The queues the set-up left against the previous frame's: the sum over cells of the
+ * smaller count over the larger total (1: the same rays in the same cells; 0: no cell in
+ * common). 3 operations a cell. */
+static double start_overlap(board *b)
+{
+    const c5_board_opts *o = b->o;
+    int n = b->cells.count;
+    uint64_t both = 0, now = 0, before = 0;
+    for (int c = 0; c < n; c++) {
+        uint64_t q = queued_in(b, c), p = o->prev_start[c];
+        both += q < p ? q : p;
+        now += q;
+        before += p;
+    }
+    b->st->stale_ops += 3 * (uint64_t)n;
+    uint64_t most = now > before ? now : before;
+    return most ? (double)both / (double)most : 1.0;
+}
+
+/* The stale-schedule signals, read between loads from the DSP's per-cell queue counters
+ * (docs/cell-tree.md, "Stale schedules"): the reason to stop following the schedule, or
+ * C5_SWITCH_NONE. At the first load: the queues the set-up left against the previous
+ * frame's (their overlap, sum of min over the larger sum). At every load: the rays waiting
+ * in cells that no entry left in the schedule visits (each such cell costs a load the
+ * schedule did not plan; a schedule made from this frame's own tree leaves none), and the
+ * entries found empty. */
+static c5_switch_reason stale_signal(board *b, double *value)
+{
+    const c5_board_opts *o = b->o;
+    const c5_stale_thresholds *t = &o->stale;
+    int n = b->cells.count;
+    if (b->st->fetches == 0 && b->st->start_overlap >= 0 &&
+        b->st->start_overlap < (t->start_overlap > 0 ? t->start_overlap : C5_STALE_START_OVERLAP)) {
+        *value = b->st->start_overlap;
+        return C5_SWITCH_START;
+    }
+    uint64_t orphan = 0, all = 0;
+    for (int c = 0; c < n; c++) {
+        size_t q = queued_in(b, c);
+        all += q;
+        if (q && b->rem[c] == 0)
+            orphan += q;
+    }
+    b->st->stale_ops += 2 * (uint64_t)n;
+    if (all && (double)orphan > (t->orphan_frac > 0 ? t->orphan_frac : C5_STALE_ORPHAN_FRAC) * (double)all) {
+        *value = (double)orphan / (double)all;
+        return C5_SWITCH_ORPHANS;
+    }
+    int skip_min = t->skip_min > 0 ? t->skip_min : C5_STALE_SKIP_MIN;
+    if (b->skipped >= (uint64_t)skip_min &&
+        (double)b->skipped > (t->skip_frac > 0 ? t->skip_frac : C5_STALE_SKIP_FRAC) * (double)b->passed) {
+        *value = (double)b->skipped / (double)b->passed;
+        return C5_SWITCH_SKIPS;
+    }
+    return C5_SWITCH_NONE;
+}
+
 /* Which cell to load next, or -1 when every queue is empty. */
 static int schedule(board *b, int *sched_pos)
 {
@@ -227,12 +289,25 @@ static int schedule(board *b, int *sched_pos)
         }
         b->st->sched_fallback++;
     } else if (o->sched == C5_SCHED_EXTERNAL) {
-        while (*sched_pos < o->schedule_len) {
+        double v = 0;
+        c5_switch_reason why;
+        if (b->rem && !b->switched && *sched_pos < o->schedule_len && (why = stale_signal(b, &v)) != C5_SWITCH_NONE) {
+            b->switched = 1;
+            b->st->sched_switches = 1;
+            b->st->switched_at_load = (int64_t)b->st->fetches;
+            b->st->switch_reason = why;
+            b->st->switch_value = v;
+        }
+        while (!b->switched && *sched_pos < o->schedule_len) {
             int c = o->schedule[(*sched_pos)++];
+            if (b->rem)
+                b->rem[c]--;
+            b->passed++;
             if (b->q[c].n > b->q[c].head) {
                 b->st->sched_loads++;
                 return c;
             }
+            b->skipped++;
             b->st->sched_skipped++;
         }
         b->st->sched_fallback++; /* undone below when no queue holds a ray */
@@ -334,6 +409,7 @@ static void board_free(board *b)
     c5_rq_free(&b->edram);
     c5_rqh_free(&b->heap);
     free(b->own_tree);
+    free(b->rem);
     c5_rdram_free(&b->mem);
     c5_cells_free(&b->cells);
 }
@@ -414,6 +490,16 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         return c5_fail(err, "out of memory for the board model (or queue capacity %d outside 1..%u)",
                        o.queue_capacity, C5_RQ_MAX_CAPACITY);
     }
+    stats->switched_at_load = -1;
+    stats->start_overlap = -1;
+    if (o.sched == C5_SCHED_EXTERNAL && o.stale_check >= 0 && b.sgroup[0] * b.sgroup[1] * b.sgroup[2] == 1) {
+        if (!(b.rem = calloc((size_t)b.cells.count, sizeof *b.rem))) {
+            board_free(&b);
+            return c5_fail(err, "out of memory for the board model");
+        }
+        for (int i = 0; i < o.schedule_len; i++)
+            b.rem[o.schedule[i]]++;
+    }
     for (uint32_t i = 0; i < (uint32_t)o.queue_capacity; i++)
         b.free_slots[b.n_free++] = (uint32_t)o.queue_capacity - 1 - i;
     c5_proc_init(&b.proc, &b.r, &b.cells, &b.mem, (c5_proc_io){&b, on_enqueue, on_deliver});
@@ -425,6 +511,11 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         board_free(&b);
         return -1;
     }
+    if (o.sched == C5_SCHED_EXTERNAL && o.prev_start && o.prev_start_len == b.cells.count)
+        stats->start_overlap = start_overlap(&b);
+    if (o.start_counts)
+        for (int c = 0; c < b.cells.count; c++)
+            o.start_counts[c] = (uint32_t)queued_in(&b, c);
     /* Rays that never reach the volume were finished by the set-up: the first visit. */
     uint64_t proc_cycles = b.proc.st.cycles, bus = stats->bus_packets;
     stats->cycles_process += proc_cycles > bus ? proc_cycles : bus;

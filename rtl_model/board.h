@@ -53,6 +53,24 @@ typedef struct {
 
 struct c5_board_progress;
 
+/* Why the board stopped following a schedule (c5_board_stats.switch_reason). */
+typedef enum {
+    C5_SWITCH_NONE = 0,
+    C5_SWITCH_START = 1,   /* the queues after the set-up differ from the previous frame's */
+    C5_SWITCH_ORPHANS = 2, /* rays wait in cells the rest of the schedule never visits */
+    C5_SWITCH_SKIPS = 3,   /* scheduled cells found empty too often */
+} c5_switch_reason;
+
+/* The detection's thresholds (docs/cell-tree.md, "Stale schedules": measured). */
+#define C5_STALE_START_OVERLAP 0.95 /* switch at load 0 below this overlap of the start queues */
+#define C5_STALE_ORPHAN_FRAC 0.10   /* switch when orphan rays are this part of the queued rays */
+#define C5_STALE_SKIP_FRAC 0.50     /* switch when skipped entries are this part of those passed */
+#define C5_STALE_SKIP_MIN 4         /* ... and at least this many */
+typedef struct {
+    double start_overlap, orphan_frac, skip_frac;
+    int skip_min;
+} c5_stale_thresholds;
+
 typedef struct {
     int cells[3];            /* split of the grid into cells per axis; < 1: the fewest cells of at most 256 voxels (c5_model_auto_split) */
     c5_queue_key key;        /* 0: C5_KEY_MORTON */
@@ -80,6 +98,15 @@ typedef struct {
     /* Called after every cell visit, for a progress line in long frames; NULL: none. */
     void (*progress)(void *ctx, const struct c5_board_progress *p);
     void *progress_ctx;
+    /* Stale-schedule detection while following an external schedule of cells (the DSP's, at
+     * the cost of its queue counters; docs/cell-tree.md, "Stale schedules"): when a signal
+     * fires, Max Work chooses the rest of the frame. The image never depends on it. */
+    int stale_check;         /* 0: on (default); -1: off, the schedule is followed to its end */
+    const uint32_t *prev_start; /* rays each cell's queue held when the previous frame's set-up
+                                 * ended (c5_board_stats.start_counts of that frame), or NULL */
+    int prev_start_len;      /* entries of prev_start: the split's cells */
+    uint32_t *start_counts;  /* out, or NULL: this frame's, [cells] */
+    c5_stale_thresholds stale; /* 0 fields: the defaults (C5_STALE_*) */
 } c5_board_opts;
 
 /* Where a frame is (c5_board_opts.progress). */
@@ -116,6 +143,13 @@ typedef struct {
     uint64_t sched_loads;    /* fetches that followed the external schedule */
     uint64_t sched_skipped;  /* schedule entries passed over: the cell had no rays */
     uint64_t sched_fallback; /* fetches chosen by Max Work after the schedule ran out */
+    uint64_t sched_switches; /* 1 when the frame stopped following a stale schedule */
+    int64_t switched_at_load;  /* the fetch index (0-based) of the first Max Work load after the
+                                * switch; -1: no switch */
+    c5_switch_reason switch_reason;
+    double switch_value;     /* the signal's value at the switch (overlap, fraction) */
+    uint64_t stale_ops;      /* DSP operations of the detection: counters read and compared */
+    double start_overlap;    /* the start queues' overlap with the previous frame's; -1: not compared */
     uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
     int tree_overflow;       /* the tree outgrew the DSP RAM (the frame is still right) */
     /* The tree the frame's dependencies need, with unbounded RAM (tree_demand.h): nodes, and

@@ -257,6 +257,34 @@ expect schedule_bad_split 2 "--split: 'best' is not a rule \(paper, lookahead, r
 expect schedule_bad_frames 2 "--frames: expected an integer" -- "$cube5" schedule default --frames 0
 expect schedule_bad_tree_nodes 2 "--tree-nodes: expected an integer" -- "$cube5" schedule default --tree-nodes 8192
 expect schedule_bad_cells 2 "--cells: expected N or NxMxK" -- "$cube5" schedule default --cells 0
+expect schedule_orbit_nan 2 "--orbit: expected a finite number, got 'nan'" -- "$cube5" schedule default --orbit nan
+expect schedule_orbit_range 2 "--orbit: 4000 degrees a frame is outside" -- "$cube5" schedule default --orbit 4000
+expect schedule_jumps_bad 2 "--jumps: expected SEED" -- "$cube5" schedule default --jumps -3
+expect schedule_jumps_every 2 "--jumps: EVERY must be an integer" -- "$cube5" schedule default --jumps 1:0
+expect schedule_jumps_prob 2 "--jumps: probability 2 is outside" -- "$cube5" schedule default --jumps 1:p2
+expect schedule_dolly_bad 2 "--dolly: factor 0 a frame is outside" -- "$cube5" schedule default --dolly 0
+expect schedule_still_and_orbit 2 "--still: a still camera cannot also move" -- "$cube5" schedule default --still --orbit 2
+expect schedule_frames_negative 2 "--frames: expected an integer" -- "$cube5" schedule default --orbit 2 --frames -1
+json=$("$cube5" schedule default --size 12x12 --cells 2 --orbit 30 --jumps 5:3 --exact-states 0 --json)
+if python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+fr = d["frames"]
+assert len(fr) == 8, len(fr)
+assert d["motion"]["orbit_deg"] == 30 and d["motion"]["jumps_seed"] == 5 and d["motion"]["jumps_every"] == 3
+assert [f["jump"] for f in fr] == [i > 0 and i % 3 == 0 for i in range(8)]' "$json"; then ok schedule_motion_json; else bad schedule_motion_json "$json"; fi
+expect schedule_stale_check_bad 2 "--stale-check: 'maybe' is not on or off" -- "$cube5" schedule default --stale-check maybe
+for chk in on off; do
+    json=$("$cube5" schedule default --size 12x12 --cells 2 --orbit 30 --frames 2 --exact-states 0 --stale-check $chk --json)
+    if python3 -c '
+import json, sys
+f = json.loads(sys.argv[1])["frames"][1]
+on = sys.argv[2] == "on"
+assert f["start_overlap"] is not None and f["start_overlap"] < 0.95
+assert (f["switched_at_load"] == 0 and f["sched_switches"] == 1 and "overlap" in f["switch_reason"]) if on else \
+    (f["switched_at_load"] is None and f["switch_reason"] is None and f["sched_switches"] == 0)
+assert (f["fetches_celltree"] == f["fetches_maxwork"]) if on else True' "$json" $chk; then ok schedule_stale_$chk; else bad schedule_stale_$chk "$json"; fi
+done
 expect schedule_unknown_option 2 "unknown option '--model'" -- "$cube5" schedule default --model rtl
 
 # cube5 cast (docs/caster.md): every mode and worker count writes the same bits; the JSON has

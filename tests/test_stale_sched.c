@@ -1,0 +1,361 @@
+/* A stale schedule (docs/cell-tree.md, "Stale schedules"): on generated camera paths the
+ * board following the previous frame's Cell Tree schedule, with its online detection, never
+ * makes more than 2 % (or one) more fetches than Max Work in a frame, nor more over a path;
+ * the repair's corner cases; the image never depends on the schedule. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "board.h"
+#include "builtin_scenes.h"
+#include "camera_motion.h"
+#include "dsp_sched.h"
+#include "harness.h"
+
+static c5_scene scene;
+static c5_supervol grid;
+static c5_ctree trees[2];
+
+static int load(const char *name, int size)
+{
+    c5_err err;
+    c5_supervol_free(&grid);
+    memset(&grid, 0, sizeof grid);
+    if (c5_scene_parse(c5_builtin_scene_json(name), NULL, "test", &scene, &err) != 0 ||
+        c5_supervol_build(&scene, &grid, &err) != 0) {
+        fprintf(stderr, "load: %s\n", err.msg);
+        return -1;
+    }
+    scene.render.width = scene.render.height = size;
+    scene.camera = c5_scene_camera_at(&scene, 0);
+    scene.path.n_keys = 0;
+    return 0;
+}
+
+static int render(const c5_board_opts *o, c5_image *img, c5_board_stats *st)
+{
+    c5_err err;
+    if (c5_board_render(&scene, &grid, 0, o, img, st, &err) != 0) {
+        fprintf(stderr, "render: %s\n", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+static int same_bits(const c5_image *a, const c5_image *b)
+{
+    return a->w == b->w && a->h == b->h && !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * a->h);
+}
+
+/* The per-frame promise: at most 2 % more fetches than Max Work, or one more. */
+static uint64_t allowed(uint64_t mw)
+{
+    uint64_t two = (uint64_t)ceil(1.02 * (double)mw);
+    return two > mw + 1 ? two : mw + 1;
+}
+
+/* One path: frame f under Max Work and following frame f-1's schedule (paper's rule), as
+ * `cube5 schedule` runs it. Returns the number of frames over the promise (and the path's
+ * sums); stale_check as the board's option; -1 on error. */
+static int run_path(const int cells[3], const c5_motion *m, int frames, int stale_check, uint64_t *sum_mw,
+                    uint64_t *sum_ct, int *switches, char *why, size_t why_n)
+{
+    int ncells = cells[0] * cells[1] * cells[2], bad = 0;
+    uint32_t *start[2] = {calloc((size_t)ncells, 4), calloc((size_t)ncells, 4)};
+    c5_dsp_sched_result prev = {0};
+    int have_prev = 0;
+    *sum_mw = *sum_ct = 0;
+    *switches = 0;
+    c5_camera base = scene.camera;
+    for (int f = 0; f < frames; f++) {
+        c5_camera cam = c5_motion_camera(&base, m, f);
+        uint32_t *now = start[f & 1], *before = start[(f & 1) ^ 1];
+        c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .tree = &trees[0], .camera = &cam,
+                           .start_counts = now};
+        c5_image a = {0}, b = {0};
+        c5_board_stats mw, ct;
+        c5_ctree_init(&trees[0], 0);
+        if (render(&o, &a, &mw) != 0)
+            return -1;
+        c5_ctree *tree = &trees[0];
+        if (have_prev && prev.next.len > 0) {
+            o.sched = C5_SCHED_EXTERNAL;
+            o.schedule = prev.next.cells;
+            o.schedule_len = prev.next.len;
+            o.stale_check = stale_check;
+            o.prev_start = before;
+            o.prev_start_len = ncells;
+            o.start_counts = NULL;
+            o.tree = tree = &trees[1];
+            c5_ctree_init(tree, 0);
+            if (render(&o, &b, &ct) != 0)
+                return -1;
+            if (!same_bits(&a, &b)) {
+                snprintf(why, why_n, "frame %d: image differs from Max Work's", f);
+                return -1;
+            }
+            *sum_mw += mw.fetches;
+            *sum_ct += ct.fetches;
+            *switches += (int)ct.sched_switches;
+            if (ct.fetches > allowed(mw.fetches)) {
+                if (!bad)
+                    snprintf(why, why_n, "frame %d: %llu fetches against Max Work's %llu", f,
+                             (unsigned long long)ct.fetches, (unsigned long long)mw.fetches);
+                bad++;
+            }
+            c5_image_free(&b);
+        }
+        c5_image_free(&a);
+        c5_dsp_sched_free(&prev);
+        c5_err err;
+        c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+        if (c5_dsp_schedule(tree, &so, &prev, &err) != 0)
+            return -1;
+        have_prev = 1;
+    }
+    c5_dsp_sched_free(&prev);
+    free(start[0]);
+    free(start[1]);
+    return bad;
+}
+
+/* The promise on generated paths: still, slow and fast orbits, random jumps (every few
+ * frames and by probability), a dolly through the scene, over even and uneven splits. */
+static void never_worse_on(const char *name, int size, int stale_check, int *bad_frames, int *bad_paths,
+                           char *why, size_t why_n)
+{
+    static const int splits[3][3] = {{2, 2, 2}, {3, 3, 3}, {2, 3, 1}};
+    c5_motion motions[6] = {
+        {0},
+        {.orbit_deg = 2},
+        {.orbit_deg = 8},
+        {.orbit_deg = 30},
+        {.jumps = 1, .jump_seed = 5, .jump_every = 3},
+        {.orbit_deg = 4, .jumps = 1, .jump_seed = 9, .jump_prob = 0.3},
+    };
+    *bad_frames = *bad_paths = 0;
+    if (load(name, size) != 0) {
+        *bad_frames = -1;
+        return;
+    }
+    for (int s = 0; s < 3; s++)
+        for (int k = 0; k < 6; k++) {
+            uint64_t mw, ct;
+            int sw;
+            char w[200] = "";
+            int bad = run_path(splits[s], &motions[k], 6, stale_check, &mw, &ct, &sw, w, sizeof w);
+            if (bad < 0) {
+                *bad_frames = -1;
+                snprintf(why, why_n, "%s: %s", name, w);
+                return;
+            }
+            if (bad && !*bad_frames)
+                snprintf(why, why_n, "%s split %dx%dx%d motion %d: %s", name, splits[s][0], splits[s][1],
+                         splits[s][2], k, w);
+            *bad_frames += bad;
+            if (ct > mw) {
+                if (!*bad_paths && !*bad_frames)
+                    snprintf(why, why_n, "%s split %dx%dx%d motion %d: path %llu > Max Work's %llu", name,
+                             splits[s][0], splits[s][1], splits[s][2], k, (unsigned long long)ct,
+                             (unsigned long long)mw);
+                (*bad_paths)++;
+            }
+        }
+}
+
+TEST(stale_never_worse_than_maxwork_on_generated_paths)
+{
+    const char *scenes[2] = {"brain_mirrors", "default"};
+    for (int i = 0; i < 2; i++) {
+        int frames, paths;
+        char why[300] = "";
+        never_worse_on(scenes[i], 48, 0, &frames, &paths, why, sizeof why);
+        CHECK_MSG(frames == 0 && paths == 0, "%d frames, %d paths over Max Work: %s", frames, paths, why);
+    }
+}
+
+/* The property test can fail: the same paths without the detection (the paper's board)
+ * break the promise somewhere. */
+TEST(stale_paths_break_the_promise_without_the_check)
+{
+    int frames, paths;
+    char why[300] = "";
+    never_worse_on("brain_mirrors", 48, -1, &frames, &paths, why, sizeof why);
+    CHECK_MSG(frames > 0, "no frame over the promise without the check: the paths do not test it");
+}
+
+/* The frame under Max Work, its start queues and its own schedule (paper's rule). */
+typedef struct {
+    c5_image img;
+    c5_board_stats st;
+    uint32_t start[64];
+    c5_dsp_sched_result sch;
+} mw_frame;
+
+static int maxwork_frame(const int cells[3], mw_frame *m)
+{
+    c5_ctree_init(&trees[0], 0);
+    c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .tree = &trees[0], .start_counts = m->start};
+    c5_err err;
+    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+    if (render(&o, &m->img, &m->st) != 0 || c5_dsp_schedule(&trees[0], &so, &m->sch, &err) != 0)
+        return -1;
+    return 0;
+}
+
+static void mw_free(mw_frame *m)
+{
+    c5_image_free(&m->img);
+    c5_dsp_sched_free(&m->sch);
+}
+
+/* Follows `sched` with the check on (prev_start: m's own, unless given). */
+static int follow(const int cells[3], const mw_frame *m, const int *sched, int len, const uint32_t *prev_start,
+                  const c5_stale_thresholds *t, c5_image *img, c5_board_stats *st)
+{
+    c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .sched = C5_SCHED_EXTERNAL, .schedule = sched,
+                       .schedule_len = len, .prev_start = prev_start ? prev_start : m->start,
+                       .prev_start_len = cells[0] * cells[1] * cells[2]};
+    if (t)
+        o.stale = *t;
+    return render(&o, img, st);
+}
+
+/* Every fetch is the schedule's or Max Work's; a switch is reported whole or not at all. */
+static int consistent(const c5_board_stats *st)
+{
+    if (st->sched_loads + st->sched_fallback != st->fetches)
+        return 0;
+    if (st->sched_switches)
+        return st->switched_at_load >= 0 && (uint64_t)st->switched_at_load <= st->fetches &&
+               st->switch_reason != C5_SWITCH_NONE && st->sched_loads == (uint64_t)st->switched_at_load;
+    return st->switched_at_load == -1 && st->switch_reason == C5_SWITCH_NONE;
+}
+
+TEST(stale_corner_cases)
+{
+    static const int cells[3] = {3, 3, 3};
+    CHECK(load("clouds_lake", 32) == 0); /* cells no ray reaches at this view */
+    mw_frame m = {0};
+    CHECK(maxwork_frame(cells, &m) == 0);
+    CHECK(m.sch.next.len > 4);
+    c5_image img;
+    c5_board_stats st;
+
+    /* An empty schedule: Max Work's frame, nothing followed, no switch. */
+    CHECK(follow(cells, &m, NULL, 0, NULL, NULL, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK_INT(st.fetches, m.st.fetches);
+    CHECK_INT(st.sched_switches, 0);
+    CHECK(consistent(&st));
+    c5_image_free(&img);
+
+    /* The frame's own schedule: followed to its end, never switched. */
+    CHECK(follow(cells, &m, m.sch.next.cells, m.sch.next.len, NULL, NULL, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK_INT(st.sched_switches, 0);
+    CHECK_INT(st.sched_fallback, 0);
+    CHECK(st.fetches <= m.st.fetches);
+    CHECK(consistent(&st));
+    c5_image_free(&img);
+
+    /* Cells that never hold a ray (not in the frame's tree), named many times: every ray
+     * waits in a cell the schedule never visits, so Max Work from the first load, which is
+     * then Max Work's frame. */
+    int in_tree[27] = {0}, empty[64], n_empty = 0;
+    for (int i = 0; i < m.sch.next.len; i++)
+        in_tree[m.sch.next.cells[i]] = 1;
+    for (int c = 0; c < 27; c++)
+        if (!in_tree[c])
+            for (int r = 0; r < 2 && n_empty < 64; r++)
+                empty[n_empty++] = c;
+    CHECK_MSG(n_empty >= C5_STALE_SKIP_MIN, "only %d entries of rayless cells at this view", n_empty);
+    CHECK(follow(cells, &m, empty, n_empty, NULL, NULL, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK_INT(st.sched_switches, 1);
+    CHECK_INT(st.switch_reason, C5_SWITCH_ORPHANS);
+    CHECK_INT(st.switched_at_load, 0);
+    CHECK_INT(st.fetches, m.st.fetches);
+    CHECK(consistent(&st));
+    c5_image_free(&img);
+
+    /* The same entries before the frame's own schedule: passed empty, they switch to Max
+     * Work at the next load. */
+    int *skips = malloc(sizeof(int) * (size_t)(n_empty + m.sch.next.len));
+    memcpy(skips, empty, sizeof(int) * (size_t)n_empty);
+    memcpy(skips + n_empty, m.sch.next.cells, sizeof(int) * (size_t)m.sch.next.len);
+    CHECK(follow(cells, &m, skips, n_empty + m.sch.next.len, NULL, NULL, &img, &st) == 0);
+    free(skips);
+    CHECK(same_bits(&img, &m.img));
+    CHECK_INT(st.sched_switches, 1);
+    CHECK_INT(st.switch_reason, C5_SWITCH_SKIPS);
+    CHECK_INT(st.switched_at_load, 1);
+    CHECK(consistent(&st));
+    c5_image_free(&img);
+
+    /* A schedule naming every cell once: whatever it costs, the same image, every fetch
+     * accounted for. */
+    int every[27];
+    for (int c = 0; c < 27; c++)
+        every[c] = c;
+    CHECK(follow(cells, &m, every, 27, NULL, NULL, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK(consistent(&st));
+    c5_image_free(&img);
+
+    /* A schedule that runs out (its first three entries): Max Work finishes the frame; a
+     * schedule spent is not a switch, unless a signal fired before. */
+    CHECK(follow(cells, &m, m.sch.next.cells, 3, NULL, NULL, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK(st.sched_fallback > 0);
+    CHECK(consistent(&st));
+    c5_image_free(&img);
+
+    /* A switch on the first load: start queues unlike the previous frame's (all its rays in
+     * one other cell): Max Work's frame exactly. */
+    uint32_t other[64] = {0};
+    int lone = 0;
+    for (int c = 0; c < 27; c++)
+        if (m.start[c] == 0)
+            lone = c;
+    other[lone] = 1000;
+    CHECK(follow(cells, &m, m.sch.next.cells, m.sch.next.len, other, NULL, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK_INT(st.sched_switches, 1);
+    CHECK_INT(st.switch_reason, C5_SWITCH_START);
+    CHECK_INT(st.switched_at_load, 0);
+    CHECK_INT(st.sched_loads, 0);
+    CHECK_INT(st.fetches, m.st.fetches);
+    c5_image_free(&img);
+
+    /* A switch at the schedule's last entry: the own schedule cut before its last entry
+     * that still finds rays, and a rayless cell put in its place, leaves those rays in a cell
+     * no entry left visits; Max Work finishes the frame. */
+    int len = m.sch.next.len, *last = malloc(sizeof(int) * (size_t)len), switched = 0;
+    for (int k = len - 1; k > 0 && !switched; k--) {
+        memcpy(last, m.sch.next.cells, sizeof(int) * (size_t)k);
+        last[k] = empty[0];
+        CHECK(follow(cells, &m, last, k + 1, NULL, NULL, &img, &st) == 0);
+        CHECK(same_bits(&img, &m.img));
+        CHECK(consistent(&st));
+        c5_image_free(&img);
+        if (st.sched_switches) {
+            switched = 1;
+            CHECK_INT(st.switch_reason, C5_SWITCH_ORPHANS);
+            CHECK_INT(st.sched_loads + st.sched_skipped, k); /* every entry before the last passed */
+            CHECK(st.fetches > (uint64_t)st.switched_at_load);
+        }
+    }
+    free(last);
+    CHECK(switched);
+
+    /* The check off: the same schedules are followed to their end. */
+    c5_board_opts o = {.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = empty, .schedule_len = n_empty,
+                       .stale_check = -1};
+    CHECK(render(&o, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK_INT(st.sched_switches, 0);
+    CHECK_INT(st.sched_skipped, n_empty);
+    c5_image_free(&img);
+    mw_free(&m);
+}
