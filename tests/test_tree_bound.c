@@ -71,7 +71,7 @@ TEST(tree_bound_ping_pong_by_hand)
     static const int best[] = {0, 1, 0, 2, 3, 2, 4, 5, 4};
     CHECK_INT(c5_sched_feasible(&t, best, 9), 1);
     /* The search starts at the bound, which the rollout schedule meets: nothing to expand. */
-    c5_exact_opts o = {1000, 64, 1, 2, 0};
+    c5_exact_opts o = {1000, 64, 1, 2, 0, NULL, 0};
     c5_exact_stats st;
     int len = -1;
     c5_err err;
@@ -137,7 +137,7 @@ TEST(tree_bound_projection_optimum_matches_brute_force)
         /* the A* on the projection (whose successor h must handle a child of its parent's
          * cell; it checks itself at every expansion) */
         for (int k = 0; k <= 2; k += 2) {
-            c5_exact_opts o = {100000, 64, 1, k, 0};
+            c5_exact_opts o = {100000, 64, 1, k, 0, NULL, 0};
             c5_exact_stats st;
             c5_err err;
             int len = -1;
@@ -271,7 +271,7 @@ TEST(tree_bound_search_heuristics_match_brute_force)
         /* groups of 2, 3, 4 with and without the rollout bound; memo budget 1 forces the
          * fallback (sum of maxGen per group) */
         for (int v = 0; v < 8; v++) {
-            c5_exact_opts o = {1000000, 64, v & 1, 2 + (v >> 1) % 3, v >= 6 ? 1 : 0};
+            c5_exact_opts o = {1000000, 64, v & 1, 2 + (v >> 1) % 3, v >= 6 ? 1 : 0, NULL, 0};
             c5_exact_stats st;
             int len = -1, *s = NULL;
             CHECK_INT(c5_sched_optimum_ex(&t, &o, &len, &s, &st, &err), 1);
@@ -295,11 +295,11 @@ TEST(tree_bound_search_gives_up_with_a_bound)
         int n = c5t_random_tree(&rng, 60, 6, 10, par, cel);
         c5_dep_tree t = {n, par, cel};
         int opt = -1;
-        c5_exact_opts full = {400000, 200, 1, 3, 0};
+        c5_exact_opts full = {400000, 200, 1, 3, 0, NULL, 0};
         c5_exact_stats st;
         CHECK_INT(c5_sched_optimum_ex(&t, &full, &opt, NULL, &st, &err), 1);
         for (long budget = 2; budget <= 512; budget *= 4) {
-            c5_exact_opts o = {budget, 200, 0, 2, 0};
+            c5_exact_opts o = {budget, 200, 0, 2, 0, NULL, 0};
             int len = -1, rc = c5_sched_optimum_ex(&t, &o, &len, NULL, &st, &err);
             CHECK_MSG(rc == 0 || rc == 1, "trial %d budget %ld: rc %d: %s", trial, budget, rc, err.msg);
             if (rc == 1) {
@@ -432,7 +432,7 @@ TEST(tree_bound_sandwich_random)
             slabs_bite += v > pairs;
             bounds[nb++] = v;
         }
-        c5_exact_opts small = {20, 64, 0, 2, 0};
+        c5_exact_opts small = {20, 64, 0, 2, 0, NULL, 0};
         c5_exact_stats st;
         int len = -1, rc = c5_sched_optimum_ex(&t, &small, &len, NULL, &st, &err);
         CHECK(rc == 0 || rc == 1);
