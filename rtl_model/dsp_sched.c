@@ -63,8 +63,17 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
         int slabs = slab_bound(dt, o);
         if (slabs > r->lower_bound)
             r->lower_bound = slabs;
-        if (c5_sched_beam(dt, o->beam_width > 0 ? o->beam_width : 200, &r->best_known, NULL, err) != 0)
+        int *best = NULL;
+        if (c5_sched_beam(dt, o->beam_width > 0 ? o->beam_width : 200, &r->best_known, &best, err) != 0)
             return -1;
+        /* windows of the beam's schedule solved exactly (tree_local.c): never longer */
+        int w = o->local_window ? o->local_window : C5_DSP_LOCAL_WINDOW;
+        if (w >= 3 && (c5_sched_local_search(dt, best, &r->best_known, 2 * w / 3, C5_DSP_LOCAL_STATES, err) < 0 ||
+                       c5_sched_local_search(dt, best, &r->best_known, w, C5_DSP_LOCAL_STATES, err) < 0)) {
+            free(best);
+            return -1;
+        }
+        free(best);
     }
     r->exact_wall_s = c5_now_s() - t1;
     return 0;

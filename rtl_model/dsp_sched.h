@@ -12,6 +12,10 @@
  * host time, docs/cell-tree.md). */
 #define C5_DSP_REPORT_MAX_EXAMINED 50000000ull
 
+/* The report's local search (docs/cell-tree.md, "Bounds": about 10-40 s a 27-cell tree). */
+#define C5_DSP_LOCAL_WINDOW 45
+#define C5_DSP_LOCAL_STATES 50000
+
 typedef struct {
     c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
     int all_rules;      /* also run the other rules, for their lengths (len_*); on trees with a
@@ -25,6 +29,9 @@ typedef struct {
     int exact_nodes;    /* largest tree the exact search is tried on */
     int split[3];       /* cells per axis (cell id = x + nx (y + ny z)); 0: no slab bound */
     int beam_width;     /* beam of the best known schedule; 0: 200 */
+    int local_window;   /* the local search on the beam's schedule (c5_sched_local_search):
+                           windows of 2/3 of this many loads, then of this many, each solved
+                           within C5_DSP_LOCAL_STATES states; 0: C5_DSP_LOCAL_WINDOW; < 0: off */
     /* An overflowed (frozen) tree: 0, no schedule (the next frame runs Max Work); 1, the
      * schedule of what it holds, the dependencies of the rays tagged before the RAM filled
      * (the next frame follows it, then Max Work). No other rules or bounds are computed for

@@ -591,7 +591,7 @@ int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int
             return -1; /* not disjoint: the loads would be counted twice */
         seen |= groups[k];
         /* a group none of whose cells is in the tree projects onto nothing */
-        c5_exact_opts o = {max_states, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 0};
+        c5_exact_opts o = {max_states, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 0, NULL, 0};
         c5_exact_stats st;
         c5_err err;
         int len = 0, rc = c5_sched_projection_optimum(t, groups[k], &o, &len, &st, &err);

@@ -188,7 +188,8 @@ typedef struct {
     /* scratch for one expansion */
     uint64_t *cur, *next;
     int *livekids, *leaves; /* leaves: grouped by cell, [lstart[c], lstart[c] + nleaf[c]) */
-    hpart *hp;              /* the projection heuristic, NULL: sum of maxGen only */
+    hpart *hp;              /* the projection heuristics (nhp partitions; h is their maximum) */
+    int nhp;                /* 0: sum of maxGen only */
     long expanded;
     int root_h, lower; /* h at the root; on giving up, the least f still open */
 } astar;
@@ -411,8 +412,8 @@ static int successor_h(astar *a, const summary *s, int c)
 static int full_h(astar *a, const summary *s)
 {
     int h = state_h(s);
-    if (a->hp) {
-        int hg = hpart_load(a->hp, a->cur);
+    for (int p = 0; p < a->nhp; p++) {
+        int hg = hpart_load(&a->hp[p], a->cur);
         if (hg < 0)
             return -1;
         if (hg > h)
@@ -494,8 +495,8 @@ static int search(astar *a, int ub, int *len_out, int **sched_out)
             for (int k = 0; k < s.nleaf[c]; k++)
                 a->next[lv[k] >> 6] &= ~(1ull << (lv[k] & 63));
             int hs = successor_h(a, &s, c);
-            if (a->hp) {
-                int hg = hpart_without(a->hp, c, lv, s.nleaf[c]);
+            for (int p = 0; p < a->nhp; p++) {
+                int hg = hpart_without(&a->hp[p], c, lv, s.nleaf[c]);
                 if (hg < 0)
                     return -1;
                 if (hg > hs)
@@ -649,8 +650,8 @@ static int beam(astar *a, int width, int *len_out, int **sched_out)
                 if (a->idx.table[table_find(a, nb, hh)] >= 0)
                     continue; /* met on an earlier level */
                 int hs = successor_h(a, &s, c);
-                if (a->hp) {
-                    int hg = hpart_without(a->hp, c, lv, s.nleaf[c]);
+                for (int p = 0; p < a->nhp; p++) {
+                    int hg = hpart_without(&a->hp[p], c, lv, s.nleaf[c]);
                     if (hg < 0) {
                         rc = -1;
                         goto out;
@@ -685,6 +686,30 @@ out:
     return rc;
 }
 
+/* The caller's heuristic partitions (c5_exact_opts.groups): disjoint within each, at most
+ * C5_EXACT_MAX_PARTS of them. 0, or -1 with a message. */
+static int check_parts(const c5_exact_opts *o, c5_err *err)
+{
+    uint64_t used = 0;
+    int parts = 0, open = 0;
+    for (int q = 0; q < o->ngroups; q++) {
+        if (o->groups[q] == 0) {
+            parts += open;
+            open = 0;
+            used = 0;
+            continue;
+        }
+        if (o->groups[q] & used)
+            return c5_fail(err, "cell tree optimum: heuristic groups overlap within a partition (group %d)", q);
+        used |= o->groups[q];
+        open = 1;
+    }
+    if (parts + open > C5_EXACT_MAX_PARTS)
+        return c5_fail(err, "cell tree optimum: %d heuristic partitions, at most %d", parts + open,
+                       C5_EXACT_MAX_PARTS);
+    return 0;
+}
+
 static int solve(const c5_dep_tree *t, const c5_exact_opts *o, int projection, int beam_width, int *len_out,
                  int **sched_out, c5_exact_stats *stats, c5_err *err)
 {
@@ -695,6 +720,8 @@ static int solve(const c5_dep_tree *t, const c5_exact_opts *o, int projection, i
     if (!c5_tree_bound_cells(t))
         return c5_fail(err, "cell tree optimum: a cell id above %d: the exact and beam searches take up to %d cells "
                             "(C5_BOUND_MAX_CELLS)", C5_BOUND_MAX_CELLS - 1, C5_BOUND_MAX_CELLS);
+    if (check_parts(o, err) != 0)
+        return -1;
     long max_states = o->max_states;
     if (t->n > o->max_nodes || max_states < 1)
         return 0;
@@ -713,19 +740,35 @@ static int solve(const c5_dep_tree *t, const c5_exact_opts *o, int projection, i
             ub = heur.len;
     }
     astar a;
-    hpart hp;
+    hpart hp[C5_EXACT_MAX_PARTS];
     memset(&a, 0, sizeof a);
-    memset(&hp, 0, sizeof hp);
+    memset(hp, 0, sizeof hp);
+    a.hp = hp;
     int rc = -1;
-    int k = group_size(t, o->group_max);
-    if (k >= 2) {
-        uint64_t groups[C5_BOUND_MAX_CELLS];
-        int ng = 0;
-        long budget = o->group_budget > 0 ? o->group_budget : max_states;
-        int lb = c5_sched_bound_partition(t, k, budget < 20000 ? budget : 20000, groups, &ng);
-        if (lb < 0 || hpart_init(&hp, t, groups, ng, budget) != 0)
-            goto done;
-        a.hp = &hp;
+    long budget = o->group_budget > 0 ? o->group_budget : max_states;
+    if (o->ngroups > 0) {
+        /* the caller's partitions, separated by 0 (checked disjoint: Claim 2 needs it) */
+        int first = 0;
+        for (int q = 0; q <= o->ngroups; q++) {
+            if (q < o->ngroups && o->groups[q] != 0)
+                continue;
+            if (q > first) {
+                if (hpart_init(&hp[a.nhp], t, o->groups + first, q - first, budget) != 0)
+                    goto done;
+                a.nhp++;
+            }
+            first = q + 1;
+        }
+    } else {
+        int k = group_size(t, o->group_max);
+        if (k >= 2) {
+            uint64_t groups[C5_BOUND_MAX_CELLS];
+            int ng = 0;
+            int lb = c5_sched_bound_partition(t, k, budget < 20000 ? budget : 20000, groups, &ng);
+            if (lb < 0 || hpart_init(&hp[0], t, groups, ng, budget) != 0)
+                goto done;
+            a.nhp = 1;
+        }
     }
     a.n = t->n;
     a.words = t->n > 0 ? (t->n + 63) / 64 : 1;
@@ -747,11 +790,13 @@ done:
         stats->expanded = a.expanded;
         stats->root_h = a.root_h;
         stats->lower = rc == 0 ? a.lower : rc == 2 ? ub : rc == 1 ? *len_out : 0;
-        for (int k = 0; k < hp.ng; k++)
-            stats->memo += c5_group_memo(hp.g[k]);
+        for (int p = 0; p < a.nhp; p++)
+            for (int k = 0; k < hp[p].ng; k++)
+                stats->memo += c5_group_memo(hp[p].g[k]);
     }
     astar_free(&a);
-    hpart_free(&hp);
+    for (int p = 0; p < a.nhp; p++)
+        hpart_free(&hp[p]);
     if (beam_width > 0 && ub <= t->n && (rc == 0 || (rc == 1 && ub < *len_out))) {
         /* the beam died out (every successor met before) or the rollout rule did better */
         if (sched_out) {
@@ -801,8 +846,24 @@ int c5_sched_beam(const c5_dep_tree *t, int width, int *len_out, int **sched_out
     if (width < 1)
         return c5_fail(err, "cell tree beam search: width %d", width);
     /* the arena holds only the kept states; each group's memo at most a million */
-    c5_exact_opts o = {0x7fffffffL, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 1000000};
-    int rc = solve(t, &o, 0, width, len_out, sched_out, NULL, err);
+    c5_exact_opts o = {0x7fffffffL, 0x7fffffff, 1, C5_EXACT_GROUPS_DEFAULT, 1000000, NULL, 0};
+    return c5_sched_beam_ex(t, &o, width, len_out, sched_out, err);
+}
+
+int c5_sched_beam_ex(const c5_dep_tree *t, const c5_exact_opts *o, int width, int *len_out, int **sched_out,
+                     c5_err *err)
+{
+    if (sched_out)
+        *sched_out = NULL;
+    if (c5_tree_check(t, err) != 0)
+        return -1;
+    if (width < 1)
+        return c5_fail(err, "cell tree beam search: width %d", width);
+    c5_exact_opts b = *o;
+    b.max_states = 0x7fffffffL;
+    b.max_nodes = 0x7fffffff;
+    b.use_rollout_ub = 1;
+    int rc = solve(t, &b, 0, width, len_out, sched_out, NULL, err);
     return rc == 1 ? 0 : rc < 0 ? -1 : c5_fail(err, "cell tree beam search: no schedule");
 }
 
@@ -834,13 +895,13 @@ int c5_sched_projection_optimum(const c5_dep_tree *t, uint64_t cells, const c5_e
 int c5_sched_optimum(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                      c5_err *err)
 {
-    c5_exact_opts o = {max_states, max_nodes, 1, C5_EXACT_GROUPS_DEFAULT, 0};
+    c5_exact_opts o = {max_states, max_nodes, 1, C5_EXACT_GROUPS_DEFAULT, 0, NULL, 0};
     return c5_sched_optimum_ex(t, &o, len_out, sched_out, NULL, err);
 }
 
 int c5_sched_optimum_plain(const c5_dep_tree *t, long max_states, int max_nodes, int *len_out, int **sched_out,
                            c5_err *err)
 {
-    c5_exact_opts o = {max_states, max_nodes, 0, 0, 0};
+    c5_exact_opts o = {max_states, max_nodes, 0, 0, 0, NULL, 0};
     return c5_sched_optimum_ex(t, &o, len_out, sched_out, NULL, err);
 }

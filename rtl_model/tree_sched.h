@@ -204,7 +204,15 @@ typedef struct {
                            packing of c5_sched_lower_bound_groups); < 2: sum of maxGen only */
     long group_budget;  /* memoized states per group (a group over it counts its sum of
                            maxGen from then on); 0: max_states */
+    const uint64_t *groups; /* ngroups > 0: the heuristic's groups instead of the packing:
+                               cell masks, up to C5_EXACT_MAX_PARTS partitions separated by
+                               a 0 entry, each partition's groups disjoint (a partition
+                               should cover every cell: one left out counts nothing); h is
+                               the largest partition's sum, consistent as each is
+                               (tree_exact.c) */
+    int ngroups;
 } c5_exact_opts;
+#define C5_EXACT_MAX_PARTS 4
 typedef struct {
     long states;   /* states stored */
     long expanded; /* states expanded */
@@ -215,6 +223,19 @@ typedef struct {
 } c5_exact_stats;
 int c5_sched_optimum_ex(const c5_dep_tree *t, const c5_exact_opts *o, int *len_out, int **sched_out,
                         c5_exact_stats *stats, c5_err *err);
+
+/* c5_sched_beam with the search's knobs (max_states, max_nodes and use_rollout_ub unused:
+ * the rollout rule's schedule is always the fallback). */
+int c5_sched_beam_ex(const c5_dep_tree *t, const c5_exact_opts *o, int width, int *len_out, int **sched_out,
+                     c5_err *err);
+
+/* Local search (tree_local.c): shortens the feasible forward schedule sched[0..*len) in
+ * place by solving windows of `window` consecutive loads exactly (the exact search within
+ * max_states states a window; a window over budget is kept), the rest fixed, until no
+ * window improves. Never longer than the start; every accepted schedule passes
+ * c5_sched_feasible. Returns the loads saved (>= 0), or -1 with a message (infeasible start,
+ * window < 2, a cell id >= C5_BOUND_MAX_CELLS, out of memory). */
+int c5_sched_local_search(const c5_dep_tree *t, int *sched, int *len, int window, long max_states, c5_err *err);
 
 /* ---- internal: tree_bound.c for tree_exact.c ---------------------------------------------- */
 

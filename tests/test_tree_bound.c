@@ -71,7 +71,7 @@ TEST(tree_bound_ping_pong_by_hand)
     static const int best[] = {0, 1, 0, 2, 3, 2, 4, 5, 4};
     CHECK_INT(c5_sched_feasible(&t, best, 9), 1);
     /* The search starts at the bound, which the rollout schedule meets: nothing to expand. */
-    c5_exact_opts o = {1000, 64, 1, 2, 0};
+    c5_exact_opts o = {1000, 64, 1, 2, 0, NULL, 0};
     c5_exact_stats st;
     int len = -1;
     c5_err err;
@@ -137,7 +137,7 @@ TEST(tree_bound_projection_optimum_matches_brute_force)
         /* the A* on the projection (whose successor h must handle a child of its parent's
          * cell; it checks itself at every expansion) */
         for (int k = 0; k <= 2; k += 2) {
-            c5_exact_opts o = {100000, 64, 1, k, 0};
+            c5_exact_opts o = {100000, 64, 1, k, 0, NULL, 0};
             c5_exact_stats st;
             c5_err err;
             int len = -1;
@@ -271,7 +271,7 @@ TEST(tree_bound_search_heuristics_match_brute_force)
         /* groups of 2, 3, 4 with and without the rollout bound; memo budget 1 forces the
          * fallback (sum of maxGen per group) */
         for (int v = 0; v < 8; v++) {
-            c5_exact_opts o = {1000000, 64, v & 1, 2 + (v >> 1) % 3, v >= 6 ? 1 : 0};
+            c5_exact_opts o = {1000000, 64, v & 1, 2 + (v >> 1) % 3, v >= 6 ? 1 : 0, NULL, 0};
             c5_exact_stats st;
             int len = -1, *s = NULL;
             CHECK_INT(c5_sched_optimum_ex(&t, &o, &len, &s, &st, &err), 1);
@@ -295,11 +295,11 @@ TEST(tree_bound_search_gives_up_with_a_bound)
         int n = c5t_random_tree(&rng, 60, 6, 10, par, cel);
         c5_dep_tree t = {n, par, cel};
         int opt = -1;
-        c5_exact_opts full = {400000, 200, 1, 3, 0};
+        c5_exact_opts full = {400000, 200, 1, 3, 0, NULL, 0};
         c5_exact_stats st;
         CHECK_INT(c5_sched_optimum_ex(&t, &full, &opt, NULL, &st, &err), 1);
         for (long budget = 2; budget <= 512; budget *= 4) {
-            c5_exact_opts o = {budget, 200, 0, 2, 0};
+            c5_exact_opts o = {budget, 200, 0, 2, 0, NULL, 0};
             int len = -1, rc = c5_sched_optimum_ex(&t, &o, &len, NULL, &st, &err);
             CHECK_MSG(rc == 0 || rc == 1, "trial %d budget %ld: rc %d: %s", trial, budget, rc, err.msg);
             if (rc == 1) {
@@ -412,7 +412,7 @@ TEST(tree_bound_sandwich_random)
     uint64_t rng = 0x5A4D;
     int par[32], cel[32], sched[64];
     c5_err err;
-    long gave_up = 0, slabs_bite = 0;
+    long gave_up = 0, slabs_bite = 0, local_shorter = 0, local_opt = 0;
     for (int trial = 0; trial < 2000 && !c5t_failed_now(); trial++) {
         int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 24), 2 + (int)(c5_splitmix64(&rng) % 7),
                                 1 + (int)(c5_splitmix64(&rng) % 10), par, cel);
@@ -432,7 +432,7 @@ TEST(tree_bound_sandwich_random)
             slabs_bite += v > pairs;
             bounds[nb++] = v;
         }
-        c5_exact_opts small = {20, 64, 0, 2, 0};
+        c5_exact_opts small = {20, 64, 0, 2, 0, NULL, 0};
         c5_exact_stats st;
         int len = -1, rc = c5_sched_optimum_ex(&t, &small, &len, NULL, &st, &err);
         CHECK(rc == 0 || rc == 1);
@@ -455,7 +455,59 @@ TEST(tree_bound_sandwich_random)
         len = maxwork_on_tree(&t, sched);
         CHECK_MSG(c5_sched_feasible(&t, sched, len) == 1 && len >= opt, "trial %d Max Work: %d, optimum %d", trial,
                   len, opt);
+        /* the local search from Max Work's schedule: feasible, never longer, never below the
+         * optimum (windows of 3 loads: shorter than most schedules, so the windows matter) */
+        int start = len, saved = c5_sched_local_search(&t, sched, &len, 3, 100000, &err);
+        CHECK_MSG(saved == start - len && saved >= 0 && c5_sched_feasible(&t, sched, len) == 1 && len >= opt,
+                  "trial %d local search: %d -> %d (saved %d), optimum %d", trial, start, len, saved, opt);
+        local_shorter += len < start;
+        local_opt += len == opt && start > opt;
+        /* the A* with the three slab partitions as its heuristic (the maximum of three
+         * consistent heuristics) finds the same optimum */
+        uint64_t parts[9];
+        for (int axis = 0, q = 0; axis < 3; axis++, q++) {
+            parts[q] = parts[q + 1] = 0;
+            for (int c = 0; c < 8; c++)
+                parts[q + (c >> axis & 1)] |= 1ull << c;
+            q += 2;
+            parts[q] = 0;
+        }
+        c5_exact_opts slabs = {1000000, 64, trial & 1, 0, 0, parts, 9};
+        int slab_opt = -1;
+        CHECK_INT(c5_sched_optimum_ex(&t, &slabs, &slab_opt, NULL, NULL, &err), 1);
+        CHECK_MSG(slab_opt == opt, "trial %d: A* with slab partitions %d, optimum %d", trial, slab_opt, opt);
     }
     CHECK(gave_up > 100);  /* the search's own bound is exercised */
     CHECK(slabs_bite > 0); /* and the slabs beat the pairs somewhere */
+    CHECK(local_shorter > 100 && local_opt > 0); /* the local search shortens schedules, to the optimum somewhere */
+}
+
+/* Paths 0-1-2 and 1-0-1 (optimum 4: 1 0 1 2): the local search takes a window as a whole
+ * problem, refuses bad input with a message, and the A* refuses overlapping groups. */
+TEST(tree_local_search_by_hand)
+{
+    int par[6] = {-1, 0, 1, -1, 3, 4}, cel[6] = {0, 1, 2, 1, 0, 1};
+    c5_dep_tree t = {6, par, cel};
+    c5_err err;
+    int s[6] = {0, 1, 2, 1, 0, 1}, len = 6;
+    CHECK_INT(c5_sched_local_search(&t, s, &len, 6, 1000, &err), 2);
+    CHECK_INT(len, 4);
+    CHECK_INT(c5_sched_feasible(&t, s, len), 1);
+    int again = len;
+    CHECK_INT(c5_sched_local_search(&t, s, &len, 3, 1000, &err), 0); /* optimal: nothing to do */
+    CHECK_INT(len, again);
+    int bad[2] = {0, 1}, blen = 2;
+    CHECK_INT(c5_sched_local_search(&t, bad, &blen, 3, 1000, &err), -1);
+    CHECK(strstr(err.msg, "not feasible") != NULL);
+    CHECK_INT(c5_sched_local_search(&t, s, &len, 1, 1000, &err), -1);
+    CHECK(strstr(err.msg, "window") != NULL);
+    int big[6] = {0, 1, 2, 1, 0, 64};
+    c5_dep_tree tb = {6, par, big};
+    int sb[6] = {0, 1, 2, 1, 0, 64}, lb = 6;
+    CHECK_INT(c5_sched_local_search(&tb, sb, &lb, 3, 1000, &err), -1);
+    uint64_t overlap[2] = {3, 6};
+    c5_exact_opts o = {1000, 64, 1, 0, 0, overlap, 2};
+    int opt = -1;
+    CHECK_INT(c5_sched_optimum_ex(&t, &o, &opt, NULL, NULL, &err), -1);
+    CHECK(strstr(err.msg, "overlap") != NULL);
 }
