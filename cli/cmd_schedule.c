@@ -507,10 +507,6 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.prev_start = prev_start;
         o.prev_start_len = prev_start ? ncells : 0;
         o.plan = prev_plan;
-        const char *env = getenv("C5_STALE"); /* TEMPORARY: measuring thresholds */
-        if (env)
-            sscanf(env, "%lf,%lf,%lf,%lf,%lf,%d,%lf", &o.stale.start_overlap, &o.stale.gain_margin, &o.stale.lag_gain,
-                   &o.stale.surprise, &o.stale.orphan_frac, &o.stale.skip_min, &o.stale.skip_frac);
         o.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);

@@ -3,7 +3,6 @@
  * equivalent model rq_heap.h, or the clock-level insertion sorter ray_queue.h) and the
  * processor, with the frame's cycle budget (board.h, docs/board-model.md). */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -252,11 +251,12 @@ static c5_switch_reason stale_signal(board *b, double *value)
     const c5_board_opts *o = b->o;
     const c5_stale_thresholds *t = &o->stale;
     int n = b->cells.count;
+    /* Identical start queues (a still view): the replay is the frame, any saving is real. */
     const c5_stale_plan *p = o->plan && o->plan->valid && o->plan->len == o->schedule_len ? o->plan : NULL;
     double margin = t->gain_margin > 0 ? t->gain_margin : t->gain_margin < 0 ? 0 : C5_STALE_GAIN_MARGIN;
     if (b->st->fetches == 0 && b->passed == 0 && p &&
         ((double)p->sched_loads > (1 - margin) * (double)p->maxwork_loads - 1e-9 ||
-         p->sched_loads + C5_STALE_GAIN_MIN_LOADS > p->maxwork_loads)) {
+         p->sched_loads + (b->st->start_overlap >= 1.0 ? 1 : C5_STALE_GAIN_MIN_LOADS) > p->maxwork_loads)) {
         *value = p->maxwork_loads ? (double)p->sched_loads / p->maxwork_loads : 1;
         return C5_SWITCH_NO_GAIN;
     }
@@ -336,13 +336,6 @@ static int schedule(board *b, int *sched_pos)
             if (b->rem)
                 b->rem[c]--;
             b->passed++;
-            if (getenv("C5_TRACE")) {
-                size_t all = 0; int oc = 0;
-                for (int k = 0; k < b->cells.count; k++) { all += queued_in(b, k); oc += queued_in(b, k) && b->rem && b->rem[k] == 0; }
-                fprintf(stderr, "  e%d c%d pred %u q %zu all %zu orphcells %d sur %lld fetch %llu\n", i, c,
-                        o->plan && o->plan->valid ? o->plan->pred[i] : 0, queued_in(b, c), all, oc, (long long)b->surprise,
-                        (unsigned long long)b->st->fetches);
-            }
             if (b->q[c].n > b->q[c].head) {
                 b->st->sched_loads++;
                 b->surprise += expect == 0;

@@ -72,7 +72,7 @@ typedef enum {
 #define C5_STALE_SKIP_MIN 4         /* ... and at least this many */
 #define C5_STALE_GAIN_MARGIN 0.0    /* follow only a schedule the replay finds this part shorter than Max Work */
 #define C5_STALE_GAIN_MIN_LOADS 2   /* ... and at least this many loads shorter */
-#define C5_STALE_LAG_GAIN 0.15      /* ... and a one-frame-old schedule saved this part of Max Work's loads */
+#define C5_STALE_LAG_GAIN 0.03      /* ... and a one-frame-old schedule saved this part of Max Work's loads */
 #define C5_STALE_SURPRISE 0.5       /* switch when unexpected loads and orphan cells reach this part of the saving */
 typedef struct {
     double start_overlap, orphan_frac, skip_frac;
