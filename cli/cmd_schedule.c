@@ -168,6 +168,8 @@ typedef struct {
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
     int jump;                /* the camera motion cut to a new view at this frame */
     uint32_t *start;         /* [cells] rays queued per cell after the set-up (stale check) */
+    uint32_t *node_rays;     /* [C5_TREE_SLOTS] packets tagged with each node of this frame's tree */
+    c5_stale_plan plan;      /* the DSP's replay of this frame's tree for the next frame */
 } frame_row;
 
 static uint64_t rays_of(const c5_board_stats *st)
@@ -262,6 +264,16 @@ static const char *switch_reason(const c5_board_stats *st, char *buf, size_t n)
         snprintf(buf, n, "%.0f%% of the waiting rays are in cells the schedule no longer visits",
                  100 * st->switch_value);
         break;
+    case C5_SWITCH_NO_GAIN:
+        snprintf(buf, n, "on the previous tree the schedule makes %.0f%% of Max Work's loads", 100 * st->switch_value);
+        break;
+    case C5_SWITCH_LAG:
+        snprintf(buf, n, "the previous frame's schedule, replayed on the frame after it, makes %.0f%% of Max Work's loads",
+                 100 * st->switch_value);
+        break;
+    case C5_SWITCH_SURPRISE:
+        snprintf(buf, n, "unexpected loads and orphan cells reach %.0f%% of the expected saving", 100 * st->switch_value);
+        break;
     case C5_SWITCH_SKIPS:
         snprintf(buf, n, "%.0f%% of the scheduled cells passed were empty", 100 * st->switch_value);
         break;
@@ -299,6 +311,11 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "switch_reason", r->ct.sched_switches ? json_string(switch_reason(&r->ct, why, sizeof why)) : json_null());
     json_object_set_new(o, "start_overlap", r->ct.start_overlap >= 0 ? json_real(r->ct.start_overlap) : json_null());
     json_object_set_new(o, "stale_ops", json_integer((json_int_t)r->ct.stale_ops));
+    const c5_stale_plan *p = &r->plan;
+    json_object_set_new(o, "replay", p->valid ? json_pack("{s:i, s:i, s:I, s:i, s:I}", "maxwork_loads", p->maxwork_loads,
+                                                          "schedule_loads", p->sched_loads, "rays", (json_int_t)p->rays, "lag_loads", p->lag_loads,
+                                                          "dsp_ops", (json_int_t)p->ops)
+                                              : json_null());
     json_object_set_new(o, "lower_bound", s->overflow ? json_null() : json_integer(s->lower_bound));
     json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
     json_object_set_new(o, "paper_bound", s->overflow ? json_null() : json_integer(s->paper_bound));
@@ -454,7 +471,8 @@ static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
  * made from frame f-1's tree, `prev`, when there is one), then the DSP's work on this frame's
  * tree. */
 static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f,
-                     const c5_dsp_sched_result *prev, int prev_group, const uint32_t *prev_start,
+                     const c5_dsp_sched_result *prev, const c5_stale_plan *prev_plan, int prev_group,
+                     const uint32_t *prev_start,
                      c5_ctree *trees, frame_row *row, c5_progress *prog, c5_err *err)
 {
     c5_image mw_img = {0}, ct_img = {0};
@@ -465,9 +483,11 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     if (a->moving)
         o.camera = &cam;
     int ncells = a->cells[0] * a->cells[1] * a->cells[2];
-    if (!(row->start = calloc((size_t)ncells, sizeof *row->start)))
+    if (!(row->start = calloc((size_t)ncells, sizeof *row->start)) ||
+        !(row->node_rays = calloc(C5_TREE_SLOTS, sizeof *row->node_rays)))
         return c5_fail(err, "out of memory");
     o.start_counts = row->start;
+    o.node_rays = row->node_rays; /* the run whose tree is scheduled fills it last */
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
@@ -486,6 +506,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.stale_check = a->stale_off ? -1 : 0;
         o.prev_start = prev_start;
         o.prev_start_len = prev_start ? ncells : 0;
+        o.plan = prev_plan;
         o.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
@@ -512,6 +533,10 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->demand_nodes = row->ct.tree_demand_nodes;
     row->demand_slots = row->ct.tree_demand_slots;
     rc = c5_dsp_schedule(tree, &so, &row->sch, err);
+    if (rc == 0 && g == 1)
+        rc = c5_stale_plan_make(tree, row->node_rays, row->sch.next.cells, row->sch.next.len,
+                                o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL,
+                                o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0, &row->plan, err);
 done:
     c5_image_free(&mw_img);
     c5_image_free(&ct_img);
@@ -564,7 +589,8 @@ int c5_cmd_schedule(int argc, char **argv)
     for (int f = 0; f < frames; f++) {
         rows[f].group = a.group ? (int)a.group
                         : f == 0 ? 1 : c5_dsp_next_group(rows[f - 1].group, rows[f - 1].sch.overflow, a.cells);
-        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? rows[f - 1].group : 1,
+        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? &rows[f - 1].plan : NULL,
+                      f ? rows[f - 1].group : 1,
                       f ? rows[f - 1].start : NULL, trees, &rows[f], &prog,
                       &err) != 0) {
             c5_progress_end(&prog);
@@ -581,7 +607,8 @@ int c5_cmd_schedule(int argc, char **argv)
 fail:
     if (rows)
         for (int f = 0; f < frames; f++)
-            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start);
+            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), free(rows[f].node_rays),
+                c5_stale_plan_free(&rows[f].plan);
     free(rows);
     c5_supervol_free(&sv);
     if (rc)

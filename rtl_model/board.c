@@ -49,6 +49,7 @@ typedef struct {
     uint32_t *rem;           /* [cells] entries of each cell in the schedule from sched_pos on */
     int switched;            /* the schedule was judged stale: Max Work for the rest */
     uint64_t passed, skipped; /* schedule entries passed and found empty (the skip signal) */
+    int64_t surprise;        /* loads at entries the replay passes empty, less entries it loads found empty */
     uint64_t queued;         /* rays in the SDRAM queues (progress) */
     uint32_t *free_slots;
     uint32_t n_free;
@@ -177,6 +178,12 @@ static void on_enqueue(void *ctx, const c5_bray *r)
     double t0 = c5_now_s();
     q.node = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
     b->st->tree_wall_s += c5_now_s() - t0;
+    /* The rays each node brings to its cell's queue (stale_plan.h); a spill of the active
+     * cell's own ray is not an arrival. */
+    if (b->o->node_rays && q.node != C5_NODE_NONE && (int)r->cell != b->proc.active) {
+        b->o->node_rays[q.node]++;
+        b->st->node_count_ops += C5_OPS_NODE_COUNT;
+    }
     q.shadow = c5_demand_tag(&b->demand, r->shadow, tree_unit(b, (int)r->cell));
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
@@ -244,19 +251,44 @@ static c5_switch_reason stale_signal(board *b, double *value)
     const c5_board_opts *o = b->o;
     const c5_stale_thresholds *t = &o->stale;
     int n = b->cells.count;
+    /* Identical start queues (a still view): the replay is the frame, any saving is real. */
+    const c5_stale_plan *p = o->plan && o->plan->valid && o->plan->len == o->schedule_len ? o->plan : NULL;
+    double margin = t->gain_margin > 0 ? t->gain_margin : t->gain_margin < 0 ? 0 : C5_STALE_GAIN_MARGIN;
+    if (b->st->fetches == 0 && b->passed == 0 && p &&
+        ((double)p->sched_loads > (1 - margin) * (double)p->maxwork_loads - 1e-9 ||
+         p->sched_loads + (b->st->start_overlap >= 1.0 ? 1 : C5_STALE_GAIN_MIN_LOADS) > p->maxwork_loads)) {
+        *value = p->maxwork_loads ? (double)p->sched_loads / p->maxwork_loads : 1;
+        return C5_SWITCH_NO_GAIN;
+    }
+    double lag_gain = t->lag_gain > 0 ? t->lag_gain : t->lag_gain < 0 ? -1e9 : C5_STALE_LAG_GAIN;
+    if (b->st->fetches == 0 && b->passed == 0 && p && p->lag_loads >= 0 &&
+        (double)p->lag_loads > (1 - lag_gain) * (double)p->maxwork_loads + 1e-9) {
+        *value = p->maxwork_loads ? (double)p->lag_loads / p->maxwork_loads : 1;
+        return C5_SWITCH_LAG;
+    }
     if (b->st->fetches == 0 && b->st->start_overlap >= 0 &&
         b->st->start_overlap < (t->start_overlap > 0 ? t->start_overlap : C5_STALE_START_OVERLAP)) {
         *value = b->st->start_overlap;
         return C5_SWITCH_START;
     }
     uint64_t orphan = 0, all = 0;
+    int64_t orphan_cells = 0;
     for (int c = 0; c < n; c++) {
         size_t q = queued_in(b, c);
         all += q;
         if (q && b->rem[c] == 0)
-            orphan += q;
+            orphan += q, orphan_cells++;
     }
     b->st->stale_ops += 2 * (uint64_t)n;
+    if (p && p->maxwork_loads > p->sched_loads) {
+        double saving = p->maxwork_loads - p->sched_loads;
+        double frac = t->surprise > 0 ? t->surprise : C5_STALE_SURPRISE;
+        b->st->stale_ops += 4;
+        if ((double)(b->surprise + orphan_cells) >= frac * saving) {
+            *value = (double)(b->surprise + orphan_cells) / saving;
+            return C5_SWITCH_SURPRISE;
+        }
+    }
     if (all && (double)orphan > (t->orphan_frac > 0 ? t->orphan_frac : C5_STALE_ORPHAN_FRAC) * (double)all) {
         *value = (double)orphan / (double)all;
         return C5_SWITCH_ORPHANS;
@@ -299,14 +331,17 @@ static int schedule(board *b, int *sched_pos)
             b->st->switch_value = v;
         }
         while (!b->switched && *sched_pos < o->schedule_len) {
-            int c = o->schedule[(*sched_pos)++];
+            int i = (*sched_pos)++, c = o->schedule[i];
+            int expect = o->plan && o->plan->valid && o->plan->len == o->schedule_len ? (o->plan->pred[i] > 0) : -1;
             if (b->rem)
                 b->rem[c]--;
             b->passed++;
             if (b->q[c].n > b->q[c].head) {
                 b->st->sched_loads++;
+                b->surprise += expect == 0;
                 return c;
             }
+            b->surprise -= expect == 1;
             b->skipped++;
             b->st->sched_skipped++;
         }
@@ -492,6 +527,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     }
     stats->switched_at_load = -1;
     stats->start_overlap = -1;
+    if (o.node_rays)
+        memset(o.node_rays, 0, C5_TREE_SLOTS * sizeof *o.node_rays);
     if (o.sched == C5_SCHED_EXTERNAL && o.stale_check >= 0 && b.sgroup[0] * b.sgroup[1] * b.sgroup[2] == 1) {
         if (!(b.rem = calloc((size_t)b.cells.count, sizeof *b.rem))) {
             board_free(&b);

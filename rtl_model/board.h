@@ -14,6 +14,7 @@
 #include "cref.h"
 #include "fixed.h"
 #include "image.h"
+#include "stale_plan.h"
 #include "scene.h"
 #include "supervol.h"
 #include "taps.h"
@@ -59,6 +60,9 @@ typedef enum {
     C5_SWITCH_START = 1,   /* the queues after the set-up differ from the previous frame's */
     C5_SWITCH_ORPHANS = 2, /* rays wait in cells the rest of the schedule never visits */
     C5_SWITCH_SKIPS = 3,   /* scheduled cells found empty too often */
+    C5_SWITCH_NO_GAIN = 4, /* on the previous tree the schedule makes no fewer loads than Max Work */
+    C5_SWITCH_SURPRISE = 5, /* loads the replay did not expect have eaten the expected saving */
+    C5_SWITCH_LAG = 6,     /* a one-frame-old schedule, replayed on the previous frame, saved too little */
 } c5_switch_reason;
 
 /* The detection's thresholds (docs/cell-tree.md, "Stale schedules": measured). */
@@ -66,9 +70,16 @@ typedef enum {
 #define C5_STALE_ORPHAN_FRAC 0.10   /* switch when orphan rays are this part of the queued rays */
 #define C5_STALE_SKIP_FRAC 0.50     /* switch when skipped entries are this part of those passed */
 #define C5_STALE_SKIP_MIN 4         /* ... and at least this many */
+#define C5_STALE_GAIN_MARGIN 0.0    /* follow only a schedule the replay finds this part shorter than Max Work */
+#define C5_STALE_GAIN_MIN_LOADS 2   /* ... and at least this many loads shorter */
+#define C5_STALE_LAG_GAIN 0.03      /* ... and a one-frame-old schedule saved this part of Max Work's loads */
+#define C5_STALE_SURPRISE 0.5       /* switch when unexpected loads and orphan cells reach this part of the saving */
 typedef struct {
     double start_overlap, orphan_frac, skip_frac;
     int skip_min;
+    double gain_margin;  /* follow only when the replayed schedule saves more than this part of Max Work's loads */
+    double lag_gain;     /* follow only when the previous frame's schedule, replayed on the frame after, saved this part */
+    double surprise;     /* switch when unexpected loads reach this part of the expected saving */
 } c5_stale_thresholds;
 
 typedef struct {
@@ -107,6 +118,10 @@ typedef struct {
     int prev_start_len;      /* entries of prev_start: the split's cells */
     uint32_t *start_counts;  /* out, or NULL: this frame's, [cells] */
     c5_stale_thresholds stale; /* 0 fields: the defaults (C5_STALE_*) */
+    /* The DSP's replay of the previous frame's tree (stale_plan.h), or NULL: what following
+     * the schedule and Max Work cost there, and per entry the rays it expects. */
+    const c5_stale_plan *plan;
+    uint32_t *node_rays;     /* out, or NULL: packets tagged with each node slot, [C5_TREE_SLOTS] */
 } c5_board_opts;
 
 /* Where a frame is (c5_board_opts.progress). */
@@ -149,6 +164,7 @@ typedef struct {
     c5_switch_reason switch_reason;
     double switch_value;     /* the signal's value at the switch (overlap, fraction) */
     uint64_t stale_ops;      /* DSP operations of the detection: counters read and compared */
+    uint64_t node_count_ops; /* DSP operations counting each node's rays (opts.node_rays) */
     double start_overlap;    /* the start queues' overlap with the previous frame's; -1: not compared */
     uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
     int tree_overflow;       /* the tree outgrew the DSP RAM (the frame is still right) */

@@ -63,6 +63,8 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, int stal
     int ncells = cells[0] * cells[1] * cells[2], bad = 0;
     uint32_t *start[2] = {calloc((size_t)ncells, 4), calloc((size_t)ncells, 4)};
     c5_dsp_sched_result prev = {0};
+    c5_stale_plan plan = {0};
+    static uint32_t node_rays[C5_TREE_SLOTS];
     int have_prev = 0;
     *sum_mw = *sum_ct = 0;
     *switches = 0;
@@ -71,7 +73,7 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, int stal
         c5_camera cam = c5_motion_camera(&base, m, f);
         uint32_t *now = start[f & 1], *before = start[(f & 1) ^ 1];
         c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .tree = &trees[0], .camera = &cam,
-                           .start_counts = now};
+                           .start_counts = now, .node_rays = node_rays};
         c5_image a = {0}, b = {0};
         c5_board_stats mw, ct;
         c5_ctree_init(&trees[0], 0);
@@ -85,6 +87,7 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, int stal
             o.stale_check = stale_check;
             o.prev_start = before;
             o.prev_start_len = ncells;
+            o.plan = &plan;
             o.start_counts = NULL;
             o.tree = tree = &trees[1];
             c5_ctree_init(tree, 0);
@@ -106,14 +109,20 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, int stal
             c5_image_free(&b);
         }
         c5_image_free(&a);
-        c5_dsp_sched_free(&prev);
         c5_err err;
         c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
-        if (c5_dsp_schedule(tree, &so, &prev, &err) != 0)
+        c5_dsp_sched_result next;
+        c5_stale_plan_free(&plan);
+        if (c5_dsp_schedule(tree, &so, &next, &err) != 0 ||
+            c5_stale_plan_make(tree, node_rays, next.next.cells, next.next.len, o.sched ? o.schedule : NULL,
+                               o.sched ? o.schedule_len : 0, &plan, &err) != 0)
             return -1;
+        c5_dsp_sched_free(&prev);
+        prev = next;
         have_prev = 1;
     }
     c5_dsp_sched_free(&prev);
+    c5_stale_plan_free(&plan);
     free(start[0]);
     free(start[1]);
     return bad;
@@ -124,22 +133,23 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, int stal
 static void never_worse_on(const char *name, int size, int stale_check, int *bad_frames, int *bad_paths,
                            char *why, size_t why_n)
 {
-    static const int splits[3][3] = {{2, 2, 2}, {3, 3, 3}, {2, 3, 1}};
-    c5_motion motions[6] = {
+    static const int splits[4][3] = {{2, 2, 2}, {3, 3, 3}, {2, 3, 1}, {3, 1, 2}};
+    c5_motion motions[7] = {
         {0},
         {.orbit_deg = 2},
         {.orbit_deg = 8},
         {.orbit_deg = 30},
         {.jumps = 1, .jump_seed = 5, .jump_every = 3},
         {.orbit_deg = 4, .jumps = 1, .jump_seed = 9, .jump_prob = 0.3},
+        {.dolly = 0.9},
     };
     *bad_frames = *bad_paths = 0;
     if (load(name, size) != 0) {
         *bad_frames = -1;
         return;
     }
-    for (int s = 0; s < 3; s++)
-        for (int k = 0; k < 6; k++) {
+    for (int s = 0; s < 4; s++)
+        for (int k = 0; k < 7; k++) {
             uint64_t mw, ct;
             int sw;
             char w[200] = "";
@@ -163,16 +173,21 @@ static void never_worse_on(const char *name, int size, int stale_check, int *bad
         }
 }
 
-TEST(stale_never_worse_than_maxwork_on_generated_paths)
+/* One case per built-in scene, so that a failure names it. paths: whether the path promise
+ * is checked too (clouds_lake: not yet, docs/cell-tree.md "Stale schedules", what does not
+ * hold: one path one fetch over). */
+static void never_worse(const char *name, int paths_too)
 {
-    const char *scenes[2] = {"brain_mirrors", "default"};
-    for (int i = 0; i < 2; i++) {
-        int frames, paths;
-        char why[300] = "";
-        never_worse_on(scenes[i], 48, 0, &frames, &paths, why, sizeof why);
-        CHECK_MSG(frames == 0 && paths == 0, "%d frames, %d paths over Max Work: %s", frames, paths, why);
-    }
+    int frames, paths;
+    char why[300] = "";
+    never_worse_on(name, 48, 0, &frames, &paths, why, sizeof why);
+    CHECK_MSG(frames == 0 && (!paths_too || paths == 0), "%d frames, %d paths over Max Work: %s", frames, paths, why);
 }
+
+TEST(stale_never_worse_brain_mirrors) { never_worse("brain_mirrors", 1); }
+TEST(stale_never_worse_default) { never_worse("default", 1); }
+TEST(stale_never_worse_lobster_tunnel) { never_worse("lobster_tunnel", 1); }
+TEST(stale_never_worse_clouds_lake) { never_worse("clouds_lake", 0); }
 
 /* The property test can fail: the same paths without the detection (the paper's board)
  * break the promise somewhere. */
@@ -349,6 +364,37 @@ TEST(stale_corner_cases)
     free(last);
     CHECK(switched);
 
+    /* The DSP's replay says the schedule makes no fewer loads than Max Work on the tree it
+     * came from: not followed at all, Max Work's frame. The same with a one-frame-old
+     * schedule that lost on the previous frame. */
+    c5_stale_plan p = {.valid = 1, .maxwork_loads = (int)m.st.fetches, .sched_loads = (int)m.st.fetches,
+                       .lag_loads = -1, .len = m.sch.next.len, .pred = calloc((size_t)m.sch.next.len, 4)};
+    for (int i = 0; i < p.len; i++)
+        p.pred[i] = 1; /* every entry expected to find rays: nothing unexpected */
+    c5_board_opts po = {.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = m.sch.next.cells,
+                        .schedule_len = m.sch.next.len, .plan = &p};
+    CHECK(render(&po, &img, &st) == 0);
+    CHECK(same_bits(&img, &m.img));
+    CHECK_INT(st.switch_reason, C5_SWITCH_NO_GAIN);
+    CHECK_INT(st.switched_at_load, 0);
+    CHECK_INT(st.fetches, m.st.fetches);
+    CHECK(consistent(&st));
+    c5_image_free(&img);
+    p.sched_loads = (int)m.st.fetches - C5_STALE_GAIN_MIN_LOADS; /* just enough gain ... */
+    CHECK(render(&po, &img, &st) == 0);
+    CHECK_INT(st.sched_switches, 0);
+    c5_image_free(&img);
+    p.lag_loads = (int)m.st.fetches; /* ... but the previous frame's schedule saved nothing */
+    CHECK(render(&po, &img, &st) == 0);
+    CHECK_INT(st.switch_reason, C5_SWITCH_LAG);
+    CHECK_INT(st.fetches, m.st.fetches);
+    c5_image_free(&img);
+    p.len = 1; /* a replay of another schedule is not used */
+    CHECK(render(&po, &img, &st) == 0);
+    CHECK_INT(st.sched_switches, 0);
+    c5_image_free(&img);
+    free(p.pred);
+
     /* The check off: the same schedules are followed to their end. */
     c5_board_opts o = {.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = empty, .schedule_len = n_empty,
                        .stale_check = -1};
@@ -358,4 +404,44 @@ TEST(stale_corner_cases)
     CHECK_INT(st.sched_skipped, n_empty);
     c5_image_free(&img);
     mw_free(&m);
+}
+
+/* The DSP's replay (stale_plan.h) on a frame's own tree, with the rays the board counted per
+ * node, gives the loads Max Work made in that frame and the loads of following the frame's
+ * own schedule, exactly. */
+TEST(stale_replay_is_exact_on_the_own_tree)
+{
+    static const int splits[2][3] = {{2, 2, 2}, {3, 3, 3}};
+    static const char *names[2] = {"clouds_lake", "lobster_tunnel"};
+    static uint32_t node_rays[C5_TREE_SLOTS];
+    for (int i = 0; i < 2; i++)
+        for (int k = 0; k < 2; k++) {
+            CHECK(load(names[i], 32) == 0);
+            c5_ctree_init(&trees[0], 0);
+            c5_board_opts o = {.cells = {splits[k][0], splits[k][1], splits[k][2]}, .tree = &trees[0],
+                               .node_rays = node_rays};
+            c5_image img, img2;
+            c5_board_stats st, st2;
+            c5_err err;
+            c5_dsp_sched_result sch;
+            c5_stale_plan p;
+            c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+            CHECK(render(&o, &img, &st) == 0);
+            CHECK(c5_dsp_schedule(&trees[0], &so, &sch, &err) == 0);
+            CHECK(c5_stale_plan_make(&trees[0], node_rays, sch.next.cells, sch.next.len, NULL, 0, &p, &err) == 0);
+            CHECK(p.valid);
+            CHECK_INT(p.maxwork_loads, st.fetches);
+            CHECK_INT(p.lag_loads, -1);
+            c5_board_opts f = {.cells = {splits[k][0], splits[k][1], splits[k][2]}, .sched = C5_SCHED_EXTERNAL,
+                               .schedule = sch.next.cells, .schedule_len = sch.next.len, .stale_check = -1};
+            CHECK(render(&f, &img2, &st2) == 0);
+            CHECK_INT(p.sched_loads, st2.fetches);
+            int loads = 0;
+            for (int e = 0; e < p.len; e++) /* an entry expected to find rays is a load */
+                loads += p.pred[e] > 0;
+            CHECK(loads <= p.sched_loads);
+            c5_image_free(&img), c5_image_free(&img2);
+            c5_dsp_sched_free(&sch);
+            c5_stale_plan_free(&p);
+        }
 }
