@@ -6,6 +6,7 @@
 #include "board.h"
 #include "builtin_scenes.h"
 #include "harness.h"
+#include "scene_load.h"
 #include "regs.h"
 
 typedef struct {
@@ -15,16 +16,7 @@ typedef struct {
 
 static int load(loaded *l, const char *json_or_name, int size)
 {
-    c5_err err;
-    const char *json = c5_builtin_scene_json(json_or_name);
-    if (c5_scene_parse(json ? json : json_or_name, NULL, "test", &l->s, &err) != 0 ||
-        c5_supervol_build(&l->s, &l->sv, &err) != 0) {
-        fprintf(stderr, "load: %s\n", err.msg);
-        return -1;
-    }
-    if (size > 0)
-        l->s.render.width = l->s.render.height = size;
-    return 0;
+    return c5t_load_scene(json_or_name, size, &l->s, &l->sv);
 }
 
 static int model(loaded *l, c5_board_opts o, c5_image *img, c5_board_stats *st)

@@ -4,9 +4,9 @@
 #include <string.h>
 
 #include "board.h"
-#include "builtin_scenes.h"
 #include "dsp_sched.h"
 #include "harness.h"
+#include "scene_load.h"
 
 static c5_scene scene;
 static c5_supervol grid;
@@ -14,16 +14,9 @@ static c5_supervol grid;
 /* brain_mirrors (three mirrors: rays return into cells already processed) at a small size. */
 static int load(const char *name, int size)
 {
-    c5_err err;
     c5_supervol_free(&grid);
     memset(&grid, 0, sizeof grid);
-    if (c5_scene_parse(c5_builtin_scene_json(name), NULL, "test", &scene, &err) != 0 ||
-        c5_supervol_build(&scene, &grid, &err) != 0) {
-        fprintf(stderr, "load: %s\n", err.msg);
-        return -1;
-    }
-    scene.render.width = scene.render.height = size;
-    return 0;
+    return c5t_load_scene(name, size, &scene, &grid);
 }
 
 static int render(int frame, c5_board_opts o, c5_image *img, c5_board_stats *st)

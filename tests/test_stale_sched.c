@@ -7,10 +7,10 @@
 #include <string.h>
 
 #include "board.h"
-#include "builtin_scenes.h"
 #include "camera_motion.h"
 #include "dsp_sched.h"
 #include "harness.h"
+#include "scene_load.h"
 
 static c5_scene scene;
 static c5_supervol grid;
@@ -18,15 +18,10 @@ static c5_ctree trees[2];
 
 static int load(const char *name, int size)
 {
-    c5_err err;
     c5_supervol_free(&grid);
     memset(&grid, 0, sizeof grid);
-    if (c5_scene_parse(c5_builtin_scene_json(name), NULL, "test", &scene, &err) != 0 ||
-        c5_supervol_build(&scene, &grid, &err) != 0) {
-        fprintf(stderr, "load: %s\n", err.msg);
+    if (c5t_load_scene(name, size, &scene, &grid) != 0)
         return -1;
-    }
-    scene.render.width = scene.render.height = size;
     scene.camera = c5_scene_camera_at(&scene, 0);
     scene.path.n_keys = 0;
     return 0;
