@@ -62,6 +62,11 @@ typedef enum {
                                  the incumbent (a complete schedule); the paper's rule runs
                                  first, and its schedule is returned when it is no longer.
                                  Never longer than rule 1 nor than the cheap policy (c5_sched_bounded). */
+    C5_SPLIT_WINDOW = 5,      /* ours, for the DSP: the paper's schedule, then window after window
+                                 of it (8, 16, 24, 32 loads) replaced by a shorter schedule of the
+                                 nodes only that window can serve, found by the bounded rollout,
+                                 within the DSP's budget (c5_sched_window). Never longer than
+                                 rule 1. */
 } c5_split_rule;
 
 typedef struct {
@@ -108,6 +113,16 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
  * fits the budget; a budget that does not bind gives the unbounded run's schedule; the same
  * tree and budget give the same schedule and count. */
 int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
+
+/* C5_SPLIT_WINDOW (tree_window.c) with a budget of budget_ops DSP operations (dsp_cost.h)
+ * for the rule, the paper's rule included (0: no budget). The paper's rule always runs; each
+ * step after it (the loads' positions of every node, a window's forest, the search in it)
+ * runs only when its worst case fits what is left, and the search holds its share, so
+ * out->dsp_ops <= budget_ops unless the paper's rule alone costs more. out->gave_up: the
+ * budget ended the sweeps; fell_back: the paper's schedule was returned (nothing shorter
+ * found); peels: the paper's run's. Feasible, never longer than C5_SPLIT_MOST_LEAVES,
+ * deterministic (tests/test_tree_bounded.c). */
+int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
 
 /* Section 3.4's "bound": sum over cells of the largest generation, + 1 when completion peels
  * alone (lowest ready id first), from the start, get stuck on a non-empty tree. -1 when out
@@ -232,6 +247,11 @@ void c5_group_tree(const c5_group *g, int *parent, int *cell);
  * c5_sched_optimum_ex, without the rollout bound and without a schedule. */
 int c5_sched_projection_optimum(const c5_dep_tree *t, uint64_t cells, const c5_exact_opts *o, int *len_out,
                                 c5_exact_stats *stats, c5_err *err);
+
+/* c5_sched_bounded with a target and without the paper's fallback, for c5_sched_window
+ * (tree_sched.c says how). */
+int c5_sched_bounded_core(const c5_dep_tree *t, uint64_t budget_ops, int stop, int with_paper, c5_schedule *out,
+                          c5_err *err);
 
 int c5_group_opt(c5_group *g, const uint64_t *downset, int *exact);
 int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, uint64_t *groups_out,
