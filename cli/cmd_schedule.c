@@ -13,7 +13,7 @@
 
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
-    "                      [--split paper|lookahead|rollout|bounded] [--exact-states N] [--tree-nodes N]\n"
+    "                      [--split paper|lookahead|rollout|bounded|window] [--exact-states N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
@@ -32,8 +32,9 @@ static const char usage_text[] =
     "  --size WxH        image size instead of the scene's\n"
     "  --split R         rule of the schedule the board follows: paper (split peels take the\n"
     "                    cell with most leaf nodes, default), lookahead or rollout (ours,\n"
-    "                    docs/cell-tree.md), or bounded (the rollout within the DSP's budget\n"
-    "                    of counted operations, else the paper's); the lengths of all are\n"
+    "                    docs/cell-tree.md), bounded (the rollout within the DSP's budget\n"
+    "                    of counted operations, else the paper's) or window (the paper's\n"
+    "                    schedule shortened window by window within that budget); the lengths of all are\n"
     "                    reported, with the DSP's operations per frame at 255 MIPS\n"
     "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
     "                    when it gives up: the best proven bound and the best schedule found\n"
@@ -105,8 +106,11 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                     a->rule = C5_SPLIT_ROLLOUT;
                 else if (!strcmp(v, "bounded"))
                     a->rule = C5_SPLIT_BOUNDED;
+                else if (!strcmp(v, "window"))
+                    a->rule = C5_SPLIT_WINDOW;
                 else
-                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead, rollout or bounded)", v);
+                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead, rollout, bounded or window)",
+                                   v);
             } else if (!strcmp(o, "--volume")) {
                 if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
                     return -1;
@@ -151,6 +155,7 @@ static const char *rule_name(c5_split_rule r)
     return r == C5_SPLIT_LOOKAHEAD ? "lookahead"
            : r == C5_SPLIT_ROLLOUT ? "rollout"
            : r == C5_SPLIT_BOUNDED ? "bounded"
+           : r == C5_SPLIT_WINDOW  ? "window"
                                    : "paper";
 }
 
@@ -200,15 +205,16 @@ static void dsp_text(const frame_row *rows, int frames)
         const c5_dsp_sched_result *s = &r->sch;
         uint64_t tree = dsp_ops_tree(r);
         printf("  frame %d: tree %llu ops (%.0f us, %.2f%% of the frame); schedule %llu ops (%.0f us: export %llu, "
-               "rule %llu, write-back %llu)%s; bounded rule %d loads%s\n",
+               "rule %llu, write-back %llu)%s; bounded rule %d loads, window rule %d loads%s\n",
                f, (unsigned long long)tree, c5_dsp_us(tree),
                r->ct.board_s > 0 ? 100.0 * c5_dsp_us(tree) * 1e-6 / r->ct.board_s : 0.0,
                (unsigned long long)s->dsp_ops_schedule, c5_dsp_us(s->dsp_ops_schedule),
                (unsigned long long)s->dsp_ops_export, (unsigned long long)s->dsp_ops_rule,
                (unsigned long long)s->dsp_ops_writeback,
                s->dsp_ops_schedule > C5_DSP_SCHED_BUDGET_OPS ? " OVER BUDGET" : "", s->len_bounded,
-               s->bounded_fell_back ? " (bounded: the paper's schedule)"
-               : s->bounded_gave_up ? " (bounded: stopped at the budget)"
+               s->len_window,
+               s->bounded_fell_back ? " (followed rule: the paper's schedule)"
+               : s->bounded_gave_up ? " (followed rule: stopped at the budget)"
                                     : "");
     }
 }
@@ -241,9 +247,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
     /* 0: not run (overflow); null: gave up at the report's cap (more than 64 cells) */
     json_t *lens = json_object();
-    const char *names[4] = {"paper", "lookahead", "rollout", "bounded"};
-    int lv[4] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded};
-    for (int k = 0; k < 4; k++)
+    const char *names[5] = {"paper", "lookahead", "rollout", "bounded", "window"};
+    int lv[5] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded, s->len_window};
+    for (int k = 0; k < 5; k++)
         json_object_set_new(lens, names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
     json_object_set_new(o, "schedule_len", lens);
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
@@ -297,7 +303,7 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
     printf("  fetches: Max Work vs the board following the previous frame's Cell Tree schedule;\n"
            "  of this frame's own tree: bound (proven), s3.4 (Section 3.4's formula, not a bound),\n"
            "  optimum (exact search; <=N: not proven, the best schedule found), schedule lengths\n"
-           "  by rule paper/lookahead/rollout (bounded: below), peels\n");
+           "  by rule paper/lookahead/rollout (bounded, window: below), peels\n");
     printf("%5s %8s %5s %6s %7s %8s %6s %5s %5s %7s %5s %5s %5s %9s %s\n", "frame", "rays", "nodes", "bytes",
            "maxwork", "celltree", "fewer", "bound", "s3.4", "optimum", "paper", "look", "roll", "peels c/s",
            "followed");

@@ -65,6 +65,13 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
             r->lower_bound = slabs;
         if (c5_sched_beam(dt, o->beam_width > 0 ? o->beam_width : 200, &r->best_known, NULL, err) != 0)
             return -1;
+        /* The window rule without a budget often finds shorter schedules than the beam. */
+        c5_schedule ws;
+        if (c5_sched_window(dt, 0, &ws, err) != 0)
+            return -1;
+        if (ws.len < r->best_known)
+            r->best_known = ws.len;
+        c5_schedule_free(&ws);
     }
     r->exact_wall_s = c5_now_s() - t1;
     return 0;
@@ -86,7 +93,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     int *gen = malloc(sizeof *gen * (size_t)(n + 1));
     uint32_t *id = malloc(sizeof *id * (size_t)(n + 1));
     c5_schedule other = {0};
-    int *len_of[5] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded};
+    int *len_of[6] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded, &r->len_window};
     if (!parent || !cell || !gen || !id) {
         c5_fail(err, "out of memory for the Cell Tree scheduler (%d nodes)", n);
         goto done;
@@ -118,7 +125,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     /* Above 64 cells the other rules run under a cap on nodes examined (the rollout rule's
      * cost grows with cells times peels squared); over it, their length is -1. */
     uint64_t cap = c5_tree_bound_cells(&dt) ? 0 : C5_DSP_REPORT_MAX_EXAMINED;
-    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_BOUNDED; k++) {
+    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_WINDOW; k++) {
         if (k == (int)rule)
             continue;
         int got = c5_sched_celltree_capped(&dt, (c5_split_rule)k, cap, &other, err);

@@ -681,12 +681,13 @@ int c5_sched_bounded_core(const c5_dep_tree *t, uint64_t budget_ops, int stop, i
     undo(&p, 0);
     if (!with_paper)
         plen = stop > 0 ? stop : INT_MAX;
-    /* The incumbent: the cheap policy's schedule from the start. */
+    /* The incumbent: the cheap policy's schedule from the start (none needed when no
+     * schedule can be shorter than stop). */
     p.full_first = 1;
-    int len = 0, comp = 0, head = 0, ilen = simulate(&b, -1, 0, inc, 0);
+    int len = 0, comp = 0, head = 0, ilen = stop > 0 && p.sum_maxgen >= stop ? -3 : simulate(&b, -1, 0, inc, 0);
     undo(&p, 0);
-    if (ilen < 0) { /* over the budget before the first incumbent */
-        out->gave_up = 1;
+    if (ilen < 0) { /* over the budget before the first incumbent, or nothing to find */
+        out->gave_up = ilen != -3;
         goto result;
     }
     /* inc[head .. ilen) finishes the tree from the current state in ilen - head peels. */

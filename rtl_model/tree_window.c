@@ -23,6 +23,7 @@
 /* Window widths, in the order they are swept (docs/cell-tree.md: measured on the Figure 6
  * trees). */
 static const int widths[] = {8, 16, 24, 32};
+#define NWIDTHS ((int)(sizeof widths / sizeof *widths))
 
 typedef struct {
     const c5_dep_tree *t;
@@ -30,13 +31,16 @@ typedef struct {
     int *loc;              /* [max id + 1] local cell of a cell id */
     int *gid;              /* [m] cell id of a local cell */
     int *lc;               /* [n] local cell of a node */
+    int *ncell;            /* [m] nodes of a cell */
+    int *kstart, *kids;    /* children of node i: kids[kstart[i] .. kstart[i+1]) */
     int *S;                /* [cap] the schedule, local cells */
     int *occstart, *occ;   /* the loads of each cell, ascending: occ[occstart[c] .. occstart[c+1]) */
-    int *E, *Lt, *lim;     /* [n] earliest and latest load serving a node; lim: the children's bound */
-    int *bstart, *order;   /* nodes by E (counting sort, stable in node order) */
+    int *E, *R;            /* [n] earliest load serving a node; L - the latest */
+    int *order, *bstart;   /* nodes by E: those with E = k are order[bstart[k] .. bstart[k+1]) */
+    int *tmp, *tmpn;       /* scratch: [cap + n], [n] */
     int *tp, *stamp;       /* [n] a node's trie node in the window of stamp */
     int *fpar, *fcell, *ffirst, *fnext; /* the window's forest (a trie), cell ids */
-    uint64_t *sig;         /* [cap] signature of the window that started at a load and failed */
+    uint64_t *sig;         /* signature of a window (width, first load) when it last failed */
     int *S2;               /* [cap] */
     uint64_t ops;
 } win;
@@ -47,13 +51,6 @@ static int ceil_log2(int x)
     while ((1 << k) < x)
         k++;
     return k;
-}
-
-/* The most embed() costs. */
-static uint64_t embed_worst(const win *w)
-{
-    return (uint64_t)w->n * (C5_OPS_EMBED + C5_OPS_WIN_NODE + 2 * C5_OPS_SEARCH * (1 + ceil_log2(w->L + 1))) +
-           (2 * (uint64_t)w->L + (uint64_t)w->m + 4) * C5_OPS_WIN_NODE;
 }
 
 /* The first load of cell c at or after `from` (binary search in its loads); L: none. */
@@ -86,42 +83,101 @@ static int last_at(win *w, int c, int to)
     return a > w->occstart[c] ? w->occ[a - 1] : -1;
 }
 
-/* E, Lt and the nodes by E for the schedule S[0, L). */
-static void embed(win *w)
+/* The loads of each cell, ascending. */
+static void occ_build(win *w)
 {
-    int n = w->n, m = w->m, L = w->L;
-    const int *P = w->t->parent;
+    int m = w->m, L = w->L;
     memset(w->occstart, 0, ((size_t)m + 1) * sizeof *w->occstart);
     for (int k = 0; k < L; k++)
         w->occstart[w->S[k] + 1]++;
     for (int c = 0; c < m; c++)
         w->occstart[c + 1] += w->occstart[c];
     for (int c = 0; c < m; c++)
-        w->lim[c] = w->occstart[c];
+        w->tmp[c] = w->occstart[c];
     for (int k = 0; k < L; k++)
-        w->occ[w->lim[w->S[k]]++] = k;
-    w->ops += (2 * (uint64_t)L + (uint64_t)m) * C5_OPS_WIN_NODE;
+        w->occ[w->tmp[w->S[k]]++] = k;
+    w->ops += (2 * (uint64_t)L + 2 * (uint64_t)m) * C5_OPS_WIN_NODE;
+}
+
+/* The most embed_full costs on the schedule as it is: every node's two searches in its
+ * cell's loads, its children, the sort; and the lists of loads. (The caller counts this
+ * check: 2 a cell.) */
+static uint64_t embed_worst(const win *w)
+{
+    uint64_t x = 0;
+    for (int c = 0; c < w->m; c++)
+        x += (uint64_t)w->ncell[c] * (uint64_t)(1 + ceil_log2(w->occstart[c + 1] - w->occstart[c] + 1));
+    return 2 * C5_OPS_SEARCH * x + (uint64_t)w->n * (C5_OPS_EMBED + 4 * C5_OPS_WIN_NODE) +
+           (6 * (uint64_t)w->L + 2 * (uint64_t)w->m + 8) * C5_OPS_WIN_NODE;
+}
+
+/* The most embed_tail costs for the nodes order[e0, n) (a search in at most L loads). */
+static uint64_t tail_worst(const win *w, int e0)
+{
+    uint64_t k = (uint64_t)(w->n - e0);
+    return k * (C5_OPS_EMBED + C5_OPS_SEARCH * (uint64_t)(1 + ceil_log2(w->L + 1)) + 3 * C5_OPS_WIN_NODE) +
+           (6 * (uint64_t)w->L + 2 * (uint64_t)w->m + 8) * C5_OPS_WIN_NODE;
+}
+
+/* Counting sort of the nodes src[0, k) by E in [base, base + span) into order[off ...],
+ * stable; bstart[base + v] = off + the number of them with E below base + v. */
+static void sort_by_e(win *w, const int *src, int k, int base, int span, int off)
+{
+    int *cnt = w->tmp;
+    memset(cnt, 0, ((size_t)span + 1) * sizeof *cnt);
+    for (int j = 0; j < k; j++)
+        cnt[w->E[src[j]] - base + 1]++;
+    cnt[0] = off;
+    for (int v = 0; v < span; v++)
+        cnt[v + 1] += cnt[v];
+    memcpy(w->bstart + base, cnt, ((size_t)span + 1) * sizeof *cnt);
+    for (int j = 0; j < k; j++)
+        w->order[cnt[w->E[src[j]] - base]++] = src[j];
+    w->ops += (2 * (uint64_t)k + 2 * (uint64_t)span) * C5_OPS_WIN_NODE;
+}
+
+/* E, the latest loads (as R = L - Lt, which a change before them leaves as it is) and the
+ * nodes by E, for the schedule S[0, L). Lt is bounded by the children's, so nodes are taken
+ * last to first (a child's index is above its parent's). */
+static void embed_full(win *w)
+{
+    int n = w->n, L = w->L;
+    const int *P = w->t->parent;
+    occ_build(w);
     for (int i = 0; i < n; i++)
         w->E[i] = first_at(w, w->lc[i], P[i] < 0 ? 0 : w->E[P[i]] + 1);
-    for (int i = 0; i < n; i++)
-        w->lim[i] = L;
     for (int i = n - 1; i >= 0; i--) {
-        int k = last_at(w, w->lc[i], w->lim[i] - 1);
-        w->Lt[i] = k;
-        if (P[i] >= 0 && k < w->lim[P[i]])
-            w->lim[P[i]] = k;
+        int lim = L;
+        for (int k = w->kstart[i]; k < w->kstart[i + 1]; k++)
+            if (L - w->R[w->kids[k]] < lim)
+                lim = L - w->R[w->kids[k]];
+        w->ops += (uint64_t)(w->kstart[i + 1] - w->kstart[i]) * C5_OPS_WIN_NODE;
+        w->R[i] = L - last_at(w, w->lc[i], lim - 1);
     }
     w->ops += (uint64_t)n * C5_OPS_EMBED;
-    memset(w->bstart, 0, ((size_t)L + 2) * sizeof *w->bstart);
     for (int i = 0; i < n; i++)
-        w->bstart[w->E[i] + 1]++;
-    for (int k = 0; k <= L; k++)
-        w->bstart[k + 1] += w->bstart[k];
-    for (int k = 0; k <= L; k++)
-        w->lim[k] = w->bstart[k];
-    for (int i = 0; i < n; i++)
-        w->order[w->lim[w->E[i]]++] = i;
-    w->ops += (uint64_t)n * C5_OPS_WIN_NODE + 4;
+        w->tmpn[i] = i;
+    sort_by_e(w, w->tmpn, n, 0, L + 1, 0);
+}
+
+/* After the old schedule's S[lo, hi) became S[lo, lo + len) (w->L already the new length),
+ * within a sweep that goes on at lo + len or later: a node with E < lo keeps E (it embeds in
+ * the unchanged head); the others' E are recomputed, parents first (old E order), and
+ * sorted. R stays right for every node whose latest load was in the unchanged tail; the
+ * others now have Lt < lo + len, hence E < lo + len: no later window of the sweep looks at
+ * them (embed_full sets them right for the next sweep). */
+static void embed_tail(win *w, int lo)
+{
+    int n = w->n, e0 = w->bstart[lo];
+    const int *P = w->t->parent;
+    occ_build(w);
+    for (int k = e0; k < n; k++) {
+        int i = w->order[k];
+        w->E[i] = first_at(w, w->lc[i], P[i] < 0 ? 0 : w->E[P[i]] + 1);
+    }
+    w->ops += (uint64_t)(n - e0) * C5_OPS_EMBED;
+    memcpy(w->tmpn, w->order + e0, (size_t)(n - e0) * sizeof *w->tmpn);
+    sort_by_e(w, w->tmpn, n - e0, lo, w->L + 1 - lo, e0);
 }
 
 /* The most extract() costs on a window whose nodes by E are order[a, b). */
@@ -141,7 +197,7 @@ static int extract(win *w, int lo, int hi, int stamp_id, uint64_t *h)
     for (int k = w->bstart[lo]; k < w->bstart[hi]; k++) {
         int i = w->order[k];
         w->ops += C5_OPS_WIN_EXTRACT;
-        if (w->Lt[i] >= hi)
+        if (w->L - w->R[i] >= hi) /* the tail serves it */
             continue;
         int par = P[i] >= 0 && w->stamp[P[i]] == stamp_id ? w->tp[P[i]] : -1;
         int c = w->t->cell[i], f = par >= 0 ? w->ffirst[par] : roots;
@@ -176,25 +232,44 @@ static int extract(win *w, int lo, int hi, int stamp_id, uint64_t *h)
 
 static void win_free(win *w)
 {
-    free(w->loc);
-    free(w->gid);
-    free(w->lc);
-    free(w->S);
-    free(w->occstart);
-    free(w->occ);
-    free(w->E);
-    free(w->Lt);
-    free(w->lim);
-    free(w->bstart);
-    free(w->order);
-    free(w->tp);
-    free(w->stamp);
-    free(w->fpar);
-    free(w->fcell);
-    free(w->ffirst);
-    free(w->fnext);
+    int **arrays[] = {&w->loc, &w->gid,  &w->lc,   &w->ncell, &w->kstart, &w->kids,  &w->S,     &w->occstart,
+                      &w->occ, &w->E,    &w->R,    &w->order, &w->bstart, &w->tmp,   &w->tmpn,  &w->tp,
+                      &w->stamp, &w->fpar, &w->fcell, &w->ffirst, &w->fnext, &w->S2};
+    for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
+        free(*arrays[k]);
     free(w->sig);
-    free(w->S2);
+}
+
+/* Replaces S[lo, hi) by the window schedule ws (cell ids). */
+static void replace(win *w, int lo, int hi, const c5_schedule *ws)
+{
+    int k = lo;
+    memcpy(w->S2, w->S, (size_t)lo * sizeof *w->S2);
+    for (int j = 0; j < ws->len; j++)
+        w->S2[k++] = w->loc[ws->cells[j]];
+    for (int j = hi; j < w->L; j++)
+        w->S2[k++] = w->S[j];
+    w->ops += (uint64_t)(ws->len + w->L - hi) * C5_OPS_COPY;
+    int *x = w->S;
+    w->S = w->S2;
+    w->S2 = x;
+    w->L = k;
+}
+
+/* 1 when the window schedule ws is taken for S[lo, hi): shorter, or as long and first
+ * differing by a lower cell (a move along a plateau that opens other windows; the order
+ * makes the sweeps terminate). */
+static int takes(win *w, int lo, int hi, const c5_schedule *ws)
+{
+    if (ws->len == 0 || ws->len > hi - lo)
+        return 0;
+    if (ws->len < hi - lo)
+        return 1;
+    int j = 0;
+    while (j < ws->len && w->loc[ws->cells[j]] == w->S[lo + j])
+        j++;
+    w->ops += (uint64_t)(j + 1) * C5_OPS_COPY;
+    return j < ws->len && w->loc[ws->cells[j]] < w->S[lo + j];
 }
 
 int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err)
@@ -209,115 +284,130 @@ int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out,
     for (int i = 0; i < n; i++)
         if (t->cell[i] > maxc)
             maxc = t->cell[i];
-    size_t sn = (size_t)n + 2, sl = (size_t)L + 2;
+    size_t sn = (size_t)n + 2, sl = (size_t)L + 3;
     w.t = t;
     w.n = n;
     w.L = L;
     w.loc = malloc(((size_t)maxc + 1) * sizeof *w.loc);
-    w.gid = malloc(sn * sizeof *w.gid);
-    w.lc = malloc(sn * sizeof *w.lc);
-    w.S = malloc(sl * sizeof *w.S);
-    w.occstart = malloc(sn * sizeof *w.occstart);
-    w.occ = malloc(sl * sizeof *w.occ);
-    w.E = malloc(sn * sizeof *w.E);
-    w.Lt = malloc(sn * sizeof *w.Lt);
-    w.lim = malloc(sn * sizeof *w.lim);
-    w.bstart = malloc((sl + 1) * sizeof *w.bstart);
-    w.order = malloc(sn * sizeof *w.order);
-    w.tp = malloc(sn * sizeof *w.tp);
-    w.stamp = calloc(sn, sizeof *w.stamp);
-    w.fpar = malloc(sn * sizeof *w.fpar);
-    w.fcell = malloc(sn * sizeof *w.fcell);
-    w.ffirst = malloc(sn * sizeof *w.ffirst);
-    w.fnext = malloc(sn * sizeof *w.fnext);
-    w.sig = malloc(sl * sizeof *w.sig);
-    w.S2 = malloc(sl * sizeof *w.S2);
-    if (!w.loc || !w.gid || !w.lc || !w.S || !w.occstart || !w.occ || !w.E || !w.Lt || !w.lim || !w.bstart ||
-        !w.order || !w.tp || !w.stamp || !w.fpar || !w.fcell || !w.ffirst || !w.fnext || !w.sig || !w.S2) {
+    int **arrays[] = {&w.gid, &w.lc, &w.ncell, &w.kstart, &w.kids, &w.E, &w.R, &w.order, &w.tmpn,
+                      &w.tp, &w.fpar, &w.fcell, &w.ffirst, &w.fnext};
+    int ok = w.loc != NULL;
+    for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
+        ok &= (*arrays[k] = malloc(sn * sizeof **arrays[k])) != NULL;
+    int **sarrays[] = {&w.S, &w.S2, &w.occ, &w.bstart};
+    for (size_t k = 0; k < sizeof sarrays / sizeof *sarrays; k++)
+        ok &= (*sarrays[k] = malloc(sl * sizeof **sarrays[k])) != NULL;
+    ok &= (w.occstart = malloc(sn * sizeof *w.occstart)) != NULL;
+    ok &= (w.tmp = malloc((sn + sl) * sizeof *w.tmp)) != NULL;
+    ok &= (w.stamp = calloc(sn, sizeof *w.stamp)) != NULL;
+    ok &= (w.sig = calloc((size_t)NWIDTHS * sl, sizeof *w.sig)) != NULL;
+    if (!ok) {
         c5_fail(err, "cell tree schedule: out of memory for %d nodes", n);
         goto done;
     }
-    w.ops = paper.dsp_ops - (uint64_t)L; /* the paper's rule without writing its schedule out */
-    /* Local cells 0..m-1 in id order, as the peeler numbers them. */
-    for (int c = 0; c <= maxc; c++)
-        w.loc[c] = -1;
+    w.ops = paper.dsp_ops - (uint64_t)L; /* the paper's rule, its schedule not yet written out */
+    uint64_t reserve = 2 * (uint64_t)L; /* writing the schedule out */
+    /* The set-up and the first embedding (bounded with at most n cells and L loads a cell)
+     * must fit, or the paper's schedule is the answer at the paper's cost. */
+    uint64_t setup = (uint64_t)(6 * n + 3 * L + 4) * C5_OPS_WIN_NODE + (uint64_t)(maxc + 1) * 2 + (uint64_t)n * 2 +
+                     2 * C5_OPS_SEARCH * (uint64_t)n * (uint64_t)(1 + ceil_log2(L + 1)) +
+                     (uint64_t)n * (C5_OPS_EMBED + 4 * C5_OPS_WIN_NODE) + (8 * (uint64_t)L + 2 * (uint64_t)n + 8) * C5_OPS_WIN_NODE;
+    int stopped = n == 0, set_up = !stopped && !(budget_ops && w.ops + setup + reserve > budget_ops);
+    if (!set_up)
+        stopped = 1;
+    else {
+        /* Local cells 0..m-1 in id order, as the peeler numbers them; children lists. */
+        for (int c = 0; c <= maxc; c++)
+            w.loc[c] = -1;
+        for (int i = 0; i < n; i++)
+            w.loc[t->cell[i]] = 0;
+        for (int c = 0; c <= maxc; c++)
+            if (w.loc[c] == 0) {
+                w.gid[w.m] = c;
+                w.loc[c] = w.m++;
+            }
+        memset(w.ncell, 0, (size_t)w.m * sizeof *w.ncell);
+        memset(w.kstart, 0, sn * sizeof *w.kstart);
+        for (int i = 0; i < n; i++) {
+            w.lc[i] = w.loc[t->cell[i]];
+            w.ncell[w.lc[i]]++;
+            if (t->parent[i] >= 0)
+                w.kstart[t->parent[i] + 1]++;
+    }
     for (int i = 0; i < n; i++)
-        w.loc[t->cell[i]] = 0;
-    for (int c = 0; c <= maxc; c++)
-        if (w.loc[c] == 0) {
-            w.gid[w.m] = c;
-            w.loc[c] = w.m++;
-        }
+        w.kstart[i + 1] += w.kstart[i];
+    memcpy(w.tmpn, w.kstart, (size_t)n * sizeof *w.tmpn);
     for (int i = 0; i < n; i++)
-        w.lc[i] = w.loc[t->cell[i]];
+        if (t->parent[i] >= 0)
+            w.kids[w.tmpn[t->parent[i]]++] = i;
     for (int k = 0; k < L; k++)
         w.S[k] = w.loc[paper.cells[k]];
-    w.ops += (uint64_t)(n + L) * C5_OPS_WIN_NODE + (uint64_t)(maxc + 1) * 2;
-    uint64_t reserve = 2 * (uint64_t)L; /* writing the schedule out */
-    int dirty = 1, stamp_id = 0, stopped = 0;
-    for (size_t wi = 0; wi < sizeof widths / sizeof *widths && !stopped; wi++) {
-        int W = widths[wi], improved = 1;
-        memset(w.sig, 0, sl * sizeof *w.sig);
-        w.ops += (uint64_t)w.L;
-        while (improved && !stopped) {
-            improved = 0;
-            for (int lo = 0; lo + 1 < w.L && !stopped; lo += W / 2) {
-                int hi = lo + W < w.L ? lo + W : w.L;
-                if (dirty) {
-                    if (budget_ops && w.ops + embed_worst(&w) + reserve > budget_ops) {
-                        stopped = 1;
-                        break;
-                    }
-                    embed(&w);
-                    dirty = 0;
+    w.ops += (uint64_t)(4 * n + L + w.m) * C5_OPS_WIN_NODE + (uint64_t)(maxc + 1) * 2;
+    occ_build(&w);
+    }
+    reserve += 2 * (uint64_t)w.m; /* and the last check of an embedding's cost */
+    int stamp_id = 0, quiet = 0, stale = 1;
+    /* Sweeps left to right over each width, windows half overlapping and shifted by a
+     * quarter width every other round, until two rounds change nothing or the budget is
+     * spent. After a window is replaced the sweep goes on past it, so only the E of the
+     * nodes after it need recomputing (embed_tail); a new sweep starts from embed_full. */
+    for (int round = 0; !stopped && quiet < 2; round++) {
+        int changed = 0;
+        for (int wi = 0; wi < NWIDTHS && !stopped; wi++) {
+            int W = widths[wi], lo = (round & 1) ? W / 4 : 0;
+            if (stale) {
+                uint64_t ew = embed_worst(&w);
+                w.ops += 2 * (uint64_t)w.m;
+                if (budget_ops && w.ops + ew + reserve > budget_ops) {
+                    stopped = 1;
+                    break;
                 }
+                embed_full(&w);
+                stale = 0;
+            }
+            while (lo + 1 < w.L && !stopped) {
+                int hi = lo + W < w.L ? lo + W : w.L, next = lo + W / 2;
+                uint64_t *sig = &w.sig[(size_t)wi * sl + (size_t)lo], h;
                 if (budget_ops && w.ops + extract_worst(&w, w.bstart[lo], w.bstart[hi]) + reserve > budget_ops) {
                     stopped = 1;
                     break;
                 }
-                uint64_t h;
                 int M = extract(&w, lo, hi, ++stamp_id, &h);
-                if (M == 0 || w.sig[lo] == h) /* nothing to serve, or failed as it is */
-                    continue;
-                w.sig[lo] = h;
-                /* The search's set-up must fit (it holds the budget from there on). */
+                /* The search's set-up must fit; from there on it holds its share. */
                 int mc = M < w.m ? M : w.m;
-                uint64_t init = (uint64_t)M * C5_OPS_INIT_NODE + (uint64_t)mc * (C5_OPS_INIT_CELL + C5_OPS_MARK) +
-                                2 * C5_OPS_WORD * (uint64_t)(1 + mc / 64) + 2 * (uint64_t)M;
-                if (budget_ops && w.ops + init + reserve >= budget_ops)
-                    continue; /* a smaller window may still fit */
-                c5_dep_tree ft = {M, w.fpar, w.fcell};
-                c5_schedule ws;
-                if (c5_sched_bounded_core(&ft, budget_ops ? budget_ops - w.ops - reserve : 0, hi - lo, 0, &ws, err) !=
-                    0)
-                    goto done;
-                w.ops += ws.dsp_ops;
-                out->nodes_examined += ws.nodes_examined;
-                if (ws.gave_up)
-                    out->gave_up = 1;
-                if (ws.len > 0 && ws.len < hi - lo) {
-                    int k = 0;
-                    for (int j = 0; j < lo; j++)
-                        w.S2[k++] = w.S[j];
-                    for (int j = 0; j < ws.len; j++)
-                        w.S2[k++] = w.loc[ws.cells[j]];
-                    for (int j = hi; j < w.L; j++)
-                        w.S2[k++] = w.S[j];
-                    w.ops += (uint64_t)(ws.len + w.L - hi) * C5_OPS_COPY;
-                    int *tmp = w.S;
-                    w.S = w.S2;
-                    w.S2 = tmp;
-                    w.L = k;
-                    dirty = improved = 1;
+                uint64_t init = (uint64_t)M * (C5_OPS_INIT_NODE + 2) + (uint64_t)mc * (C5_OPS_INIT_CELL + C5_OPS_MARK) +
+                                4 * C5_OPS_WORD * (uint64_t)(1 + mc / 64) + 64;
+                /* (nothing to serve; tried as it is; or too dear for what is left, where a
+                 * window with a smaller forest may still fit) */
+                if (M > 0 && *sig != h && !(budget_ops && w.ops + init + reserve >= budget_ops)) {
+                    *sig = h;
+                    c5_dep_tree ft = {M, w.fpar, w.fcell};
+                    c5_schedule ws;
+                    /* stop hi - lo + 1: a schedule as long as the window is of use too (takes) */
+                    if (c5_sched_bounded_core(&ft, budget_ops ? budget_ops - w.ops - reserve : 0, hi - lo + 1, 0, &ws,
+                                              err) != 0)
+                        goto done;
+                    w.ops += ws.dsp_ops;
+                    out->nodes_examined += ws.nodes_examined;
+                    if (takes(&w, lo, hi, &ws)) {
+                        replace(&w, lo, hi, &ws);
+                        changed = stale = 1;
+                        next = lo + ws.len;
+                        if (budget_ops && w.ops + tail_worst(&w, w.bstart[lo]) + reserve > budget_ops)
+                            stopped = 1; /* the schedule stands; no window can be tried on it */
+                        else
+                            embed_tail(&w, lo);
+                    }
+                    c5_schedule_free(&ws);
                 }
-                c5_schedule_free(&ws);
+                lo = next;
             }
         }
+        quiet = changed ? 0 : quiet + 1;
     }
-    if (stopped)
-        out->gave_up = 1;
+    out->gave_up = stopped && n > 0;
     /* The result: the forward schedule in cell ids. */
-    for (int k = 0; k < w.L; k++)
+    for (int k = 0; set_up && k < w.L; k++)
         paper.cells[k] = w.gid[w.S[k]];
     out->len = w.L;
     out->cells = paper.cells;
