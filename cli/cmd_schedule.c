@@ -51,6 +51,7 @@ static const char usage_text[] =
 
 #define EXACT_STATES_DEFAULT 200000
 #define EXACT_NODES_MAX 4096
+#define FETCH_LOG_MAX 65536 /* fetches of a frame kept for the window rule's warm start */
 
 typedef struct {
     const char *scene_arg;
@@ -393,6 +394,11 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
     o.progress_ctx = &pf;
+    /* The fetches of the render whose tree the DSP schedules: a schedule of that tree, for the
+     * window rule to start from (a tree over cells only: the log holds cells). */
+    int *log = g > 1 ? NULL : malloc(sizeof *log * FETCH_LOG_MAX);
+    o.fetch_log = log;
+    o.fetch_log_cap = log ? FETCH_LOG_MAX : 0;
     c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
     int rc = -1;
     if (c5_board_render(s, sv, f, &o, &mw_img, &mw, err) != 0)
@@ -421,12 +427,17 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->board_s_maxwork = mw.board_s;
     c5_dsp_sched_opts so = {.rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
                             .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]}};
+    if (log && row->ct.fetches <= FETCH_LOG_MAX) {
+        so.warm = log;
+        so.warm_len = (int)row->ct.fetches;
+    }
     if (g > 1)
         memset(so.split, 0, sizeof so.split); /* the slab bound knows cells, not groups */
     row->demand_nodes = row->ct.tree_demand_nodes;
     row->demand_slots = row->ct.tree_demand_slots;
     rc = c5_dsp_schedule(tree, &so, &row->sch, err);
 done:
+    free(log);
     c5_image_free(&mw_img);
     c5_image_free(&ct_img);
     return rc;

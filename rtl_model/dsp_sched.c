@@ -77,6 +77,16 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
     return 0;
 }
 
+/* A rule as the DSP runs it (the window rule from the warm schedule when there is one), or
+ * under the report's cap; 1: over the cap. */
+static int run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, const c5_dsp_sched_opts *o,
+                    c5_schedule *out, c5_err *err)
+{
+    if (rule == C5_SPLIT_WINDOW)
+        return c5_sched_window_from(dt, c5_dsp_rule_budget(dt->n), o->warm, o->warm_len, out, err);
+    return c5_sched_celltree_capped(dt, rule, cap, out, err);
+}
+
 int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
 {
     memset(r, 0, sizeof *r);
@@ -102,7 +112,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     c5_ctree_export(t, parent, cell, id);
     c5_dep_tree dt = {n, parent, cell};
     c5_split_rule rule = o->rule ? o->rule : C5_SPLIT_MOST_LEAVES;
-    if (c5_tree_check(&dt, err) != 0 || c5_sched_celltree(&dt, rule, &r->next, err) != 0 ||
+    if (c5_tree_check(&dt, err) != 0 || run_rule(&dt, rule, 0, o, &r->next, err) != 0 ||
         c5_tree_generations(&dt, gen) < 0 || c5_ctree_annotate(t, id, gen, n, err) != 0)
         goto done;
     r->sched_wall_s = c5_now_s() - t0;
@@ -128,7 +138,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_WINDOW; k++) {
         if (k == (int)rule)
             continue;
-        int got = c5_sched_celltree_capped(&dt, (c5_split_rule)k, cap, &other, err);
+        int got = run_rule(&dt, (c5_split_rule)k, cap, o, &other, err);
         if (got < 0)
             goto done;
         *len_of[k] = got == 0 ? other.len : -1;

@@ -30,6 +30,11 @@ typedef struct {
      * (the next frame follows it, then Max Work). No other rules or bounds are computed for
      * a partial tree: they would describe a part of the frame. docs/cell-tree.md, "Overflow". */
     int partial;
+    /* A schedule of this tree known beside the paper's, for the window rule to start from
+     * when shorter: the cells the frame that built the tree fetched (NULL: none). Checked
+     * before use (c5_sched_window_from). */
+    const int *warm;
+    int warm_len;
 } c5_dsp_sched_opts;
 
 typedef struct {

@@ -78,8 +78,9 @@ typedef struct {
     uint64_t dsp_ops;        /* the DSP's operations for it (dsp_cost.h): preparation, peels and
                                 simulations, writing the schedule out */
     int gave_up;             /* C5_SPLIT_BOUNDED: 1 when the budget stopped the search */
-    int fell_back;           /* C5_SPLIT_BOUNDED: 1 when the paper's rule's schedule was returned
-                                (the search found nothing shorter) */
+    int fell_back;           /* C5_SPLIT_BOUNDED, C5_SPLIT_WINDOW: 1 when the paper's rule's schedule
+                                was returned (the search found nothing shorter) */
+    int warm;                /* c5_sched_window_from: 1 when it started from the warm schedule */
 } c5_schedule;
 
 /* The guarantees above; 0, or -1 with a message naming the first offending node. */
@@ -123,6 +124,12 @@ int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out
  * found); peels: the paper's run's. Feasible, never longer than C5_SPLIT_MOST_LEAVES,
  * deterministic (tests/test_tree_bounded.c). */
 int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
+/* The same starting from `warm` (cell ids, warm_len loads) instead of the paper's schedule when
+ * it is shorter and every node embeds in it (loads of cells absent from the tree dropped):
+ * the cells the frame that built the tree fetched are such a schedule. out->warm: it was
+ * taken. The same guarantees. */
+int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len, c5_schedule *out,
+                         c5_err *err);
 
 /* Section 3.4's "bound": sum over cells of the largest generation, + 1 when completion peels
  * alone (lowest ready id first), from the start, get stuck on a non-empty tree. -1 when out

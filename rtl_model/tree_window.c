@@ -274,6 +274,12 @@ static int takes(win *w, int lo, int hi, const c5_schedule *ws)
 
 int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err)
 {
+    return c5_sched_window_from(t, budget_ops, NULL, 0, out, err);
+}
+
+int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len, c5_schedule *out,
+                         c5_err *err)
+{
     memset(out, 0, sizeof *out);
     c5_schedule paper;
     if (c5_sched_celltree(t, C5_SPLIT_MOST_LEAVES, &paper, err) != 0)
@@ -346,12 +352,49 @@ int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out,
     occ_build(&w);
     }
     reserve += 2 * (uint64_t)w.m; /* and the last check of an embedding's cost */
-    int stamp_id = 0, quiet = 0, stale = 1;
+    int stamp_id = 0, quiet = 0, stale = 1, lb = paper.peels_completion;
+    /* The warm start, when shorter than the paper's: loads of cells absent from the tree
+     * serve nothing and are dropped; it is taken when every node embeds in it. */
+    int k = 0;
+    if (!stopped && warm && warm_len > 0 &&
+        !(budget_ops && w.ops + (uint64_t)warm_len * C5_OPS_WIN_NODE + reserve > budget_ops)) {
+        for (int j = 0; j < warm_len && k < L; j++)
+            if (warm[j] >= 0 && warm[j] <= maxc && w.loc[warm[j]] >= 0)
+                w.S2[k++] = w.loc[warm[j]];
+        w.ops += (uint64_t)warm_len * C5_OPS_WIN_NODE;
+    }
+    if (!stopped && k > 0 && k < L) {
+        int *x = w.S;
+        w.S = w.S2;
+        w.S2 = x;
+        w.L = k;
+        occ_build(&w);
+        uint64_t ew = embed_worst(&w);
+        w.ops += 2 * (uint64_t)w.m + (uint64_t)n; /* the check, and each node's E tested below */
+        int feasible = k > 0 && !(budget_ops && w.ops + ew + reserve > budget_ops);
+        if (feasible) {
+            embed_full(&w);
+            for (int i = 0; i < n && feasible; i++)
+                feasible = w.E[i] < w.L;
+        }
+        if (feasible) {
+            stale = 0;
+            out->warm = 1;
+        } else { /* back to the paper's */
+            x = w.S;
+            w.S = w.S2;
+            w.S2 = x;
+            w.L = L;
+            occ_build(&w);
+        }
+    }
     /* Sweeps left to right over each width, windows half overlapping and shifted by a
      * quarter width every other round, until two rounds change nothing or the budget is
      * spent. After a window is replaced the sweep goes on past it, so only the E of the
      * nodes after it need recomputing (embed_tail); a new sweep starts from embed_full. */
-    for (int round = 0; !stopped && quiet < 2; round++) {
+    /* (a schedule as long as the sum of maxGen, the number of the paper's completion peels,
+     * is optimal: nothing to look for) */
+    for (int round = 0; !stopped && quiet < 2 && w.L > lb; round++) {
         int changed = 0;
         for (int wi = 0; wi < NWIDTHS && !stopped; wi++) {
             int W = widths[wi], lo = (round & 1) ? W / 4 : 0;
@@ -365,7 +408,7 @@ int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out,
                 embed_full(&w);
                 stale = 0;
             }
-            while (lo + 1 < w.L && !stopped) {
+            while (lo + 1 < w.L && !stopped && w.L > lb) {
                 int hi = lo + W < w.L ? lo + W : w.L, next = lo + W / 2;
                 uint64_t *sig = &w.sig[(size_t)wi * sl + (size_t)lo], h;
                 if (budget_ops && w.ops + extract_worst(&w, w.bstart[lo], w.bstart[hi]) + reserve > budget_ops) {
@@ -412,7 +455,7 @@ int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out,
     out->len = w.L;
     out->cells = paper.cells;
     paper.cells = NULL;
-    out->fell_back = w.L == paper.len;
+    out->fell_back = w.L == paper.len && !out->warm;
     out->peels_completion = paper.peels_completion; /* the paper's run (the windows do not peel the tree) */
     out->peels_split = paper.peels_split;
     out->nodes_examined += paper.nodes_examined;

@@ -209,3 +209,50 @@ TEST(tree_window_within_budget_big)
         c5_schedule_free(&paper);
     }
 }
+
+/* The window rule's warm start (c5_sched_window_from): a shorter schedule that serves every
+ * node is taken (the result no longer than it), loads of cells absent from the tree are
+ * dropped, and one that misses a node is refused for the paper's. */
+TEST(tree_window_warm_start)
+{
+    uint64_t rng = 0x3a53ull;
+    static int par[300], cel[300], warm[700];
+    int taken = 0, refused = 0;
+    c5_err err;
+    for (int it = 0; it < 300; it++) {
+        int n = c5t_random_tree(&rng, 20 + (int)(c5_splitmix64(&rng) % 150), 3 + (int)(c5_splitmix64(&rng) % 8),
+                                4 + (int)(c5_splitmix64(&rng) % 6), par, cel);
+        c5_dep_tree t = {n, par, cel};
+        c5_schedule paper, roll, s;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_ROLLOUT, &roll, &err), 0);
+        /* the rollout's schedule with loads of a cell no node has (id 4000) between its loads */
+        int k = 0;
+        for (int j = 0; j < roll.len; j++) {
+            if (c5_splitmix64(&rng) % 4 == 0)
+                warm[k++] = 4000;
+            warm[k++] = roll.cells[j];
+        }
+        CHECK_INT(c5_sched_window_from(&t, 0, warm, k, &s, &err), 0);
+        CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= paper.len);
+        if (roll.len < paper.len) {
+            CHECK_MSG(s.warm && s.len <= roll.len, "tree %d: warm %d, %d loads, the warm schedule %d", it, s.warm,
+                      s.len, roll.len);
+            taken++;
+        }
+        c5_schedule_free(&s);
+        /* without its first load the first root's cell misses a node, unless it is loaded
+         * again later: then either way the result must be feasible */
+        if (roll.len > 1 && roll.len - 1 < paper.len) {
+            CHECK_INT(c5_sched_window_from(&t, 0, roll.cells + 1, roll.len - 1, &s, &err), 0);
+            int ok = c5_sched_feasible(&t, roll.cells + 1, roll.len - 1);
+            CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= paper.len);
+            CHECK_INT(s.warm, ok);
+            refused += !ok;
+            c5_schedule_free(&s);
+        }
+        c5_schedule_free(&paper);
+        c5_schedule_free(&roll);
+    }
+    CHECK_MSG(taken > 20 && refused > 20, "taken %d, refused %d", taken, refused);
+}
