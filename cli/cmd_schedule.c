@@ -30,12 +30,13 @@ static const char usage_text[] =
     "  --still           every frame from the path's first camera: the next frame repeats\n"
     "                    this one, so only the scheduling differs (the paper's Figure 6)\n"
     "  --size WxH        image size instead of the scene's\n"
-    "  --split R         rule of the schedule the board follows: paper (split peels take the\n"
-    "                    cell with most leaf nodes, default), lookahead or rollout (ours,\n"
-    "                    docs/cell-tree.md), bounded (the rollout within the DSP's budget\n"
-    "                    of counted operations, else the paper's) or window (the paper's\n"
-    "                    schedule shortened window by window within that budget); the lengths of all are\n"
-    "                    reported, with the DSP's operations per frame at 255 MIPS\n"
+    "  --split R         rule of the schedule the board follows: window (default: the\n"
+    "                    paper's schedule, or the frame's own fetches when fewer, shortened\n"
+    "                    window by window within the DSP's budget of counted operations),\n"
+    "                    paper (split peels take the cell with most leaf nodes), lookahead or\n"
+    "                    rollout (ours), or bounded (the rollout within that budget, else the\n"
+    "                    paper's); docs/cell-tree.md. The lengths of all are reported, with\n"
+    "                    the DSP's operations per frame at 255 MIPS\n"
     "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
     "                    when it gives up: the best proven bound and the best schedule found\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
@@ -69,7 +70,7 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
     memset(a, 0, sizeof *a);
     a->scene_arg = "default";
     a->cells[0] = a->cells[1] = a->cells[2] = 2;
-    a->rule = C5_SPLIT_MOST_LEAVES;
+    a->rule = C5_SPLIT_WINDOW; /* within the DSP's budget; docs/cell-tree.md, "The window rule" */
     a->exact_states = EXACT_STATES_DEFAULT;
     a->tree_nodes = C5_TREE_MAX_SLOTS;
     int have_scene = 0;
