@@ -1,5 +1,6 @@
-/* The window rule (C5_SPLIT_WINDOW): the paper's schedule shortened window by window within
- * the DSP's budget of counted operations. docs/cell-tree.md, "The window rule".
+/* The window rule (C5_SPLIT_WINDOW): the paper's schedule, or a shorter one known (the fetches
+ * of the frame that built the tree), shortened window by window within the DSP's budget of
+ * counted operations. docs/cell-tree.md, "The window rule".
  *
  * A forward schedule S is feasible when every root-to-leaf path embeds in it as a
  * subsequence. E[v], the earliest load that can serve node v (the first load of v's cell
@@ -12,16 +13,19 @@
  * are what counts) gives a feasible S[0, lo) W S[hi, L). The forest of a window holds only
  * the nodes without slack around it, a few dozen to a few hundred on the board's trees; the
  * bounded rollout (c5_sched_bounded_core) looks there for a schedule shorter than the
- * window, and a shorter one replaces it. Windows of 8, then 16, 24 and 32 loads, half
- * overlapping, are swept until a sweep changes nothing or the budget is spent. */
+ * window, and a shorter one replaces it (or one as long that is lexicographically lower: a
+ * move along a plateau, which opens other windows). Windows of 8, then 16, 24 and 32 loads,
+ * half overlapping, are swept until two rounds change nothing, the schedule reaches the sum
+ * of maxGen, or the budget is spent. */
 #include "dsp_cost.h"
 #include "tree_sched.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-/* Window widths, in the order they are swept (docs/cell-tree.md: measured on the Figure 6
- * trees). */
+/* Window widths, in the order they are swept: short windows are cheap and find the loose
+ * loads, long ones let the search reorder more (docs/cell-tree.md: measured against other
+ * sets on the Figure 6 trees). */
 static const int widths[] = {8, 16, 24, 32};
 #define NWIDTHS ((int)(sizeof widths / sizeof *widths))
 
