@@ -1,6 +1,7 @@
-/* The bounded rollout (C5_SPLIT_BOUNDED, rtl_model/tree_sched.c) and the DSP's operation
- * count (rtl_model/dsp_cost.h): feasible, never longer than the paper's rule, deterministic,
- * within its budget, and the paper's schedule when the budget is too small. */
+/* The bounded rollout (C5_SPLIT_BOUNDED, rtl_model/tree_sched.c), the window rule
+ * (C5_SPLIT_WINDOW, rtl_model/tree_window.c) and the DSP's operation count
+ * (rtl_model/dsp_cost.h): feasible, never longer than the paper's rule, deterministic, within
+ * their budget, and the paper's schedule when the budget is too small. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
