@@ -195,6 +195,7 @@ static void dsp_json(json_t *o, const frame_row *r)
     json_object_set_new(o, "dsp_within_budget", json_boolean(s->dsp_ops_schedule <= C5_DSP_SCHED_BUDGET_OPS));
     json_object_set_new(o, "bounded_gave_up", json_boolean(s->bounded_gave_up));
     json_object_set_new(o, "bounded_fell_back", json_boolean(s->bounded_fell_back));
+    json_object_set_new(o, "window_warm", json_boolean(s->next.warm));
 }
 
 /* The DSP's operations per frame, as text. */

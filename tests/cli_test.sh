@@ -260,6 +260,8 @@ d = json.loads(sys.argv[1])
 assert d["split_rule"] == "window"
 f0, f1 = d["frames"]
 assert f1["followed"] == "celltree" and 0 < f1["schedule_len"]["window"] <= f1["schedule_len"]["paper"]
+for f in (f0, f1):  # the fetches of a frame are a schedule of its tree: taken when fewer
+    assert f["window_warm"] == (f["fetches_celltree"] < f["schedule_len"]["paper"])
 assert f0["dsp_ops_schedule"] <= f0["dsp_budget_ops"] and f0["dsp_within_budget"]' "$json"
 then ok schedule_window; else bad schedule_window "$json"; fi
 expect schedule_bad_split 2 "--split: 'best' is not a rule \(paper, lookahead, rollout, bounded or window\)" -- "$cube5" schedule default --split best
