@@ -15,8 +15,8 @@
  * bounded rollout (c5_sched_bounded_core) looks there for a schedule shorter than the
  * window, and a shorter one replaces it (or one as long that is lexicographically lower: a
  * move along a plateau, which opens other windows). Windows of 8, then 16, 24 and 32 loads,
- * half overlapping, are swept until two rounds change nothing, the schedule reaches the sum
- * of maxGen, or the budget is spent. */
+ * half overlapping, are swept until two rounds shorten nothing (without a budget: change
+ * nothing), the schedule reaches the sum of maxGen, or the budget is spent. */
 #include "dsp_cost.h"
 #include "tree_sched.h"
 
@@ -399,7 +399,7 @@ int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *w
     /* (a schedule as long as the sum of maxGen, the number of the paper's completion peels,
      * is optimal: nothing to look for) */
     for (int round = 0; !stopped && quiet < 2 && w.L > lb; round++) {
-        int changed = 0;
+        int changed = 0, len0 = w.L;
         for (int wi = 0; wi < NWIDTHS && !stopped; wi++) {
             int W = widths[wi], lo = (round & 1) ? W / 4 : 0;
             if (stale) {
@@ -450,7 +450,12 @@ int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *w
                 lo = next;
             }
         }
-        quiet = changed ? 0 : quiet + 1;
+        /* Under a budget only a shorter schedule counts as progress: plateau moves alone
+         * for two rounds end the search (they rarely pay for the DSP's time, and where the
+         * start is already optimal they would spend the whole budget); offline (no budget)
+         * they go on until two rounds change nothing. */
+        int progress = budget_ops ? w.L < len0 : changed;
+        quiet = progress ? 0 : quiet + 1;
     }
     out->gave_up = stopped && n > 0;
     /* The result: the forward schedule in cell ids. */
