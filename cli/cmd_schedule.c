@@ -15,7 +15,7 @@
 
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
-    "                      [--split paper|lookahead|rollout|bounded] [--exact-states N] [--tree-nodes N]\n"
+    "                      [--split paper|lookahead|rollout|bounded|window] [--exact-states N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
     "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n\n"
@@ -33,11 +33,13 @@ static const char usage_text[] =
     "  --still           every frame from the path's first camera: the next frame repeats\n"
     "                    this one, so only the scheduling differs (the paper's Figure 6)\n"
     "  --size WxH        image size instead of the scene's\n"
-    "  --split R         rule of the schedule the board follows: paper (split peels take the\n"
-    "                    cell with most leaf nodes, default), lookahead or rollout (ours,\n"
-    "                    docs/cell-tree.md), or bounded (the rollout within the DSP's budget\n"
-    "                    of counted operations, else the paper's); the lengths of all are\n"
-    "                    reported, with the DSP's operations per frame at 255 MIPS\n"
+    "  --split R         rule of the schedule the board follows: window (default: the\n"
+    "                    paper's schedule, or the frame's own fetches when fewer, shortened\n"
+    "                    window by window within the DSP's budget of counted operations),\n"
+    "                    paper (split peels take the cell with most leaf nodes), lookahead or\n"
+    "                    rollout (ours), or bounded (the rollout within that budget, else the\n"
+    "                    paper's); docs/cell-tree.md. The lengths of all are reported, with\n"
+    "                    the DSP's operations per frame at 255 MIPS\n"
     "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
     "                    when it gives up: the best proven bound and the best schedule found\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
@@ -67,6 +69,7 @@ static const char usage_text[] =
 
 #define EXACT_STATES_DEFAULT 200000
 #define EXACT_NODES_MAX 4096
+#define FETCH_LOG_MAX 65536 /* fetches of a frame kept for the window rule's warm start */
 
 typedef struct {
     const char *scene_arg;
@@ -87,7 +90,7 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
     memset(a, 0, sizeof *a);
     a->scene_arg = "default";
     a->cells[0] = a->cells[1] = a->cells[2] = 2;
-    a->rule = C5_SPLIT_MOST_LEAVES;
+    a->rule = C5_SPLIT_WINDOW; /* within the DSP's budget; docs/cell-tree.md, "The window rule" */
     a->exact_states = EXACT_STATES_DEFAULT;
     a->tree_nodes = C5_TREE_MAX_SLOTS;
     int have_scene = 0;
@@ -138,8 +141,11 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                     a->rule = C5_SPLIT_ROLLOUT;
                 else if (!strcmp(v, "bounded"))
                     a->rule = C5_SPLIT_BOUNDED;
+                else if (!strcmp(v, "window"))
+                    a->rule = C5_SPLIT_WINDOW;
                 else
-                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead, rollout or bounded)", v);
+                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead, rollout, bounded or window)",
+                                   v);
             } else if (!strcmp(o, "--volume")) {
                 if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
                     return -1;
@@ -190,6 +196,7 @@ static const char *rule_name(c5_split_rule r)
     return r == C5_SPLIT_LOOKAHEAD ? "lookahead"
            : r == C5_SPLIT_ROLLOUT ? "rollout"
            : r == C5_SPLIT_BOUNDED ? "bounded"
+           : r == C5_SPLIT_WINDOW  ? "window"
                                    : "paper";
 }
 
@@ -227,6 +234,7 @@ static void dsp_json(json_t *o, const frame_row *r)
     json_object_set_new(o, "dsp_within_budget", json_boolean(s->dsp_ops_schedule <= C5_DSP_SCHED_BUDGET_OPS));
     json_object_set_new(o, "bounded_gave_up", json_boolean(s->bounded_gave_up));
     json_object_set_new(o, "bounded_fell_back", json_boolean(s->bounded_fell_back));
+    json_object_set_new(o, "window_warm", json_boolean(s->next.warm));
 }
 
 /* The DSP's operations per frame, as text. */
@@ -239,15 +247,16 @@ static void dsp_text(const frame_row *rows, int frames)
         const c5_dsp_sched_result *s = &r->sch;
         uint64_t tree = dsp_ops_tree(r);
         printf("  frame %d: tree %llu ops (%.0f us, %.2f%% of the frame); schedule %llu ops (%.0f us: export %llu, "
-               "rule %llu, write-back %llu)%s; bounded rule %d loads%s\n",
+               "rule %llu, write-back %llu)%s; bounded rule %d loads, window rule %d loads%s\n",
                f, (unsigned long long)tree, c5_dsp_us(tree),
                r->ct.board_s > 0 ? 100.0 * c5_dsp_us(tree) * 1e-6 / r->ct.board_s : 0.0,
                (unsigned long long)s->dsp_ops_schedule, c5_dsp_us(s->dsp_ops_schedule),
                (unsigned long long)s->dsp_ops_export, (unsigned long long)s->dsp_ops_rule,
                (unsigned long long)s->dsp_ops_writeback,
                s->dsp_ops_schedule > C5_DSP_SCHED_BUDGET_OPS ? " OVER BUDGET" : "", s->len_bounded,
-               s->bounded_fell_back ? " (bounded: the paper's schedule)"
-               : s->bounded_gave_up ? " (bounded: stopped at the budget)"
+               s->len_window,
+               s->bounded_fell_back ? " (followed rule: the paper's schedule)"
+               : s->bounded_gave_up ? " (followed rule: stopped at the budget)"
                                     : "");
     }
 }
@@ -324,9 +333,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
     /* 0: not run (overflow); null: gave up at the report's cap (more than 64 cells) */
     json_t *lens = json_object();
-    const char *names[4] = {"paper", "lookahead", "rollout", "bounded"};
-    int lv[4] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded};
-    for (int k = 0; k < 4; k++)
+    const char *names[5] = {"paper", "lookahead", "rollout", "bounded", "window"};
+    int lv[5] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded, s->len_window};
+    for (int k = 0; k < 5; k++)
         json_object_set_new(lens, names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
     json_object_set_new(o, "schedule_len", lens);
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
@@ -385,7 +394,7 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
     printf("  fetches: Max Work vs the board following the previous frame's Cell Tree schedule;\n"
            "  of this frame's own tree: bound (proven), s3.4 (Section 3.4's formula, not a bound),\n"
            "  optimum (exact search; <=N: not proven, the best schedule found), schedule lengths\n"
-           "  by rule paper/lookahead/rollout (bounded: below), peels\n");
+           "  by rule paper/lookahead/rollout (bounded, window: below), peels\n");
     printf("%5s %8s %5s %6s %7s %8s %6s %5s %5s %7s %5s %5s %5s %9s %s\n", "frame", "rays", "nodes", "bytes",
            "maxwork", "celltree", "fewer", "bound", "s3.4", "optimum", "paper", "look", "roll", "peels c/s",
            "followed");
@@ -492,6 +501,11 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
     o.progress_ctx = &pf;
+    /* The fetches of the render whose tree the DSP schedules: a schedule of that tree, for the
+     * window rule to start from (a tree over cells only: the log holds cells). */
+    int *log = g > 1 ? NULL : malloc(sizeof *log * FETCH_LOG_MAX);
+    o.fetch_log = log;
+    o.fetch_log_cap = log ? FETCH_LOG_MAX : 0;
     c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
     int rc = -1;
     if (c5_board_render(s, sv, f, &o, &mw_img, &mw, err) != 0)
@@ -528,6 +542,10 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->board_s_maxwork = mw.board_s;
     c5_dsp_sched_opts so = {.rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
                             .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]}};
+    if (log && row->ct.fetches <= FETCH_LOG_MAX) {
+        so.warm = log;
+        so.warm_len = (int)row->ct.fetches;
+    }
     if (g > 1)
         memset(so.split, 0, sizeof so.split); /* the slab bound knows cells, not groups */
     row->demand_nodes = row->ct.tree_demand_nodes;
@@ -538,6 +556,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
                                 o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL,
                                 o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0, &row->plan, err);
 done:
+    free(log);
     c5_image_free(&mw_img);
     c5_image_free(&ct_img);
     return rc;

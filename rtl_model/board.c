@@ -566,6 +566,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         }
         size_t bytes = c5_cell_bytes(&b.cells, cell);
         stats->fetches++;
+        if (o.fetch_log && stats->fetches <= (uint64_t)o.fetch_log_cap)
+            o.fetch_log[stats->fetches - 1] = cell;
         stats->fetch_bytes += bytes;
         stats->cycles_fetch += fetch_cycles(&o, bytes);
         b.proc.active = cell;

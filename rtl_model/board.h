@@ -89,6 +89,10 @@ typedef struct {
     const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order (the Cell Tree's), or
                               * group ids with tree_group */
     int schedule_len;
+    int *fetch_log;          /* if not NULL: the cells fetched, in order (the first fetch_log_cap);
+                              * a frame's fetches are a schedule of its own tree, which the window
+                              * rule starts from (docs/cell-tree.md) */
+    int fetch_log_cap;
     c5_ctree *tree;          /* the DSP's Cell Tree of this frame, filled here after the caller's
                               * c5_ctree_init (which sets its capacity); NULL: built and dropped */
     int tree_group[3];       /* the Cell Tree this frame builds, over groups of cells: cells a group

@@ -25,6 +25,14 @@
 #define C5_OPS_INIT_NODE 24 /* preparing the scheduler per node: ids, generations (walk), lists, counts */
 #define C5_OPS_INIT_CELL 12 /* per cell present: renumbering, offsets, flags */
 
+/* The window rule (tree_window.c), per primitive. */
+#define C5_OPS_WIN_NODE 4    /* a node or schedule entry relabelled, counted or placed by a counting sort */
+#define C5_OPS_EMBED 10      /* a node's earliest and latest load: its parent's / children's bound, two searches set up */
+#define C5_OPS_SEARCH 4      /* one step of a binary search in a cell's loads */
+#define C5_OPS_WIN_EXTRACT 8 /* a node of a window looked at: its latest load, stamp, parent's trie node, signature */
+#define C5_OPS_TRIE_STEP 3   /* a trie sibling compared with the cell sought */
+#define C5_OPS_COPY 2        /* a schedule entry moved */
+
 /* Moving the tree between the DSP RAM and the scheduler (dsp_sched.c) and building it
  * during the frame (cell_tree.c): a 12-byte node is four 24-bit words, unpacked or packed
  * by shifts and masks. */

@@ -66,7 +66,18 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
         int *best = NULL;
         if (c5_sched_beam(dt, o->beam_width > 0 ? o->beam_width : 200, &r->best_known, &best, err) != 0)
             return -1;
-        /* windows of the beam's schedule solved exactly (tree_local.c): never longer */
+        /* The window rule without a budget often finds shorter schedules than the beam. */
+        c5_schedule ws;
+        if (c5_sched_window(dt, 0, &ws, err) != 0) {
+            free(best);
+            return -1;
+        }
+        if (ws.len < r->best_known) {
+            r->best_known = ws.len;
+            memcpy(best, ws.cells, sizeof *best * (size_t)ws.len);
+        }
+        c5_schedule_free(&ws);
+        /* windows of the best of them solved exactly (tree_local.c): never longer */
         int w = o->local_window ? o->local_window : C5_DSP_LOCAL_WINDOW;
         if (w >= 3 && (c5_sched_local_search(dt, best, &r->best_known, 2 * w / 3, C5_DSP_LOCAL_STATES, err) < 0 ||
                        c5_sched_local_search(dt, best, &r->best_known, w, C5_DSP_LOCAL_STATES, err) < 0)) {
@@ -77,6 +88,16 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
     }
     r->exact_wall_s = c5_now_s() - t1;
     return 0;
+}
+
+/* A rule as the DSP runs it (the window rule from the warm schedule when there is one), or
+ * under the report's cap; 1: over the cap. */
+static int run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, const c5_dsp_sched_opts *o,
+                    c5_schedule *out, c5_err *err)
+{
+    if (rule == C5_SPLIT_WINDOW)
+        return c5_sched_window_from(dt, c5_dsp_rule_budget(dt->n), o->warm, o->warm_len, out, err);
+    return c5_sched_celltree_capped(dt, rule, cap, out, err);
 }
 
 int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
@@ -95,7 +116,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     int *gen = malloc(sizeof *gen * (size_t)(n + 1));
     uint32_t *id = malloc(sizeof *id * (size_t)(n + 1));
     c5_schedule other = {0};
-    int *len_of[5] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded};
+    int *len_of[6] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded, &r->len_window};
     if (!parent || !cell || !gen || !id) {
         c5_fail(err, "out of memory for the Cell Tree scheduler (%d nodes)", n);
         goto done;
@@ -104,7 +125,7 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     c5_ctree_export(t, parent, cell, id);
     c5_dep_tree dt = {n, parent, cell};
     c5_split_rule rule = o->rule ? o->rule : C5_SPLIT_MOST_LEAVES;
-    if (c5_tree_check(&dt, err) != 0 || c5_sched_celltree(&dt, rule, &r->next, err) != 0 ||
+    if (c5_tree_check(&dt, err) != 0 || run_rule(&dt, rule, 0, o, &r->next, err) != 0 ||
         c5_tree_generations(&dt, gen) < 0 || c5_ctree_annotate(t, id, gen, n, err) != 0)
         goto done;
     r->sched_wall_s = c5_now_s() - t0;
@@ -127,10 +148,10 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     /* Above 64 cells the other rules run under a cap on nodes examined (the rollout rule's
      * cost grows with cells times peels squared); over it, their length is -1. */
     uint64_t cap = c5_tree_bound_cells(&dt) ? 0 : C5_DSP_REPORT_MAX_EXAMINED;
-    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_BOUNDED; k++) {
+    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_WINDOW; k++) {
         if (k == (int)rule)
             continue;
-        int got = c5_sched_celltree_capped(&dt, (c5_split_rule)k, cap, &other, err);
+        int got = run_rule(&dt, (c5_split_rule)k, cap, o, &other, err);
         if (got < 0)
             goto done;
         *len_of[k] = got == 0 ? other.len : -1;

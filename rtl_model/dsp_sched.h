@@ -37,13 +37,19 @@ typedef struct {
      * (the next frame follows it, then Max Work). No other rules or bounds are computed for
      * a partial tree: they would describe a part of the frame. docs/cell-tree.md, "Overflow". */
     int partial;
+    /* A schedule of this tree known beside the paper's, for the window rule to start from
+     * when shorter: the cells the frame that built the tree fetched (NULL: none). Checked
+     * before use (c5_sched_window_from). */
+    const int *warm;
+    int warm_len;
 } c5_dsp_sched_opts;
 
 typedef struct {
     int nodes, slots, overflow; /* the tree as found in the RAM */
     int lower_bound;            /* the best proven bound on the optimum (tree_sched.h) */
     int best_known;             /* the shortest schedule known: the optimum when found, else the
-                                 * best of the rules and the beam search; 0: not computed */
+                                 * shorter of the beam search and the window rule without a
+                                 * budget (offline); 0: not computed */
     int sum_maxgen;             /* the simplest proven bound: every cell maxGen times */
     int paper_bound;            /* Section 3.4's formula: NOT a bound (docs/cell-tree.md) */
     int optimum;                /* shortest feasible schedule; -1: not computed (budget, overflow,
@@ -55,10 +61,12 @@ typedef struct {
     int len_paper, len_lookahead, len_rollout; /* schedule length under each rule; 0: not run;
                                                 * -1: gave up at the cap (all_rules) */
     int len_bounded;            /* the same for C5_SPLIT_BOUNDED (never capped: its own budget) */
+    int len_window;             /* the same for C5_SPLIT_WINDOW (never capped: its own budget) */
     /* The DSP's operations between frames for the chosen rule (dsp_cost.h): reading the tree
      * out of the RAM, the rule, writing generations and ready flags back; their sum against
-     * C5_DSP_SCHED_BUDGET_OPS. bounded_gave_up / bounded_fell_back: C5_SPLIT_BOUNDED stopped
-     * at its budget / returned the paper's rule's schedule. */
+     * C5_DSP_SCHED_BUDGET_OPS. bounded_gave_up / bounded_fell_back: the chosen rule
+     * (C5_SPLIT_BOUNDED or C5_SPLIT_WINDOW) stopped at its budget / returned the paper's
+     * rule's schedule. */
     uint64_t dsp_ops_export, dsp_ops_rule, dsp_ops_writeback, dsp_ops_schedule;
     int bounded_gave_up, bounded_fell_back;
     int peels_completion, peels_split; /* of the chosen rule */

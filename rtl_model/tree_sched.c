@@ -12,6 +12,7 @@
 
 #include "dsp_cost.h"
 
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -529,6 +530,8 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
     memset(out, 0, sizeof *out);
     if (rule == C5_SPLIT_BOUNDED) /* its own cap: counted operations */
         return c5_sched_bounded(t, c5_dsp_rule_budget(t->n), out, err) < 0 ? -1 : 0;
+    if (rule == C5_SPLIT_WINDOW)
+        return c5_sched_window(t, c5_dsp_rule_budget(t->n), out, err) < 0 ? -1 : 0;
     if (rule != C5_SPLIT_MOST_LEAVES && rule != C5_SPLIT_LOOKAHEAD && rule != C5_SPLIT_ROLLOUT)
         return c5_fail(err, "cell tree schedule: unknown split rule %d", (int)rule);
     if (c5_tree_check(t, err) != 0)
@@ -638,7 +641,14 @@ static int simulate(bounded_ctx *b, int first, int stop, int *seq, int upto)
     return k;
 }
 
-int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err)
+/* c5_sched_bounded with two knobs for c5_sched_window (tree_window.c): `stop` > 0 asks
+ * only for a schedule shorter than stop (the rollouts are pruned against it as against the
+ * incumbent, and the search ends once the committed peels plus the sum of maxGen reach it);
+ * `with_paper` 0 skips the paper's rule (the caller has its own fallback): then a search that
+ * finds nothing shorter than stop, or no incumbent within the budget, returns len 0 with
+ * fell_back 1. */
+int c5_sched_bounded_core(const c5_dep_tree *t, uint64_t budget_ops, int stop, int with_paper, c5_schedule *out,
+                          c5_err *err)
 {
     memset(out, 0, sizeof *out);
     if (c5_tree_check(t, err) != 0)
@@ -656,9 +666,10 @@ int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out
         return c5_fail(err, "cell tree schedule: out of memory for %d nodes", t->n);
     }
     bounded_ctx b = {&p, budget_ops, 2 * (uint64_t)t->n};
-    /* The fallback: the paper's rule, whatever the budget. */
+    /* The fallback: the paper's rule, whatever the budget; without it, "nothing shorter than
+     * stop" (plen = stop, or no limit when stop is 0). */
     int plen = 0, pcomp = 0;
-    while (p.live_total > 0) {
+    while (with_paper && p.live_total > 0) {
         int c = first_ready(&p);
         if (c < 0)
             c = split_most_leaves(&p);
@@ -668,17 +679,25 @@ int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out
         paper[plen++] = c;
     }
     undo(&p, 0);
-    /* The incumbent: the cheap policy's schedule from the start. */
+    if (!with_paper)
+        plen = stop > 0 ? stop : INT_MAX;
+    /* The incumbent: the cheap policy's schedule from the start (none needed when no
+     * schedule can be shorter than stop). */
     p.full_first = 1;
-    int len = 0, comp = 0, head = 0, ilen = simulate(&b, -1, 0, inc, 0);
+    int len = 0, comp = 0, head = 0, ilen = stop > 0 && p.sum_maxgen >= stop ? -3 : simulate(&b, -1, 0, inc, 0);
     undo(&p, 0);
-    if (ilen < 0) { /* over the budget before the first incumbent */
-        out->gave_up = 1;
+    if (ilen < 0) { /* over the budget before the first incumbent, or nothing to find */
+        out->gave_up = ilen != -3;
         goto result;
     }
     /* inc[head .. ilen) finishes the tree from the current state in ilen - head peels. */
     while (p.live_total > 0) {
         int ci = inc[head] >> 1;
+        /* The rollouts are pruned against the incumbent only: a shorter incumbent, even one
+         * not shorter than stop, changes where the search goes next. */
+        int lim = ilen - head;
+        if (stop > 0 && len + p.sum_maxgen >= stop)
+            break; /* nothing from here is shorter than stop */
         if (lowest(&p, p.bfull) < 0) {
             for (int w = 0; w < p.words; w++)
                 for (uint64_t x = p.bleaf[w]; x; x &= x - 1) {
@@ -686,7 +705,7 @@ int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out
                     if (c == ci)
                         continue;
                     p.ops += C5_OPS_CANDIDATE;
-                    int upto = p.nlog, k = simulate(&b, c, ilen - head, cand, upto);
+                    int upto = p.nlog, k = simulate(&b, c, lim, cand, upto);
                     if (k == -1) {
                         out->gave_up = 1;
                         goto result;
@@ -699,6 +718,7 @@ int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out
                         ilen = k;
                         head = 0;
                         ci = c;
+                        lim = k;
                     }
                 }
         }
@@ -715,10 +735,11 @@ int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out
 result:
     /* The result: the committed peels and the incumbent's rest, or the paper's when shorter
      * or when there is no incumbent. */
-    if (ilen < 0 || plen <= len + (ilen - head)) {
-        memcpy(rev, paper, (size_t)plen * sizeof *rev);
-        len = plen;
-        out->peels_completion = pcomp;
+    if (ilen < 0 || plen <= len + (ilen - head) || (p.live_total > 0 && !out->gave_up)) {
+        /* (a search that broke off at stop has peels left and no complete schedule) */
+        len = with_paper ? plen : 0;
+        memcpy(rev, paper, (size_t)len * sizeof *rev);
+        out->peels_completion = with_paper ? pcomp : 0;
         out->fell_back = 1;
     } else {
         for (int k = head; k < ilen; k++) {
@@ -741,6 +762,11 @@ result:
     free(inc);
     free(cand);
     return 0;
+}
+
+int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err)
+{
+    return c5_sched_bounded_core(t, budget_ops, 0, 1, out, err);
 }
 
 int c5_sched_sum_maxgen(const c5_dep_tree *t)

@@ -62,6 +62,12 @@ typedef enum {
                                  the incumbent (a complete schedule); the paper's rule runs
                                  first, and its schedule is returned when it is no longer.
                                  Never longer than rule 1 nor than the cheap policy (c5_sched_bounded). */
+    C5_SPLIT_WINDOW = 5,      /* ours, for the DSP (cube5 schedule's default): the paper's
+                                 schedule (or a shorter known one, c5_sched_window_from), then
+                                 window after window of it (8, 16, 24, 32 loads) replaced by a
+                                 shorter schedule of the nodes only that window can serve, found
+                                 by the bounded rollout, within the DSP's budget
+                                 (c5_sched_window). Never longer than rule 1. */
 } c5_split_rule;
 
 typedef struct {
@@ -73,8 +79,9 @@ typedef struct {
     uint64_t dsp_ops;        /* the DSP's operations for it (dsp_cost.h): preparation, peels and
                                 simulations, writing the schedule out */
     int gave_up;             /* C5_SPLIT_BOUNDED: 1 when the budget stopped the search */
-    int fell_back;           /* C5_SPLIT_BOUNDED: 1 when the paper's rule's schedule was returned
-                                (the search found nothing shorter) */
+    int fell_back;           /* C5_SPLIT_BOUNDED, C5_SPLIT_WINDOW: 1 when the paper's rule's schedule
+                                was returned (the search found nothing shorter) */
+    int warm;                /* c5_sched_window_from: 1 when it started from the warm schedule */
 } c5_schedule;
 
 /* The guarantees above; 0, or -1 with a message naming the first offending node. */
@@ -108,6 +115,22 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
  * fits the budget; a budget that does not bind gives the unbounded run's schedule; the same
  * tree and budget give the same schedule and count. */
 int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
+
+/* C5_SPLIT_WINDOW (tree_window.c) with a budget of budget_ops DSP operations (dsp_cost.h)
+ * for the rule, the paper's rule included (0: no budget). The paper's rule always runs; each
+ * step after it (the loads' positions of every node, a window's forest, the search in it)
+ * runs only when its worst case fits what is left, and the search holds its share, so
+ * out->dsp_ops <= budget_ops unless the paper's rule alone costs more. out->gave_up: the
+ * budget ended the sweeps; fell_back: the paper's schedule was returned (nothing shorter
+ * found); peels: the paper's run's. Feasible, never longer than C5_SPLIT_MOST_LEAVES,
+ * deterministic (tests/test_tree_bounded.c). */
+int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
+/* The same starting from `warm` (cell ids, warm_len loads) instead of the paper's schedule when
+ * it is shorter and every node embeds in it (loads of cells absent from the tree dropped):
+ * the cells the frame that built the tree fetched are such a schedule. out->warm: it was
+ * taken. The same guarantees. */
+int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len, c5_schedule *out,
+                         c5_err *err);
 
 /* Section 3.4's "bound": sum over cells of the largest generation, + 1 when completion peels
  * alone (lowest ready id first), from the start, get stuck on a non-empty tree. -1 when out
@@ -253,6 +276,11 @@ void c5_group_tree(const c5_group *g, int *parent, int *cell);
  * c5_sched_optimum_ex, without the rollout bound and without a schedule. */
 int c5_sched_projection_optimum(const c5_dep_tree *t, uint64_t cells, const c5_exact_opts *o, int *len_out,
                                 c5_exact_stats *stats, c5_err *err);
+
+/* c5_sched_bounded with a target and without the paper's fallback, for c5_sched_window
+ * (tree_sched.c says how). */
+int c5_sched_bounded_core(const c5_dep_tree *t, uint64_t budget_ops, int stop, int with_paper, c5_schedule *out,
+                          c5_err *err);
 
 int c5_group_opt(c5_group *g, const uint64_t *downset, int *exact);
 int c5_sched_bound_partition(const c5_dep_tree *t, int max_group, long budget, uint64_t *groups_out,

@@ -45,7 +45,7 @@ for n in 2 3 4 8 16; do
     rc=$(tail -n 1 "$tmp/runs" | cut -d'|' -f3)
     [ "$rc" = 0 ] || continue
     run "schedule|$n" "$cube5" schedule "$scene" --volume "$raw" --cells "$n" --size "$size" --still \
-        --frames "$frames" --exact-states 0 --json >>"$tmp/runs"
+        --frames "$frames" --exact-states 0 --split paper --json >>"$tmp/runs"
 done
 
 python3 - "$tmp/runs" "$build/bench.json" "$size" "$frames" <<'PY'

@@ -253,7 +253,18 @@ assert f0["dsp_ops_schedule"] == p["export"] + p["rule"] + p["writeback"] > 0 an
 assert f0["dsp_ops_schedule"] <= f0["dsp_budget_ops"] and f0["dsp_within_budget"]
 assert abs(f0["dsp_us_at_255mips"]["schedule"] - f0["dsp_ops_schedule"] / 255.0) < 1e-3' "$json"
 then ok schedule_bounded_dsp_ops; else bad schedule_bounded_dsp_ops "$json"; fi
-expect schedule_bad_split 2 "--split: 'best' is not a rule \(paper, lookahead, rollout or bounded\)" -- "$cube5" schedule default --split best
+json=$("$cube5" schedule brain_mirrors --size 16x16 --cells 3 --still --frames 2 --split window --exact-states 0 --json)
+if python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+assert d["split_rule"] == "window"
+f0, f1 = d["frames"]
+assert f1["followed"] == "celltree" and 0 < f1["schedule_len"]["window"] <= f1["schedule_len"]["paper"]
+for f in (f0, f1):  # the fetches of a frame are a schedule of its tree: taken when fewer
+    assert f["window_warm"] == (f["fetches_celltree"] < f["schedule_len"]["paper"])
+assert f0["dsp_ops_schedule"] <= f0["dsp_budget_ops"] and f0["dsp_within_budget"]' "$json"
+then ok schedule_window; else bad schedule_window "$json"; fi
+expect schedule_bad_split 2 "--split: 'best' is not a rule \(paper, lookahead, rollout, bounded or window\)" -- "$cube5" schedule default --split best
 expect schedule_bad_frames 2 "--frames: expected an integer" -- "$cube5" schedule default --frames 0
 expect schedule_bad_tree_nodes 2 "--tree-nodes: expected an integer" -- "$cube5" schedule default --tree-nodes 8192
 expect schedule_bad_cells 2 "--cells: expected N or NxMxK" -- "$cube5" schedule default --cells 0

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "board.h"
+#include "dsp_cost.h"
 #include "dsp_sched.h"
 #include "harness.h"
 #include "scene_load.h"
@@ -348,6 +349,54 @@ TEST(celltree_512_cells_scheduled_and_followed)
     CHECK_INT(ct.sched_loads + ct.sched_skipped, r.next.len);
     CHECK(ct.fetches <= (uint64_t)r.next.len && (int)ct.fetches >= r.lower_bound);
     CHECK((int)mw.fetches >= r.lower_bound);
+    c5_dsp_sched_free(&r);
+    c5_image_free(&a);
+    c5_image_free(&b);
+}
+
+/* The fetch log (c5_board_opts.fetch_log): the cells the board loaded, in order, as many as it
+ * fetched; a feasible schedule of the frame's own tree; and the window rule that starts from it
+ * (c5_dsp_sched_opts.warm) makes a schedule no longer than it nor than the paper's, which the
+ * next frame follows to the end with the same bits. */
+TEST(celltree_fetch_log_warms_the_window_rule)
+{
+    CHECK(load("brain_mirrors", 40) == 0);
+    c5_image a, b;
+    c5_board_stats mw, ct;
+    static int log[4096];
+    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .fetch_log = log, .fetch_log_cap = 4096};
+    memset(log, 0xff, sizeof log);
+    c5_ctree_init(&trees[0], 0);
+    CHECK(render(0, o, &a, &mw) == 0);
+    CHECK(mw.fetches > 0 && mw.fetches < 4096);
+    CHECK_INT(log[mw.fetches], -1); /* nothing past the fetches */
+    for (uint64_t k = 0; k < mw.fetches; k++)
+        CHECK(log[k] >= 0 && log[k] < 27);
+    int n = (int)trees[0].nodes;
+    int *parent = malloc(sizeof(int) * (size_t)n), *cell = malloc(sizeof(int) * (size_t)n);
+    uint32_t *id = malloc(sizeof(uint32_t) * (size_t)n);
+    c5_ctree_export(&trees[0], parent, cell, id);
+    c5_dep_tree dt = {n, parent, cell};
+    CHECK_INT(c5_sched_feasible(&dt, log, (int)mw.fetches), 1);
+    free(parent);
+    free(cell);
+    free(id);
+    c5_dsp_sched_result r;
+    c5_err err;
+    c5_dsp_sched_opts so = {.rule = C5_SPLIT_WINDOW, .all_rules = 1, .warm = log, .warm_len = (int)mw.fetches};
+    CHECK_MSG(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0, "%s", err.msg);
+    CHECK(r.next.len > 0 && r.next.len <= r.len_paper && r.next.len <= (int)mw.fetches);
+    CHECK_INT(r.next.warm, (int)mw.fetches < r.len_paper);
+    CHECK(r.dsp_ops_schedule <= C5_DSP_SCHED_BUDGET_OPS);
+    o.sched = C5_SCHED_EXTERNAL;
+    o.schedule = r.next.cells;
+    o.schedule_len = r.next.len;
+    o.tree = &trees[1];
+    o.fetch_log = NULL;
+    c5_ctree_init(&trees[1], 0);
+    CHECK(render(0, o, &b, &ct) == 0);
+    CHECK(same_bits(&a, &b));
+    CHECK_INT(ct.sched_fallback, 0);
     c5_dsp_sched_free(&r);
     c5_image_free(&a);
     c5_image_free(&b);

@@ -1,6 +1,7 @@
-/* The bounded rollout (C5_SPLIT_BOUNDED, rtl_model/tree_sched.c) and the DSP's operation
- * count (rtl_model/dsp_cost.h): feasible, never longer than the paper's rule, deterministic,
- * within its budget, and the paper's schedule when the budget is too small. */
+/* The bounded rollout (C5_SPLIT_BOUNDED, rtl_model/tree_sched.c), the window rule
+ * (C5_SPLIT_WINDOW, rtl_model/tree_window.c) and the DSP's operation count
+ * (rtl_model/dsp_cost.h): feasible, never longer than the paper's rule, deterministic, within
+ * their budget, and the paper's schedule when the budget is too small. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,4 +132,128 @@ TEST(tree_bounded_within_budget_big)
         c5_schedule_free(&s);
         c5_schedule_free(&paper);
     }
+}
+
+/* The window rule (C5_SPLIT_WINDOW, rtl_model/tree_window.c): feasible, never longer than the
+ * paper's rule, within its budget (but for the paper's rule, which always runs), the same
+ * schedule and count for the same tree and budget. Budgets from nothing to the unbounded
+ * run's cost. */
+TEST(tree_window_random)
+{
+    uint64_t rng = 0x3a7d0ull;
+    static int par[400], cel[400];
+    int shorter = 0, trees = 0;
+    c5_err err;
+    for (int it = 0; it < 800; it++) {
+        int n = c5t_random_tree(&rng, 1 + (int)(c5_splitmix64(&rng) % 160), 2 + (int)(c5_splitmix64(&rng) % 10),
+                                3 + (int)(c5_splitmix64(&rng) % 8), par, cel);
+        c5_dep_tree t = {n, par, cel};
+        c5_schedule paper, free_run, again;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
+        CHECK_INT(c5_sched_window(&t, 0, &free_run, &err), 0);
+        CHECK(!free_run.gave_up);
+        CHECK_MSG(c5_sched_feasible(&t, free_run.cells, free_run.len) == 1, "tree %d: infeasible", it);
+        CHECK_MSG(free_run.len <= paper.len, "tree %d: %d loads, the paper's rule %d", it, free_run.len, paper.len);
+        CHECK_INT(free_run.fell_back, free_run.len == paper.len);
+        CHECK_INT(c5_sched_window(&t, 0, &again, &err), 0);
+        CHECK(again.len == free_run.len && again.dsp_ops == free_run.dsp_ops &&
+              !memcmp(again.cells, free_run.cells, sizeof *again.cells * (size_t)again.len));
+        c5_schedule_free(&again);
+        shorter += free_run.len < paper.len;
+        trees++;
+        for (int k = 0; k < 3; k++) {
+            uint64_t b = 1 + c5_splitmix64(&rng) % (free_run.dsp_ops + 1);
+            c5_schedule s, s2;
+            CHECK_INT(c5_sched_window(&t, b, &s, &err), 0);
+            CHECK_MSG(c5_sched_feasible(&t, s.cells, s.len) == 1, "tree %d budget %llu: infeasible", it,
+                      (unsigned long long)b);
+            CHECK(s.len <= paper.len);
+            /* over the budget only when the paper's rule alone (its peels, its schedule
+             * written out) costs more */
+            CHECK_MSG(s.dsp_ops <= b || (s.gave_up && s.fell_back && s.dsp_ops <= paper.dsp_ops + (uint64_t)paper.len),
+                      "tree %d (%d nodes): %llu ops against a budget of %llu (paper %llu)", it, n,
+                      (unsigned long long)s.dsp_ops, (unsigned long long)b, (unsigned long long)paper.dsp_ops);
+            CHECK_INT(c5_sched_window(&t, b, &s2, &err), 0);
+            CHECK(s2.len == s.len && s2.dsp_ops == s.dsp_ops && s2.gave_up == s.gave_up &&
+                  !memcmp(s2.cells, s.cells, sizeof *s.cells * (size_t)s.len));
+            c5_schedule_free(&s);
+            c5_schedule_free(&s2);
+        }
+        c5_schedule_free(&paper);
+        c5_schedule_free(&free_run);
+    }
+    CHECK_MSG(shorter > trees / 10, "shorter than the paper's rule on %d of %d trees", shorter, trees);
+}
+
+/* As the DSP runs it (c5_sched_celltree: its share of the budget) on the largest trees the
+ * RAM holds, 8191 nodes over 27 and 64 cells, and over cell ids up to 4095: export, rule and
+ * write-back within C5_DSP_SCHED_BUDGET_OPS, feasible, no longer than the paper's. */
+TEST(tree_window_within_budget_big)
+{
+    uint64_t rng = 0xb17ull;
+    static int par[8191], cel[8191], pool[4096];
+    c5_err err;
+    for (int i = 0; i < 4096; i++)
+        pool[i] = (i * 2654435761u) % 4096; /* distinct ids, not in order */
+    int sizes[3] = {27, 64, 200};
+    for (int k = 0; k < 3; k++) {
+        int n = c5t_random_tree_wide(&rng, 8191, pool, sizes[k], 8, par, cel);
+        c5_dep_tree t = {n, par, cel};
+        uint64_t io = (uint64_t)n * (C5_OPS_NODE_READ + C5_OPS_NODE_WRITE);
+        c5_schedule s, paper;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_WINDOW, &s, &err), 0);
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
+        CHECK_MSG(io + s.dsp_ops <= C5_DSP_SCHED_BUDGET_OPS, "%d cells: %llu ops", sizes[k],
+                  (unsigned long long)(io + s.dsp_ops));
+        CHECK(s.len <= paper.len && c5_sched_feasible(&t, s.cells, s.len) == 1);
+        c5_schedule_free(&s);
+        c5_schedule_free(&paper);
+    }
+}
+
+/* The window rule's warm start (c5_sched_window_from): a shorter schedule that serves every
+ * node is taken (the result no longer than it), loads of cells absent from the tree are
+ * dropped, and one that misses a node is refused for the paper's. */
+TEST(tree_window_warm_start)
+{
+    uint64_t rng = 0x3a53ull;
+    static int par[300], cel[300], warm[700];
+    int taken = 0, refused = 0;
+    c5_err err;
+    for (int it = 0; it < 300; it++) {
+        int n = c5t_random_tree(&rng, 20 + (int)(c5_splitmix64(&rng) % 150), 3 + (int)(c5_splitmix64(&rng) % 8),
+                                4 + (int)(c5_splitmix64(&rng) % 6), par, cel);
+        c5_dep_tree t = {n, par, cel};
+        c5_schedule paper, roll, s;
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
+        CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_ROLLOUT, &roll, &err), 0);
+        /* the rollout's schedule with loads of a cell no node has (id 4000) between its loads */
+        int k = 0;
+        for (int j = 0; j < roll.len; j++) {
+            if (c5_splitmix64(&rng) % 4 == 0)
+                warm[k++] = 4000;
+            warm[k++] = roll.cells[j];
+        }
+        CHECK_INT(c5_sched_window_from(&t, 0, warm, k, &s, &err), 0);
+        CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= paper.len);
+        if (roll.len < paper.len) {
+            CHECK_MSG(s.warm && s.len <= roll.len, "tree %d: warm %d, %d loads, the warm schedule %d", it, s.warm,
+                      s.len, roll.len);
+            taken++;
+        }
+        c5_schedule_free(&s);
+        /* without its first load the first root's cell misses a node, unless it is loaded
+         * again later: then either way the result must be feasible */
+        if (roll.len > 1 && roll.len - 1 < paper.len) {
+            CHECK_INT(c5_sched_window_from(&t, 0, roll.cells + 1, roll.len - 1, &s, &err), 0);
+            int ok = c5_sched_feasible(&t, roll.cells + 1, roll.len - 1);
+            CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= paper.len);
+            CHECK_INT(s.warm, ok);
+            refused += !ok;
+            c5_schedule_free(&s);
+        }
+        c5_schedule_free(&paper);
+        c5_schedule_free(&roll);
+    }
+    CHECK_MSG(taken > 20 && refused > 20, "taken %d, refused %d", taken, refused);
 }

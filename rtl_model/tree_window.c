@@ -1,0 +1,478 @@
+/* The window rule (C5_SPLIT_WINDOW): the paper's schedule, or a shorter one known (the fetches
+ * of the frame that built the tree), shortened window by window within the DSP's budget of
+ * counted operations. docs/cell-tree.md, "The window rule".
+ *
+ * A forward schedule S is feasible when every root-to-leaf path embeds in it as a
+ * subsequence. E[v], the earliest load that can serve node v (the first load of v's cell
+ * after E[parent]), and Lt[v], the latest (the last load of v's cell before the Lt of each
+ * child), say what any window [lo, hi) of S must do: a path's nodes with E < lo are served
+ * by S[0, lo), its nodes with Lt >= hi by S[hi, L) (both embeddings are S's own, and E, Lt
+ * grow along a path), and the rest, the nodes with E >= lo and Lt < hi, a segment of the
+ * path, must be served by the window. So any schedule W of the window's forest (those
+ * nodes, each under its parent when the parent is one of them, merged into a trie: paths
+ * are what counts) gives a feasible S[0, lo) W S[hi, L). The forest of a window holds only
+ * the nodes without slack around it, a few dozen to a few hundred on the board's trees; the
+ * bounded rollout (c5_sched_bounded_core) looks there for a schedule shorter than the
+ * window, and a shorter one replaces it (or one as long that is lexicographically lower: a
+ * move along a plateau, which opens other windows). Windows of 8, then 16, 24 and 32 loads,
+ * half overlapping, are swept until two rounds shorten nothing (without a budget: change
+ * nothing), the schedule reaches the sum of maxGen, or the budget is spent. */
+#include "dsp_cost.h"
+#include "tree_sched.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Window widths, in the order they are swept: short windows are cheap and find the loose
+ * loads, long ones let the search reorder more (docs/cell-tree.md: measured against other
+ * sets on the Figure 6 trees). */
+static const int widths[] = {8, 16, 24, 32};
+#define NWIDTHS ((int)(sizeof widths / sizeof *widths))
+
+typedef struct {
+    const c5_dep_tree *t;
+    int n, m, L;
+    int *loc;              /* [max id + 1] local cell of a cell id */
+    int *gid;              /* [m] cell id of a local cell */
+    int *lc;               /* [n] local cell of a node */
+    int *ncell;            /* [m] nodes of a cell */
+    int *kstart, *kids;    /* children of node i: kids[kstart[i] .. kstart[i+1]) */
+    int *S;                /* [cap] the schedule, local cells */
+    int *occstart, *occ;   /* the loads of each cell, ascending: occ[occstart[c] .. occstart[c+1]) */
+    int *E, *R;            /* [n] earliest load serving a node; L - the latest */
+    int *order, *bstart;   /* nodes by E: those with E = k are order[bstart[k] .. bstart[k+1]) */
+    int *tmp, *tmpn;       /* scratch: [cap + n], [n] */
+    int *tp, *stamp;       /* [n] a node's trie node in the window of stamp */
+    int *fpar, *fcell, *ffirst, *fnext; /* the window's forest (a trie), cell ids */
+    uint64_t *sig;         /* signature of a window (width, first load) when it last failed */
+    int *S2;               /* [cap] */
+    uint64_t ops;
+} win;
+
+static int ceil_log2(int x)
+{
+    int k = 0;
+    while ((1 << k) < x)
+        k++;
+    return k;
+}
+
+/* The first load of cell c at or after `from` (binary search in its loads); L: none. */
+static int first_at(win *w, int c, int from)
+{
+    int a = w->occstart[c], b = w->occstart[c + 1];
+    while (a < b) {
+        int mid = (a + b) / 2;
+        w->ops += C5_OPS_SEARCH;
+        if (w->occ[mid] < from)
+            a = mid + 1;
+        else
+            b = mid;
+    }
+    return a < w->occstart[c + 1] ? w->occ[a] : w->L;
+}
+
+/* The last load of cell c at or before `to`; -1: none. */
+static int last_at(win *w, int c, int to)
+{
+    int a = w->occstart[c], b = w->occstart[c + 1];
+    while (a < b) {
+        int mid = (a + b) / 2;
+        w->ops += C5_OPS_SEARCH;
+        if (w->occ[mid] <= to)
+            a = mid + 1;
+        else
+            b = mid;
+    }
+    return a > w->occstart[c] ? w->occ[a - 1] : -1;
+}
+
+/* The loads of each cell, ascending. */
+static void occ_build(win *w)
+{
+    int m = w->m, L = w->L;
+    memset(w->occstart, 0, ((size_t)m + 1) * sizeof *w->occstart);
+    for (int k = 0; k < L; k++)
+        w->occstart[w->S[k] + 1]++;
+    for (int c = 0; c < m; c++)
+        w->occstart[c + 1] += w->occstart[c];
+    for (int c = 0; c < m; c++)
+        w->tmp[c] = w->occstart[c];
+    for (int k = 0; k < L; k++)
+        w->occ[w->tmp[w->S[k]]++] = k;
+    w->ops += (2 * (uint64_t)L + 2 * (uint64_t)m) * C5_OPS_WIN_NODE;
+}
+
+/* The most embed_full costs on the schedule as it is: every node's two searches in its
+ * cell's loads, its children, the sort; and the lists of loads. (The caller counts this
+ * check: 2 a cell.) */
+static uint64_t embed_worst(const win *w)
+{
+    uint64_t x = 0;
+    for (int c = 0; c < w->m; c++)
+        x += (uint64_t)w->ncell[c] * (uint64_t)(1 + ceil_log2(w->occstart[c + 1] - w->occstart[c] + 1));
+    return 2 * C5_OPS_SEARCH * x + (uint64_t)w->n * (C5_OPS_EMBED + 4 * C5_OPS_WIN_NODE) +
+           (6 * (uint64_t)w->L + 2 * (uint64_t)w->m + 8) * C5_OPS_WIN_NODE;
+}
+
+/* The most embed_tail costs for the nodes order[e0, n) (a search in at most L loads). */
+static uint64_t tail_worst(const win *w, int e0)
+{
+    uint64_t k = (uint64_t)(w->n - e0);
+    return k * (C5_OPS_EMBED + C5_OPS_SEARCH * (uint64_t)(1 + ceil_log2(w->L + 1)) + 3 * C5_OPS_WIN_NODE) +
+           (6 * (uint64_t)w->L + 2 * (uint64_t)w->m + 8) * C5_OPS_WIN_NODE;
+}
+
+/* Counting sort of the nodes src[0, k) by E in [base, base + span) into order[off ...],
+ * stable; bstart[base + v] = off + the number of them with E below base + v. */
+static void sort_by_e(win *w, const int *src, int k, int base, int span, int off)
+{
+    int *cnt = w->tmp;
+    memset(cnt, 0, ((size_t)span + 1) * sizeof *cnt);
+    for (int j = 0; j < k; j++)
+        cnt[w->E[src[j]] - base + 1]++;
+    cnt[0] = off;
+    for (int v = 0; v < span; v++)
+        cnt[v + 1] += cnt[v];
+    memcpy(w->bstart + base, cnt, ((size_t)span + 1) * sizeof *cnt);
+    for (int j = 0; j < k; j++)
+        w->order[cnt[w->E[src[j]] - base]++] = src[j];
+    w->ops += (2 * (uint64_t)k + 2 * (uint64_t)span) * C5_OPS_WIN_NODE;
+}
+
+/* E, the latest loads (as R = L - Lt, which a change before them leaves as it is) and the
+ * nodes by E, for the schedule S[0, L). Lt is bounded by the children's, so nodes are taken
+ * last to first (a child's index is above its parent's). */
+static void embed_full(win *w)
+{
+    int n = w->n, L = w->L;
+    const int *P = w->t->parent;
+    occ_build(w);
+    for (int i = 0; i < n; i++)
+        w->E[i] = first_at(w, w->lc[i], P[i] < 0 ? 0 : w->E[P[i]] + 1);
+    for (int i = n - 1; i >= 0; i--) {
+        int lim = L;
+        for (int k = w->kstart[i]; k < w->kstart[i + 1]; k++)
+            if (L - w->R[w->kids[k]] < lim)
+                lim = L - w->R[w->kids[k]];
+        w->ops += (uint64_t)(w->kstart[i + 1] - w->kstart[i]) * C5_OPS_WIN_NODE;
+        w->R[i] = L - last_at(w, w->lc[i], lim - 1);
+    }
+    w->ops += (uint64_t)n * C5_OPS_EMBED;
+    for (int i = 0; i < n; i++)
+        w->tmpn[i] = i;
+    sort_by_e(w, w->tmpn, n, 0, L + 1, 0);
+}
+
+/* After the old schedule's S[lo, hi) became S[lo, lo + len) (w->L already the new length),
+ * within a sweep that goes on at lo + len or later: a node with E < lo keeps E (it embeds in
+ * the unchanged head); the others' E are recomputed, parents first (old E order), and
+ * sorted. R stays right for every node whose latest load was in the unchanged tail; the
+ * others now have Lt < lo + len, hence E < lo + len: no later window of the sweep looks at
+ * them (embed_full sets them right for the next sweep). */
+static void embed_tail(win *w, int lo)
+{
+    int n = w->n, e0 = w->bstart[lo];
+    const int *P = w->t->parent;
+    occ_build(w);
+    for (int k = e0; k < n; k++) {
+        int i = w->order[k];
+        w->E[i] = first_at(w, w->lc[i], P[i] < 0 ? 0 : w->E[P[i]] + 1);
+    }
+    w->ops += (uint64_t)(n - e0) * C5_OPS_EMBED;
+    memcpy(w->tmpn, w->order + e0, (size_t)(n - e0) * sizeof *w->tmpn);
+    sort_by_e(w, w->tmpn, n - e0, lo, w->L + 1 - lo, e0);
+}
+
+/* The most extract() costs on a window whose nodes by E are order[a, b). */
+static uint64_t extract_worst(const win *w, int a, int b)
+{
+    return (uint64_t)(b - a) * (C5_OPS_WIN_EXTRACT + C5_OPS_TRIE_STEP * (uint64_t)w->m) + 2;
+}
+
+/* The forest of the window [lo, hi) as a trie in fpar/fcell (node order: a parent before
+ * its children, as the nodes are taken by E); returns its size, *h its signature with the
+ * window's loads. */
+static int extract(win *w, int lo, int hi, int stamp_id, uint64_t *h)
+{
+    const int *P = w->t->parent;
+    int M = 0, roots = -1;
+    uint64_t x = 1469598103934665603ull; /* FNV-1a */
+    for (int k = w->bstart[lo]; k < w->bstart[hi]; k++) {
+        int i = w->order[k];
+        w->ops += C5_OPS_WIN_EXTRACT;
+        if (w->L - w->R[i] >= hi) /* the tail serves it */
+            continue;
+        int par = P[i] >= 0 && w->stamp[P[i]] == stamp_id ? w->tp[P[i]] : -1;
+        int c = w->t->cell[i], f = par >= 0 ? w->ffirst[par] : roots;
+        while (f >= 0 && w->fcell[f] != c) {
+            w->ops += C5_OPS_TRIE_STEP;
+            f = w->fnext[f];
+        }
+        if (f < 0) {
+            f = M++;
+            w->fpar[f] = par;
+            w->fcell[f] = c;
+            w->ffirst[f] = -1;
+            if (par >= 0) {
+                w->fnext[f] = w->ffirst[par];
+                w->ffirst[par] = f;
+            } else {
+                w->fnext[f] = roots;
+                roots = f;
+            }
+            x = (x ^ (uint64_t)(par + 1)) * 1099511628211ull;
+            x = (x ^ (uint64_t)c) * 1099511628211ull;
+        }
+        w->tp[i] = f;
+        w->stamp[i] = stamp_id;
+    }
+    for (int k = lo; k < hi; k++)
+        x = (x ^ (uint64_t)(w->S[k] + 0x10000)) * 1099511628211ull;
+    w->ops += (uint64_t)(hi - lo);
+    *h = x;
+    return M;
+}
+
+static void win_free(win *w)
+{
+    int **arrays[] = {&w->loc, &w->gid,  &w->lc,   &w->ncell, &w->kstart, &w->kids,  &w->S,     &w->occstart,
+                      &w->occ, &w->E,    &w->R,    &w->order, &w->bstart, &w->tmp,   &w->tmpn,  &w->tp,
+                      &w->stamp, &w->fpar, &w->fcell, &w->ffirst, &w->fnext, &w->S2};
+    for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
+        free(*arrays[k]);
+    free(w->sig);
+}
+
+/* Replaces S[lo, hi) by the window schedule ws (cell ids). */
+static void replace(win *w, int lo, int hi, const c5_schedule *ws)
+{
+    int k = lo;
+    memcpy(w->S2, w->S, (size_t)lo * sizeof *w->S2);
+    for (int j = 0; j < ws->len; j++)
+        w->S2[k++] = w->loc[ws->cells[j]];
+    for (int j = hi; j < w->L; j++)
+        w->S2[k++] = w->S[j];
+    w->ops += (uint64_t)(ws->len + w->L - hi) * C5_OPS_COPY;
+    int *x = w->S;
+    w->S = w->S2;
+    w->S2 = x;
+    w->L = k;
+}
+
+/* 1 when the window schedule ws is taken for S[lo, hi): shorter, or as long and first
+ * differing by a lower cell (a move along a plateau that opens other windows; the order
+ * makes the sweeps terminate). */
+static int takes(win *w, int lo, int hi, const c5_schedule *ws)
+{
+    if (ws->len == 0 || ws->len > hi - lo)
+        return 0;
+    if (ws->len < hi - lo)
+        return 1;
+    int j = 0;
+    while (j < ws->len && w->loc[ws->cells[j]] == w->S[lo + j])
+        j++;
+    w->ops += (uint64_t)(j + 1) * C5_OPS_COPY;
+    return j < ws->len && w->loc[ws->cells[j]] < w->S[lo + j];
+}
+
+int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err)
+{
+    return c5_sched_window_from(t, budget_ops, NULL, 0, out, err);
+}
+
+int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len, c5_schedule *out,
+                         c5_err *err)
+{
+    memset(out, 0, sizeof *out);
+    c5_schedule paper;
+    if (c5_sched_celltree(t, C5_SPLIT_MOST_LEAVES, &paper, err) != 0)
+        return -1;
+    win w;
+    memset(&w, 0, sizeof w);
+    int n = t->n, L = paper.len, maxc = 0, rc = -1;
+    for (int i = 0; i < n; i++)
+        if (t->cell[i] > maxc)
+            maxc = t->cell[i];
+    size_t sn = (size_t)n + 2, sl = (size_t)L + 3;
+    w.t = t;
+    w.n = n;
+    w.L = L;
+    w.loc = malloc(((size_t)maxc + 1) * sizeof *w.loc);
+    int **arrays[] = {&w.gid, &w.lc, &w.ncell, &w.kstart, &w.kids, &w.E, &w.R, &w.order, &w.tmpn,
+                      &w.tp, &w.fpar, &w.fcell, &w.ffirst, &w.fnext};
+    int ok = w.loc != NULL;
+    for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
+        ok &= (*arrays[k] = malloc(sn * sizeof **arrays[k])) != NULL;
+    int **sarrays[] = {&w.S, &w.S2, &w.occ, &w.bstart};
+    for (size_t k = 0; k < sizeof sarrays / sizeof *sarrays; k++)
+        ok &= (*sarrays[k] = malloc(sl * sizeof **sarrays[k])) != NULL;
+    ok &= (w.occstart = malloc(sn * sizeof *w.occstart)) != NULL;
+    ok &= (w.tmp = malloc((sn + sl) * sizeof *w.tmp)) != NULL;
+    ok &= (w.stamp = calloc(sn, sizeof *w.stamp)) != NULL;
+    ok &= (w.sig = calloc((size_t)NWIDTHS * sl, sizeof *w.sig)) != NULL;
+    if (!ok) {
+        c5_fail(err, "cell tree schedule: out of memory for %d nodes", n);
+        goto done;
+    }
+    w.ops = paper.dsp_ops - (uint64_t)L; /* the paper's rule, its schedule not yet written out */
+    uint64_t reserve = 2 * (uint64_t)L; /* writing the schedule out */
+    /* The set-up and the first embedding (bounded with at most n cells and L loads a cell)
+     * must fit, or the paper's schedule is the answer at the paper's cost. */
+    uint64_t setup = (uint64_t)(6 * n + 3 * L + 4) * C5_OPS_WIN_NODE + (uint64_t)(maxc + 1) * 2 + (uint64_t)n * 2 +
+                     2 * C5_OPS_SEARCH * (uint64_t)n * (uint64_t)(1 + ceil_log2(L + 1)) +
+                     (uint64_t)n * (C5_OPS_EMBED + 4 * C5_OPS_WIN_NODE) + (8 * (uint64_t)L + 2 * (uint64_t)n + 8) * C5_OPS_WIN_NODE;
+    int stopped = n == 0, set_up = !stopped && !(budget_ops && w.ops + setup + reserve > budget_ops);
+    if (!set_up)
+        stopped = 1;
+    else {
+        /* Local cells 0..m-1 in id order, as the peeler numbers them; children lists. */
+        for (int c = 0; c <= maxc; c++)
+            w.loc[c] = -1;
+        for (int i = 0; i < n; i++)
+            w.loc[t->cell[i]] = 0;
+        for (int c = 0; c <= maxc; c++)
+            if (w.loc[c] == 0) {
+                w.gid[w.m] = c;
+                w.loc[c] = w.m++;
+            }
+        memset(w.ncell, 0, (size_t)w.m * sizeof *w.ncell);
+        memset(w.kstart, 0, sn * sizeof *w.kstart);
+        for (int i = 0; i < n; i++) {
+            w.lc[i] = w.loc[t->cell[i]];
+            w.ncell[w.lc[i]]++;
+            if (t->parent[i] >= 0)
+                w.kstart[t->parent[i] + 1]++;
+    }
+    for (int i = 0; i < n; i++)
+        w.kstart[i + 1] += w.kstart[i];
+    memcpy(w.tmpn, w.kstart, (size_t)n * sizeof *w.tmpn);
+    for (int i = 0; i < n; i++)
+        if (t->parent[i] >= 0)
+            w.kids[w.tmpn[t->parent[i]]++] = i;
+    for (int k = 0; k < L; k++)
+        w.S[k] = w.loc[paper.cells[k]];
+    w.ops += (uint64_t)(4 * n + L + w.m) * C5_OPS_WIN_NODE + (uint64_t)(maxc + 1) * 2;
+    occ_build(&w);
+    }
+    reserve += 2 * (uint64_t)w.m; /* and the last check of an embedding's cost */
+    int stamp_id = 0, quiet = 0, stale = 1, lb = paper.peels_completion;
+    /* The warm start, when shorter than the paper's: loads of cells absent from the tree
+     * serve nothing and are dropped; it is taken when every node embeds in it. */
+    int k = 0;
+    if (!stopped && warm && warm_len > 0 &&
+        !(budget_ops && w.ops + (uint64_t)warm_len * C5_OPS_WIN_NODE + reserve > budget_ops)) {
+        for (int j = 0; j < warm_len && k < L; j++)
+            if (warm[j] >= 0 && warm[j] <= maxc && w.loc[warm[j]] >= 0)
+                w.S2[k++] = w.loc[warm[j]];
+        w.ops += (uint64_t)warm_len * C5_OPS_WIN_NODE;
+    }
+    if (!stopped && k > 0 && k < L) {
+        int *x = w.S;
+        w.S = w.S2;
+        w.S2 = x;
+        w.L = k;
+        occ_build(&w);
+        uint64_t ew = embed_worst(&w);
+        w.ops += 2 * (uint64_t)w.m + (uint64_t)n; /* the check, and each node's E tested below */
+        int feasible = k > 0 && !(budget_ops && w.ops + ew + reserve > budget_ops);
+        if (feasible) {
+            embed_full(&w);
+            for (int i = 0; i < n && feasible; i++)
+                feasible = w.E[i] < w.L;
+        }
+        if (feasible) {
+            stale = 0;
+            out->warm = 1;
+        } else { /* back to the paper's */
+            x = w.S;
+            w.S = w.S2;
+            w.S2 = x;
+            w.L = L;
+            occ_build(&w);
+        }
+    }
+    /* Sweeps left to right over each width, windows half overlapping and shifted by a
+     * quarter width every other round, until two rounds change nothing or the budget is
+     * spent. After a window is replaced the sweep goes on past it, so only the E of the
+     * nodes after it need recomputing (embed_tail); a new sweep starts from embed_full. */
+    /* (a schedule as long as the sum of maxGen, the number of the paper's completion peels,
+     * is optimal: nothing to look for) */
+    for (int round = 0; !stopped && quiet < 2 && w.L > lb; round++) {
+        int changed = 0, len0 = w.L;
+        for (int wi = 0; wi < NWIDTHS && !stopped; wi++) {
+            int W = widths[wi], lo = (round & 1) ? W / 4 : 0;
+            if (stale) {
+                uint64_t ew = embed_worst(&w);
+                w.ops += 2 * (uint64_t)w.m;
+                if (budget_ops && w.ops + ew + reserve > budget_ops) {
+                    stopped = 1;
+                    break;
+                }
+                embed_full(&w);
+                stale = 0;
+            }
+            while (lo + 1 < w.L && !stopped && w.L > lb) {
+                int hi = lo + W < w.L ? lo + W : w.L, next = lo + W / 2;
+                uint64_t *sig = &w.sig[(size_t)wi * sl + (size_t)lo], h;
+                if (budget_ops && w.ops + extract_worst(&w, w.bstart[lo], w.bstart[hi]) + reserve > budget_ops) {
+                    stopped = 1;
+                    break;
+                }
+                int M = extract(&w, lo, hi, ++stamp_id, &h);
+                /* The search's set-up must fit; from there on it holds its share. */
+                int mc = M < w.m ? M : w.m;
+                uint64_t init = (uint64_t)M * (C5_OPS_INIT_NODE + 2) + (uint64_t)mc * (C5_OPS_INIT_CELL + C5_OPS_MARK) +
+                                4 * C5_OPS_WORD * (uint64_t)(1 + mc / 64) + 64;
+                /* (nothing to serve; tried as it is; or too dear for what is left, where a
+                 * window with a smaller forest may still fit) */
+                if (M > 0 && *sig != h && !(budget_ops && w.ops + init + reserve >= budget_ops)) {
+                    *sig = h;
+                    c5_dep_tree ft = {M, w.fpar, w.fcell};
+                    c5_schedule ws;
+                    /* stop hi - lo + 1: a schedule as long as the window is of use too (takes) */
+                    if (c5_sched_bounded_core(&ft, budget_ops ? budget_ops - w.ops - reserve : 0, hi - lo + 1, 0, &ws,
+                                              err) != 0)
+                        goto done;
+                    w.ops += ws.dsp_ops;
+                    out->nodes_examined += ws.nodes_examined;
+                    if (takes(&w, lo, hi, &ws)) {
+                        replace(&w, lo, hi, &ws);
+                        changed = stale = 1;
+                        next = lo + ws.len;
+                        if (budget_ops && w.ops + tail_worst(&w, w.bstart[lo]) + reserve > budget_ops)
+                            stopped = 1; /* the schedule stands; no window can be tried on it */
+                        else
+                            embed_tail(&w, lo);
+                    }
+                    c5_schedule_free(&ws);
+                }
+                lo = next;
+            }
+        }
+        /* Under a budget only a shorter schedule counts as progress: plateau moves alone
+         * for two rounds end the search (they rarely pay for the DSP's time, and where the
+         * start is already optimal they would spend the whole budget); offline (no budget)
+         * they go on until two rounds change nothing. */
+        int progress = budget_ops ? w.L < len0 : changed;
+        quiet = progress ? 0 : quiet + 1;
+    }
+    out->gave_up = stopped && n > 0;
+    /* The result: the forward schedule in cell ids. */
+    for (int k = 0; set_up && k < w.L; k++)
+        paper.cells[k] = w.gid[w.S[k]];
+    out->len = w.L;
+    out->cells = paper.cells;
+    paper.cells = NULL;
+    out->fell_back = w.L == paper.len && !out->warm;
+    out->peels_completion = paper.peels_completion; /* the paper's run (the windows do not peel the tree) */
+    out->peels_split = paper.peels_split;
+    out->nodes_examined += paper.nodes_examined;
+    out->max_gen = paper.max_gen;
+    out->dsp_ops = w.ops + reserve;
+    rc = 0;
+done:
+    win_free(&w);
+    c5_schedule_free(&paper);
+    return rc;
+}
