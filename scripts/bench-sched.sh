@@ -14,9 +14,10 @@
 # frame, one panel per scene and split). With ../shared/data/volumes/ present, also
 # brain_mirrors with the CThead CT volume and lobster_tunnel with the lobster CT volume.
 # Environment: SIZE (128x128), FRAMES (8), CELLS ("2 3"), SPEEDS ("0 2 8 30 90"), JUMPS
-# (the jump motion's --jumps value, "7:3"; empty: none), RULES (default: every --split rule
-# `cube5 schedule --help` lists), SCENES (the built-in scenes), EXACT_STATES (20000: the
-# exact search's budget per frame, run once per configuration, on the first rule's run).
+# (the jump motion's --jumps value, "7:3"; empty: none), RULES (below), SCENES (the built-in
+# scenes), EXACT_STATES (20000: the exact search's budget per frame, run once per
+# configuration, on the first rule's run; the best known schedule is the beam search's or
+# the unbudgeted window rule's, --local-window 0).
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -29,8 +30,10 @@ SPEEDS=${SPEEDS:-0 2 8 30 90}
 JUMPS=${JUMPS-7:3}
 EXACT_STATES=${EXACT_STATES:-20000}
 SCENES=${SCENES:-$("$cube5" scenes | awk '{print $1}')}
-if [ -z "${RULES:-}" ]; then
-    # The rules of the --split line of the help: "paper|lookahead|rollout|...".
+# The paper's rule, the rollout (the best rule without a budget) and the window rule (the
+# default: the DSP's budget); RULES=all: every rule of the --split line of the help.
+RULES=${RULES:-paper rollout window}
+if [ "$RULES" = all ]; then
     RULES=$("$cube5" schedule --help | sed -n 's/.*\[--split \([a-z|]*\)\].*/\1/p' | tr '|' ' ')
 fi
 command -v gnuplot >/dev/null || bash "$(dirname "$0")/setup-deps.sh" gnuplot-nox
@@ -65,7 +68,7 @@ for c in "${cases[@]}"; do
                 echo "bench-sched: $label cells $cells $mname $rule" >&2
                 # shellcheck disable=SC2086 # extra and margs are lists of arguments
                 "$cube5" schedule "$scene" $extra --cells "$cells" --size "$SIZE" --frames "$FRAMES" $margs \
-                    --split "$rule" --exact-states "$states" --json > "$f"
+                    --split "$rule" --exact-states "$states" --local-window 0 --json > "$f"
                 echo "$label|$cells|$mname|$rule|$f" >> "$list"
             done
         done

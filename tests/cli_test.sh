@@ -266,6 +266,8 @@ assert f0["dsp_ops_schedule"] <= f0["dsp_budget_ops"] and f0["dsp_within_budget"
 then ok schedule_window; else bad schedule_window "$json"; fi
 expect schedule_bad_split 2 "--split: 'best' is not a rule \(paper, lookahead, rollout, bounded or window\)" -- "$cube5" schedule default --split best
 expect schedule_bad_frames 2 "--frames: expected an integer" -- "$cube5" schedule default --frames 0
+expect schedule_bad_local_window 2 "--local-window: 2 is too small for a window" -- "$cube5" schedule default --local-window 2
+expect schedule_local_window_range 2 "--local-window: expected an integer" -- "$cube5" schedule default --local-window 1001
 expect schedule_bad_tree_nodes 2 "--tree-nodes: expected an integer" -- "$cube5" schedule default --tree-nodes 8192
 expect schedule_bad_cells 2 "--cells: expected N or NxMxK" -- "$cube5" schedule default --cells 0
 expect schedule_orbit_nan 2 "--orbit: expected a finite number, got 'nan'" -- "$cube5" schedule default --orbit nan
