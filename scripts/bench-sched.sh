@@ -17,7 +17,7 @@
 # (the jump motion's --jumps value, "7:3"; empty: none), RULES (below), SCENES (the built-in
 # scenes), EXACT_STATES (20000: the exact search's budget per frame, run once per
 # configuration, on the first rule's run; the best known schedule is the beam search's or
-# the unbudgeted window rule's, --local-window 0).
+# the unbudgeted window rule's, --local-window 0), REUSE (1: keep the runs already written).
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -65,11 +65,13 @@ for c in "${cases[@]}"; do
                 [ "$first" = 1 ] && states=$EXACT_STATES
                 first=0
                 f="$out/runs/${label}_c${cells}_${mname}_${rule}.json"
+                echo "$label|$cells|$mname|$rule|$f" >> "$list"
+                # REUSE=1: keep the runs already in BUILD/bench-sched/runs (a replot).
+                [ "${REUSE:-0}" = 1 ] && [ -s "$f" ] && continue
                 echo "bench-sched: $label cells $cells $mname $rule" >&2
                 # shellcheck disable=SC2086 # extra and margs are lists of arguments
                 "$cube5" schedule "$scene" $extra --cells "$cells" --size "$SIZE" --frames "$FRAMES" $margs \
                     --split "$rule" --exact-states "$states" --local-window 0 --json > "$f"
-                echo "$label|$cells|$mname|$rule|$f" >> "$list"
             done
         done
     done
@@ -94,7 +96,7 @@ for line in open(lst):
     if d.get("exact_states", 0) > 0:
         lb = sum(f["lower_bound"] for f in fr)
         best = [f["optimum"] if f["optimum"] is not None else f["best_known"] for f in fr]
-        bounds[key] = {"lower_bound": lb, "best_known": sum(best) if all(b for b in best) else None,
+        bounds[key] = {"lower_bound": lb, "best_known": sum(best) if all(b is not None for b in best) else None,
                        "optimum_frames": sum(1 for f in fr if f["optimum"] is not None)}
     rows.append({"case": label, "cells": int(cells), "motion": motion, "rule": rule, "frames": len(fr),
                  "fetches_maxwork": mw, "fetches_celltree": ct,
@@ -110,7 +112,7 @@ print("%-24s %5s %8s %-10s %8s %8s %8s %8s %6s %8s %8s" % (
 for r in rows:
     print("%-24s %5d %8s %-10s %8d %8d %7.1f%% %7.1f%% %6d %8s %8s" % (
         r["case"], r["cells"], r["motion"], r["rule"], r["fetches_maxwork"], r["fetches_celltree"], r["saving_pct"],
-        r["worst_frame_pct"], r["frames_over_limit"], r.get("lower_bound", "-"), r.get("best_known") or "-"))
+        r["worst_frame_pct"], r["frames_over_limit"], r.get("lower_bound", "-"), "-" if r.get("best_known") is None else r["best_known"]))
 print("  (%s, frames 1..%d of %d, each following the previous frame's tree; saving: fewer fetches than Max Work"
       % (size, frames - 1, frames))
 print("   over the path; worst fr: the worst single frame against Max Work, + is more fetches; over: frames beyond")
@@ -131,7 +133,9 @@ with open(out + "/sched_motion.dat", "w") as f:
         for r0 in [r for r in rows if r["case"] == case and r["cells"] == cells and r["rule"] == rules[0]]:
             if not r0["motion"].startswith("orbit"):
                 continue
-            pct = lambda v: "%.2f" % (100.0 * v / r0["fetches_maxwork"]) if v is not None else "NaN"
+            # A path whose frames see no volume (the eye behind a mirror) fetches nothing.
+            mw = r0["fetches_maxwork"]
+            pct = lambda v: "%.2f" % (100.0 * v / mw) if v is not None and mw else "NaN"
             vals = [next(r for r in rows if r["case"] == case and r["cells"] == cells and r["motion"] == r0["motion"]
                          and r["rule"] == rule)["fetches_celltree"] for rule in rules]
             f.write("%s %s %s %s\n" % (r0["motion"][5:], " ".join(pct(v) for v in vals), pct(r0.get("lower_bound")),
