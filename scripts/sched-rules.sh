@@ -33,7 +33,7 @@ for k in "${cases[@]}"; do
 done
 echo "sched-rules: cube5 schedule brain_mirrors --cells 3 --size 256x256 (camera path)" >&2
 for rule in paper bounded window; do
-  "$CUBE5" schedule brain_mirrors --cells 3 --size 256x256 --split "$rule" --exact-states 0 --json >"$RAW/anim_c3_$rule.json"
+  "$CUBE5" schedule brain_mirrors --cells 3 --size 256x256 --split "$rule" --exact-states 0 --stale-check off --json >"$RAW/anim_c3_$rule.json"
 done
 python3 - "$RAW" "${cases[@]}" <<'PY'
 import json, sys
