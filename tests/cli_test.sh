@@ -295,7 +295,7 @@ f = json.loads(sys.argv[1])["frames"][1]
 on = sys.argv[2] == "on"
 assert f["start_overlap"] is not None and f["start_overlap"] < 0.95
 assert (f["switched_at_load"] == 0 and f["sched_switches"] == 1 and
-        ("overlap" in f["switch_reason"] or "Max Work's loads" in f["switch_reason"])) if on else \
+        ("overlap" in f["switch_reason"] or "of Max Work" in f["switch_reason"])) if on else \
     (f["switched_at_load"] is None and f["switch_reason"] is None and f["sched_switches"] == 0)
 assert (f["fetches_celltree"] == f["fetches_maxwork"]) if on else True' "$json" $chk; then ok schedule_stale_$chk; else bad schedule_stale_$chk "$json"; fi
 done
