@@ -91,7 +91,7 @@ with open(os.path.join(out, "fig6.dat"), "w") as f:
 # ---- Animation ----------------------------------------------------------------------------
 w("## Across an animation: brain_mirrors' camera path")
 w("")
-w("8 frames over the scene's camera path (`cube5 schedule brain_mirrors --cells N --split paper`); frame i")
+w("8 frames over the scene's camera path (`cube5 schedule brain_mirrors --cells N --split paper --stale-check off`); frame i")
 w("follows the schedule made from frame i-1's tree, so the gain depends on how much the")
 w("dependencies change between frames. `fallback`: fetches Max Work chose after the schedule")
 w("ran out with rays left (Section 3.1).")
