@@ -389,6 +389,31 @@ TEST(tree_sched_optimum_budget)
     CHECK_INT(len, 200);
 }
 
+/* The paper's and the lookahead rule on a big random tree: feasible, every peel a completion
+ * (the random trees have no split), generations right; then the rollout rule, dearer (one
+ * rollout per cell per peel), on the tree's first n_small nodes (t->n is left at n_small). */
+static void check_rules_on_big_tree(c5_dep_tree *t, int *gen, int n_small)
+{
+    int sum = c5_sched_sum_maxgen(t), maxg = c5_tree_generations(t, gen);
+    for (int r = 1; r <= 2; r++) {
+        c5_schedule s;
+        CHECK_INT(run_rule(t, (c5_split_rule)r, &s), 0);
+        CHECK_INT(c5_sched_feasible(t, s.cells, s.len), 1);
+        CHECK(s.len >= sum);
+        CHECK_INT(s.peels_completion, sum);
+        CHECK_INT(s.max_gen, maxg);
+        c5_schedule_free(&s);
+    }
+    t->n = n_small;
+    c5_schedule s1, s3;
+    CHECK_INT(run_rule(t, C5_SPLIT_MOST_LEAVES, &s1), 0);
+    CHECK_INT(run_rule(t, C5_SPLIT_ROLLOUT, &s3), 0);
+    CHECK_INT(c5_sched_feasible(t, s3.cells, s3.len), 1);
+    CHECK_INT(s3.peels_completion, s1.peels_completion);
+    c5_schedule_free(&s1);
+    c5_schedule_free(&s3);
+}
+
 TEST(tree_sched_big_tree)
 {
     uint64_t rng = 0xB16;
@@ -396,24 +421,7 @@ TEST(tree_sched_big_tree)
     int n = c5t_random_tree(&rng, 8191, 64, 8, par, cel);
     c5_dep_tree t = {n, par, cel};
     CHECK(n > 8000);
-    int sum = c5_sched_sum_maxgen(&t);
-    for (int r = 1; r <= 2; r++) {
-        c5_schedule s;
-        CHECK_INT(run_rule(&t, (c5_split_rule)r, &s), 0);
-        CHECK_INT(c5_sched_feasible(&t, s.cells, s.len), 1);
-        CHECK_INT(s.peels_completion, sum);
-        CHECK_INT(s.max_gen, c5_tree_generations(&t, gen));
-        c5_schedule_free(&s);
-    }
-    /* The rollout rule is dearer (one rollout per cell per peel): a smaller tree. */
-    t.n = 1000;
-    c5_schedule s1, s3;
-    CHECK_INT(run_rule(&t, C5_SPLIT_MOST_LEAVES, &s1), 0);
-    CHECK_INT(run_rule(&t, C5_SPLIT_ROLLOUT, &s3), 0);
-    CHECK_INT(c5_sched_feasible(&t, s3.cells, s3.len), 1);
-    CHECK_INT(s3.peels_completion, s1.peels_completion);
-    c5_schedule_free(&s1);
-    c5_schedule_free(&s3);
+    check_rules_on_big_tree(&t, gen, 1000);
 
     /* A deep chain: generations by depth-first order, not by walking up. */
     for (int i = 0; i < 8191; i++) {
@@ -670,25 +678,7 @@ TEST(tree_sched_wide_big_tree)
         c5_err err;
         CHECK(n > 8000);
         CHECK_INT(c5_tree_check(&t, &err), 0);
-        int sum = c5_sched_sum_maxgen(&t), maxg = c5_tree_generations(&t, gen);
-        for (int r = 1; r <= 2; r++) {
-            c5_schedule s;
-            CHECK_INT(run_rule(&t, (c5_split_rule)r, &s), 0);
-            CHECK_INT(c5_sched_feasible(&t, s.cells, s.len), 1);
-            CHECK(s.len >= sum);
-            CHECK_INT(s.peels_completion, sum);
-            CHECK_INT(s.max_gen, maxg);
-            c5_schedule_free(&s);
-        }
-        /* The rollout rule's cost grows with cells and peels: a smaller tree. */
-        t.n = 300;
-        c5_schedule s1, s3;
-        CHECK_INT(run_rule(&t, C5_SPLIT_MOST_LEAVES, &s1), 0);
-        CHECK_INT(run_rule(&t, C5_SPLIT_ROLLOUT, &s3), 0);
-        CHECK_INT(c5_sched_feasible(&t, s3.cells, s3.len), 1);
-        CHECK_INT(s3.peels_completion, s1.peels_completion);
-        c5_schedule_free(&s1);
-        c5_schedule_free(&s3);
+        check_rules_on_big_tree(&t, gen, 300);
     }
 }
 
