@@ -47,6 +47,8 @@ typedef struct {
     int sgroup[3], nsgroup[3]; /* the same for schedule_group */
     int cur_group;           /* the scheduled group being worked off, -1: none */
     uint32_t *rem;           /* [cells] entries of each cell in the schedule from sched_pos on */
+    c5_stale_thresholds th;  /* o->stale with the defaults put in (stale_thresholds) */
+    const c5_stale_plan *plan; /* o->plan when it replays this schedule, else NULL */
     int switched;            /* the schedule was judged stale: Max Work for the rest */
     uint64_t passed, skipped; /* schedule entries passed and found empty (the skip signal) */
     int64_t surprise;        /* loads at entries the replay passes empty, less entries it loads found empty */
@@ -239,6 +241,21 @@ static double start_overlap(board *b)
     return most ? (double)both / (double)most : 1.0;
 }
 
+/* The thresholds with the defaults put in for 0 fields: a negative gain margin is none (0),
+ * a negative lag gain never fires. */
+static c5_stale_thresholds stale_thresholds(const c5_stale_thresholds *t)
+{
+    c5_stale_thresholds r;
+    r.start_overlap = t->start_overlap > 0 ? t->start_overlap : C5_STALE_START_OVERLAP;
+    r.orphan_frac = t->orphan_frac > 0 ? t->orphan_frac : C5_STALE_ORPHAN_FRAC;
+    r.skip_frac = t->skip_frac > 0 ? t->skip_frac : C5_STALE_SKIP_FRAC;
+    r.skip_min = t->skip_min > 0 ? t->skip_min : C5_STALE_SKIP_MIN;
+    r.gain_margin = t->gain_margin > 0 ? t->gain_margin : t->gain_margin < 0 ? 0 : C5_STALE_GAIN_MARGIN;
+    r.lag_gain = t->lag_gain > 0 ? t->lag_gain : t->lag_gain < 0 ? -1e9 : C5_STALE_LAG_GAIN;
+    r.surprise = t->surprise > 0 ? t->surprise : C5_STALE_SURPRISE;
+    return r;
+}
+
 /* The stale-schedule signals, read between loads from the DSP's per-cell queue counters
  * (docs/cell-tree.md, "Stale schedules"): the reason to stop following the schedule, or
  * C5_SWITCH_NONE. At the first load: the queues the set-up left against the previous
@@ -248,26 +265,22 @@ static double start_overlap(board *b)
  * entries found empty. */
 static c5_switch_reason stale_signal(board *b, double *value)
 {
-    const c5_board_opts *o = b->o;
-    const c5_stale_thresholds *t = &o->stale;
+    const c5_stale_thresholds *t = &b->th;
     int n = b->cells.count;
+    const c5_stale_plan *p = b->plan;
     /* Identical start queues (a still view): the replay is the frame, any saving is real. */
-    const c5_stale_plan *p = o->plan && o->plan->valid && o->plan->len == o->schedule_len ? o->plan : NULL;
-    double margin = t->gain_margin > 0 ? t->gain_margin : t->gain_margin < 0 ? 0 : C5_STALE_GAIN_MARGIN;
     if (b->st->fetches == 0 && b->passed == 0 && p &&
-        ((double)p->sched_loads > (1 - margin) * (double)p->maxwork_loads - 1e-9 ||
+        ((double)p->sched_loads > (1 - t->gain_margin) * (double)p->maxwork_loads - 1e-9 ||
          p->sched_loads + (b->st->start_overlap >= 1.0 ? 1 : C5_STALE_GAIN_MIN_LOADS) > p->maxwork_loads)) {
         *value = p->maxwork_loads ? (double)p->sched_loads / p->maxwork_loads : 1;
         return C5_SWITCH_NO_GAIN;
     }
-    double lag_gain = t->lag_gain > 0 ? t->lag_gain : t->lag_gain < 0 ? -1e9 : C5_STALE_LAG_GAIN;
     if (b->st->fetches == 0 && b->passed == 0 && p && p->lag_loads >= 0 &&
-        (double)p->lag_loads > (1 - lag_gain) * (double)p->maxwork_loads + 1e-9) {
+        (double)p->lag_loads > (1 - t->lag_gain) * (double)p->maxwork_loads + 1e-9) {
         *value = p->maxwork_loads ? (double)p->lag_loads / p->maxwork_loads : 1;
         return C5_SWITCH_LAG;
     }
-    if (b->st->fetches == 0 && b->st->start_overlap >= 0 &&
-        b->st->start_overlap < (t->start_overlap > 0 ? t->start_overlap : C5_STALE_START_OVERLAP)) {
+    if (b->st->fetches == 0 && b->st->start_overlap >= 0 && b->st->start_overlap < t->start_overlap) {
         *value = b->st->start_overlap;
         return C5_SWITCH_START;
     }
@@ -282,20 +295,17 @@ static c5_switch_reason stale_signal(board *b, double *value)
     b->st->stale_ops += 2 * (uint64_t)n;
     if (p && p->maxwork_loads > p->sched_loads) {
         double saving = p->maxwork_loads - p->sched_loads;
-        double frac = t->surprise > 0 ? t->surprise : C5_STALE_SURPRISE;
         b->st->stale_ops += 4;
-        if ((double)(b->surprise + orphan_cells) >= frac * saving) {
+        if ((double)(b->surprise + orphan_cells) >= t->surprise * saving) {
             *value = (double)(b->surprise + orphan_cells) / saving;
             return C5_SWITCH_SURPRISE;
         }
     }
-    if (all && (double)orphan > (t->orphan_frac > 0 ? t->orphan_frac : C5_STALE_ORPHAN_FRAC) * (double)all) {
+    if (all && (double)orphan > t->orphan_frac * (double)all) {
         *value = (double)orphan / (double)all;
         return C5_SWITCH_ORPHANS;
     }
-    int skip_min = t->skip_min > 0 ? t->skip_min : C5_STALE_SKIP_MIN;
-    if (b->skipped >= (uint64_t)skip_min &&
-        (double)b->skipped > (t->skip_frac > 0 ? t->skip_frac : C5_STALE_SKIP_FRAC) * (double)b->passed) {
+    if (b->skipped >= (uint64_t)t->skip_min && (double)b->skipped > t->skip_frac * (double)b->passed) {
         *value = (double)b->skipped / (double)b->passed;
         return C5_SWITCH_SKIPS;
     }
@@ -332,7 +342,7 @@ static int schedule(board *b, int *sched_pos)
         }
         while (!b->switched && *sched_pos < o->schedule_len) {
             int i = (*sched_pos)++, c = o->schedule[i];
-            int expect = o->plan && o->plan->valid && o->plan->len == o->schedule_len ? (o->plan->pred[i] > 0) : -1;
+            int expect = b->plan ? b->plan->pred[i] > 0 : -1;
             if (b->rem)
                 b->rem[c]--;
             b->passed++;
@@ -536,6 +546,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         }
         for (int i = 0; i < o.schedule_len; i++)
             b.rem[o.schedule[i]]++;
+        b.th = stale_thresholds(&o.stale);
+        b.plan = o.plan && o.plan->valid && o.plan->len == o.schedule_len ? o.plan : NULL;
     }
     for (uint32_t i = 0; i < (uint32_t)o.queue_capacity; i++)
         b.free_slots[b.n_free++] = (uint32_t)o.queue_capacity - 1 - i;
