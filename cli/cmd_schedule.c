@@ -183,7 +183,6 @@ typedef struct {
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
     int jump;                /* the camera motion cut to a new view at this frame */
     uint32_t *start;         /* [cells] rays queued per cell after the set-up (stale check) */
-    uint32_t *node_rays;     /* [C5_TREE_SLOTS] packets tagged with each node of this frame's tree */
     c5_stale_plan plan;      /* the DSP's replay of this frame's tree for the next frame */
 } frame_row;
 
@@ -502,11 +501,15 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     if (a->moving)
         o.camera = &cam;
     int ncells = a->cells[0] * a->cells[1] * a->cells[2];
-    if (!(row->start = calloc((size_t)ncells, sizeof *row->start)) ||
-        !(row->node_rays = calloc(C5_TREE_SLOTS, sizeof *row->node_rays)))
+    /* Packets tagged with each node of this frame's tree, for its replay (the run whose tree
+     * is scheduled fills it last); only this frame's plan needs them. */
+    uint32_t *node_rays = calloc(C5_TREE_SLOTS, sizeof *node_rays);
+    if (!(row->start = calloc((size_t)ncells, sizeof *row->start)) || !node_rays) {
+        free(node_rays);
         return c5_fail(err, "out of memory");
+    }
     o.start_counts = row->start;
-    o.node_rays = row->node_rays; /* the run whose tree is scheduled fills it last */
+    o.node_rays = node_rays;
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
@@ -563,11 +566,12 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->demand_slots = row->ct.tree_demand_slots;
     rc = c5_dsp_schedule(tree, &so, &row->sch, err);
     if (rc == 0 && g == 1)
-        rc = c5_stale_plan_make(tree, row->node_rays, row->sch.next.cells, row->sch.next.len,
+        rc = c5_stale_plan_make(tree, node_rays, row->sch.next.cells, row->sch.next.len,
                                 o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL,
                                 o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0, &row->plan, err);
 done:
     free(log);
+    free(node_rays);
     c5_image_free(&mw_img);
     c5_image_free(&ct_img);
     return rc;
@@ -637,8 +641,7 @@ int c5_cmd_schedule(int argc, char **argv)
 fail:
     if (rows)
         for (int f = 0; f < frames; f++)
-            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), free(rows[f].node_rays),
-                c5_stale_plan_free(&rows[f].plan);
+            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), c5_stale_plan_free(&rows[f].plan);
     free(rows);
     c5_supervol_free(&sv);
     if (rc)
