@@ -288,6 +288,10 @@ static const char *switch_reason(const c5_board_stats *st, char *buf, size_t n)
         snprintf(buf, n, "the previous frame's schedule, replayed on the frame after it, makes %.0f%% of Max Work's loads",
                  100 * st->switch_value);
         break;
+    case C5_SWITCH_LEDGER:
+        snprintf(buf, n, "the replays expect %.0f loads saved, too few to risk the frame on the path's balance",
+                 st->switch_value);
+        break;
     case C5_SWITCH_SURPRISE:
         snprintf(buf, n, "unexpected loads and orphan cells reach %.0f%% of the expected saving", 100 * st->switch_value);
         break;
@@ -329,9 +333,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "start_overlap", r->ct.start_overlap >= 0 ? json_real(r->ct.start_overlap) : json_null());
     json_object_set_new(o, "stale_ops", json_integer((json_int_t)r->ct.stale_ops));
     const c5_stale_plan *p = &r->plan;
-    json_object_set_new(o, "replay", p->valid ? json_pack("{s:i, s:i, s:I, s:i, s:I}", "maxwork_loads", p->maxwork_loads,
+    json_object_set_new(o, "replay", p->valid ? json_pack("{s:i, s:i, s:I, s:i, s:I, s:I}", "maxwork_loads", p->maxwork_loads,
                                                           "schedule_loads", p->sched_loads, "rays", (json_int_t)p->rays, "lag_loads", p->lag_loads,
-                                                          "dsp_ops", (json_int_t)p->ops)
+                                                          "dsp_ops", (json_int_t)p->ops, "bank", (json_int_t)p->bank)
                                               : json_null());
     json_object_set_new(o, "lower_bound", s->overflow ? json_null() : json_integer(s->lower_bound));
     json_object_set_new(o, "sum_maxgen", s->overflow ? json_null() : json_integer(s->sum_maxgen));
@@ -569,6 +573,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         rc = c5_stale_plan_make(tree, node_rays, row->sch.next.cells, row->sch.next.len,
                                 o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL,
                                 o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0, &row->plan, err);
+    if (rc == 0)
+        c5_stale_plan_settle(&row->plan, prev_plan, row->ct.fetches);
 done:
     free(log);
     free(node_rays);

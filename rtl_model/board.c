@@ -253,7 +253,35 @@ static c5_stale_thresholds stale_thresholds(const c5_stale_thresholds *t)
     r.gain_margin = t->gain_margin > 0 ? t->gain_margin : t->gain_margin < 0 ? 0 : C5_STALE_GAIN_MARGIN;
     r.lag_gain = t->lag_gain > 0 ? t->lag_gain : t->lag_gain < 0 ? -1e9 : C5_STALE_LAG_GAIN;
     r.surprise = t->surprise > 0 ? t->surprise : C5_STALE_SURPRISE;
+    r.first_risk = t->first_risk ? t->first_risk : C5_STALE_FIRST_RISK;
     return r;
+}
+
+/* The frame's risk when it follows: the promise's allowance over Max Work, max(2 %, one load),
+ * of the previous frame's Max Work loads (the replay's; this frame's are not known yet). */
+static int64_t ledger_allowance(const c5_stale_plan *p)
+{
+    int64_t two = (int64_t)ceil(1.02 * p->maxwork_loads);
+    return two > p->maxwork_loads + 1 ? two - p->maxwork_loads : 1;
+}
+
+/* The saving the replays expect of following: the schedule on the previous tree, and no more
+ * than a one-frame-old schedule saved on it (when the previous frame had one). */
+static int64_t ledger_gain(const c5_stale_plan *p)
+{
+    int64_t g = (int64_t)p->maxwork_loads - p->sched_loads;
+    if (p->lag_loads >= 0 && (int64_t)p->maxwork_loads - p->lag_loads < g)
+        g = (int64_t)p->maxwork_loads - p->lag_loads;
+    return g;
+}
+
+/* The saving a followed frame must expect (docs/cell-tree.md, "The ledger"): the path's
+ * deficit, if any, plus the frame's allowance when at least one allowance is banked, else
+ * first_risk allowances: the first frame risked on a path has no saving behind it. */
+static int64_t ledger_need(const c5_stale_plan *p, int first_risk)
+{
+    int64_t a = ledger_allowance(p);
+    return (p->bank < 0 ? -p->bank : 0) + (p->bank >= a ? a : first_risk * a);
 }
 
 /* The stale-schedule signals, read between loads from the DSP's per-cell queue counters
@@ -280,6 +308,9 @@ static c5_switch_reason stale_signal(board *b, double *value)
         *value = p->maxwork_loads ? (double)p->lag_loads / p->maxwork_loads : 1;
         return C5_SWITCH_LAG;
     }
+    if (b->st->fetches == 0 && b->passed == 0 && p && t->first_risk > 0 && b->st->start_overlap < 1.0 &&
+        (*value = (double)ledger_gain(p)) < (double)ledger_need(p, t->first_risk))
+        return C5_SWITCH_LEDGER;
     if (b->st->fetches == 0 && b->st->start_overlap >= 0 && b->st->start_overlap < t->start_overlap) {
         *value = b->st->start_overlap;
         return C5_SWITCH_START;

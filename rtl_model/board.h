@@ -63,6 +63,7 @@ typedef enum {
     C5_SWITCH_NO_GAIN = 4, /* on the previous tree the schedule makes no fewer loads than Max Work */
     C5_SWITCH_SURPRISE = 5, /* loads the replay did not expect have eaten the expected saving */
     C5_SWITCH_LAG = 6,     /* a one-frame-old schedule, replayed on the previous frame, saved too little */
+    C5_SWITCH_LEDGER = 7,  /* the expected saving does not cover the frame's risk and the path's deficit */
 } c5_switch_reason;
 
 /* The detection's thresholds (docs/cell-tree.md, "Stale schedules": measured). */
@@ -74,12 +75,16 @@ typedef enum {
 #define C5_STALE_GAIN_MIN_LOADS 2   /* ... and at least this many loads shorter */
 #define C5_STALE_LAG_GAIN 0.03      /* ... and a one-frame-old schedule saved this part of Max Work's loads */
 #define C5_STALE_SURPRISE 0.5       /* switch when unexpected loads and orphan cells reach this part of the saving */
+#define C5_STALE_FIRST_RISK 3       /* with less than one frame's allowance banked, follow only an expected
+                                     * saving of this many allowances */
 typedef struct {
     double start_overlap, orphan_frac, skip_frac;
     int skip_min;
     double gain_margin;  /* follow only when the replayed schedule saves more than this part of Max Work's loads */
     double lag_gain;     /* follow only when the previous frame's schedule, replayed on the frame after, saved this part */
     double surprise;     /* switch when unexpected loads reach this part of the expected saving */
+    int first_risk;      /* allowances of expected saving needed while the bank holds less than one
+                          * allowance; < 0: the ledger is off */
 } c5_stale_thresholds;
 
 typedef struct {

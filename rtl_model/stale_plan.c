@@ -147,3 +147,8 @@ void c5_stale_plan_free(c5_stale_plan *p)
     free(p->pred);
     memset(p, 0, sizeof *p);
 }
+
+void c5_stale_plan_settle(c5_stale_plan *p, const c5_stale_plan *prev, uint64_t fetches)
+{
+    p->bank = (prev ? prev->bank : 0) + (p->valid ? (int64_t)p->maxwork_loads - (int64_t)fetches : 0);
+}

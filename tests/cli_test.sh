@@ -286,6 +286,15 @@ fr = d["frames"]
 assert len(fr) == 8, len(fr)
 assert d["motion"]["orbit_deg"] == 30 and d["motion"]["jumps_seed"] == 5 and d["motion"]["jumps_every"] == 3
 assert [f["jump"] for f in fr] == [i > 0 and i % 3 == 0 for i in range(8)]' "$json"; then ok schedule_motion_json; else bad schedule_motion_json "$json"; fi
+# The ledger (docs/cell-tree.md): the DSP's bank is the exact balance of the path so far,
+# frame by frame, on a path that saves.
+json=$("$cube5" schedule default --size 24x24 --cells 3 --orbit 2 --frames 5 --exact-states 0 --json)
+if python3 -c '
+import json, sys
+fr = json.loads(sys.argv[1])["frames"]
+for i, f in enumerate(fr):
+    assert f["replay"]["bank"] == sum(g["fetches_maxwork"] - g["fetches_celltree"] for g in fr[:i + 1]), i
+assert fr[-1]["replay"]["bank"] > 0' "$json"; then ok schedule_ledger_bank; else bad schedule_ledger_bank "$json"; fi
 expect schedule_stale_check_bad 2 "--stale-check: 'maybe' is not on or off" -- "$cube5" schedule default --stale-check maybe
 for chk in on off; do
     json=$("$cube5" schedule default --size 12x12 --cells 2 --orbit 30 --frames 2 --exact-states 0 --stale-check $chk --json)
