@@ -10,8 +10,9 @@
 # the frame's own tree: no order of loads, whatever chose it, fetches fewer than that
 # frame's optimum.
 # Writes BUILD/bench-sched/: runs/*.json (cube5 schedule --json), bench-sched.json (the
-# table), sched_motion.dat and sched_motion.png (fetches in % of Max Work against degrees a
-# frame, one panel per scene and split). With ../shared/data/volumes/ present, also
+# table), table.md (the table of docs/cell-tree.md, "Camera speed"), sched_motion.dat and
+# sched_motion.png (fetches in % of Max Work against degrees a frame, one panel per scene and
+# split). With ../shared/data/volumes/ present, also
 # brain_mirrors with the CThead CT volume and lobster_tunnel with the lobster CT volume.
 # Environment: SIZE (128x128), FRAMES (8), CELLS ("2 3"), SPEEDS ("0 2 8 30 90"), JUMPS
 # (the jump motion's --jumps value, "7:3"; empty: none), RULES (below), SCENES (the built-in
@@ -113,6 +114,34 @@ for r in rows:
     print("%-24s %5d %8s %-10s %8d %8d %7.1f%% %7.1f%% %6d %8s %8s" % (
         r["case"], r["cells"], r["motion"], r["rule"], r["fetches_maxwork"], r["fetches_celltree"], r["saving_pct"],
         r["worst_frame_pct"], r["frames_over_limit"], r.get("lower_bound", "-"), "-" if r.get("best_known") is None else r["best_known"]))
+# docs/cell-tree.md's table ("Camera speed"): per case, memory fraction and rule, the path's
+# fetches against Max Work's per motion; bold: a frame beyond the limit or the path over Max
+# Work; "(none)": no fetch; then the sum of the proven bounds.
+motions = list(dict.fromkeys(r["motion"] for r in rows))
+cases = list(dict.fromkeys((r["case"], r["cells"]) for r in rows))
+names = {"orbit0": "still", "jumps": "jumps"}
+with open(out + "/table.md", "w") as md:
+    heads = [names.get(m, m.replace("orbit", "") + " deg") for m in motions]
+    md.write("| case | memory | rule | " + " | ".join(heads) + " |\n|---|---|---|" + "---|" * len(motions) + "\n")
+    for case, cells in cases:
+        mem = "1/%d" % cells ** 3
+        label = case.replace("+", " + ")
+        for rule in dict.fromkeys(r["rule"] for r in rows if (r["case"], r["cells"]) == (case, cells)):
+            cols = []
+            for m in motions:
+                r = next(x for x in rows if (x["case"], x["cells"], x["motion"], x["rule"]) == (case, cells, m, rule))
+                mw, ct = r["fetches_maxwork"], r["fetches_celltree"]
+                v = "(none)" if mw == 0 else "0 %" if ct == mw else "%+.1f %%" % (100.0 * (ct - mw) / mw)
+                cols.append("**%s**" % v if r["frames_over_limit"] or ct > mw else v)
+            md.write("| %s | %s | %s | %s |\n" % (label, mem, rule, " | ".join(cols)))
+        cols = []
+        for m in motions:
+            r = next(x for x in rows if (x["case"], x["cells"], x["motion"]) == (case, cells, m))
+            lb = r.get("lower_bound")
+            cols.append("(none)" if not r["fetches_maxwork"] else "-" if lb is None
+                        else "%+.0f %%" % (100.0 * (lb - r["fetches_maxwork"]) / r["fetches_maxwork"]))
+        md.write("| %s | %s | proven bound | %s |\n" % (label, mem, " | ".join(cols)))
+
 print("  (%s, frames 1..%d of %d, each following the previous frame's tree; saving: fewer fetches than Max Work"
       % (size, frames - 1, frames))
 print("   over the path; worst fr: the worst single frame against Max Work, + is more fetches; over: frames beyond")
