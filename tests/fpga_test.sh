@@ -21,11 +21,11 @@ trap 'rm -rf "$tmp"' EXIT
 # Source files in dependency order: packages first, each entity before its users.
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
      fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
-     fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd)
+     fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd)
 TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
-    fpga/tb/tb_interp.vhd)
+    fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd)
 # The datapath blocks' testbenches, each named tb_BLOCK, replayed on BLOCK.SOURCE.hex.
-DATAPATH=(interp)
+DATAPATH=(interp composite)
 
 if ! command -v ghdl >/dev/null 2>&1; then
     bad ghdl_present "ghdl not found: run scripts/setup-deps.sh (installs ghdl)"
@@ -178,5 +178,6 @@ dp_negative() {
     origin=""
 }
 dp_negative interp 2 12 value
+dp_negative composite 2 12 rgb_r_out
 
 summary

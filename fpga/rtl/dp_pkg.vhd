@@ -37,6 +37,10 @@ package dp_pkg is
   type voxel8_t  is array (0 to 7) of voxel_t;   -- corner k = kx + 2 ky + 4 kz
   type diff8_t   is array (0 to 7) of diff_t;
   type diff24_t  is array (0 to 2) of diff8_t;   -- per axis x, y, z
+  -- Colours: the ray's (sample_rgb UQ2.12, the packet's red/green/blue) and a shaded
+  -- sample's (shaded_rgb UQ4.12), r, g, b.
+  type rgb3_t    is array (0 to 2) of std_logic_vector(SIG_SAMPLE_RGB_WIDTH - 1 downto 0);
+  type shaded3_t is array (0 to 2) of std_logic_vector(SIG_SHADED_RGB_WIDTH - 1 downto 0);
   -- The 8 trilinear weights (WT_FRAC fraction bits, 1.0 included: one bit more).
   type wt8_t is array (0 to 7) of unsigned(WT_FRAC downto 0);
 
