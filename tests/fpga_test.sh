@@ -21,11 +21,12 @@ trap 'rm -rf "$tmp"' EXIT
 # Source files in dependency order: packages first, each entity before its users.
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
      fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
-     fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd)
+     fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd
+     fpga/rtl/classify.vhd)
 TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
-    fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd)
+    fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd fpga/tb/tb_classify.vhd)
 # The datapath blocks' testbenches, each named tb_BLOCK, replayed on BLOCK.SOURCE.hex.
-DATAPATH=(interp composite)
+DATAPATH=(interp composite classify)
 
 if ! command -v ghdl >/dev/null 2>&1; then
     bad ghdl_present "ghdl not found: run scripts/setup-deps.sh (installs ghdl)"
@@ -68,7 +69,7 @@ run() {
 images() {
     local base=${2%.hex}
     case $1 in
-        *) ;;
+        classify) echo "-gTABLE=$base.tf.hex" ;;
     esac
 }
 
@@ -179,5 +180,26 @@ dp_negative() {
 }
 dp_negative interp 2 12 value
 dp_negative composite 2 12 rgb_r_out
+dp_negative classify 3 2 r
+# classify with another source's table: the directed vectors' colours no longer come out
+if [ -e "$vectors/classify.directed.hex" ] && [ -e "$vectors/classify.default.tf.hex" ]; then
+    if run tb_classify "$(abs "$vectors/classify.directed.hex")" \
+        "-gTABLE=$(abs "$vectors/classify.default.tf.hex")"; then
+        bad fails_on_wrong_table "tb_classify passed with another scene's table"
+    elif grep -q "^FAIL tb_classify: " "$tmp/out"; then
+        ok fails_on_wrong_table
+    else
+        bad fails_on_wrong_table "no FAIL line" "$(tail -n 5 "$tmp/out")"
+    fi
+fi
+# a table one entry short is refused before any vector
+head -n 255 "$vectors/classify.directed.tf.hex" >"$tmp/short.tf.hex"
+if run tb_classify "$(abs "$vectors/classify.directed.hex")" "-gTABLE=$tmp/short.tf.hex"; then
+    bad fails_on_short_table "tb_classify passed with a 255-entry table"
+elif grep -q "255 entries read" "$tmp/out" && grep -q "^FAIL tb_classify: " "$tmp/out"; then
+    ok fails_on_short_table
+else
+    bad fails_on_short_table "$(tail -n 5 "$tmp/out")"
+fi
 
 summary
