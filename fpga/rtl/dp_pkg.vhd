@@ -43,6 +43,9 @@ package dp_pkg is
   type shaded3_t is array (0 to 2) of std_logic_vector(SIG_SHADED_RGB_WIDTH - 1 downto 0);
   -- A transfer-function entry or a classified sample: r, g, b, a (tf_rgba UQ1.15).
   type rgba4_t   is array (0 to 3) of std_logic_vector(SIG_TF_RGBA_WIDTH - 1 downto 0);
+  -- Per axis x, y, z: the gradient scale (grad_scale UQ1.15) and the gradient (SQ8.8).
+  type gscale3_t is array (0 to 2) of std_logic_vector(SIG_GRAD_SCALE_WIDTH - 1 downto 0);
+  type grad3_t   is array (0 to 2) of std_logic_vector(SIG_GRADIENT_WIDTH - 1 downto 0);
   -- The 8 trilinear weights (WT_FRAC fraction bits, 1.0 included: one bit more).
   type wt8_t is array (0 to 7) of unsigned(WT_FRAC downto 0);
 
