@@ -88,9 +88,11 @@ package body dp_pkg is
   end function rshift_he;
 
   function rshift_he(x : unsigned; s : positive) return unsigned is
+    variable xs : signed(x'length downto 0);  -- x with a zero sign bit
     variable r : signed(x'length - s + 1 downto 0);
   begin
-    r := rshift_he(signed('0' & x), s);
+    xs := signed(resize(x, x'length + 1));
+    r := rshift_he(xs, s);
     return unsigned(r(x'length - s downto 0));
   end function rshift_he;
 
