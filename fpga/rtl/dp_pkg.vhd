@@ -21,6 +21,16 @@ package dp_pkg is
   constant GRADIENT_LATENCY  : positive := 3;
   constant CLASSIFY_LATENCY  : positive := 2;
   constant COMPOSITE_LATENCY : positive := 3;
+  -- shade is a multi-cycle unit (fpga/rtl/shade.vhd has its latency formula): its
+  -- normaliser's operand width (the 32-bit light registers), root and quotient widths.
+  constant SHADE_V_BITS      : positive := 32;
+  constant SHADE_ROOT_BITS   : positive := (2 * SHADE_V_BITS + 28) / 2;  -- sqrt(|v|^2 2^28)
+  constant SHADE_Q_BITS      : positive := SIG_NORMAL_FRAC + 2;          -- |v_a 2^28 / len| <= 2^14 + 1
+  constant SHADE_NORM_CYCLES : positive := SHADE_ROOT_BITS + SHADE_Q_BITS + 3;
+  constant SHADE_FLAT_CYCLES : positive := 3;
+  constant SHADE_REGS        : positive := 4 + 8 * 8;  -- ka kd ks n_lights, 8 light slots of 8
+  constant POW_TABLE_BITS    : positive := 10;         -- 2^10 + 1 entries over N.H in [0, 1]
+  constant POW_ADDR_BITS     : positive := POW_TABLE_BITS + 1;
 
   -- A voxel is the integer part of sample_value (UQ8.8: 8-bit voxels); a central
   -- difference of two voxels needs one bit more, signed.
@@ -46,6 +56,11 @@ package dp_pkg is
   -- Per axis x, y, z: the gradient scale (grad_scale UQ1.15) and the gradient (SQ8.8).
   type gscale3_t is array (0 to 2) of std_logic_vector(SIG_GRAD_SCALE_WIDTH - 1 downto 0);
   type grad3_t   is array (0 to 2) of std_logic_vector(SIG_GRADIENT_WIDTH - 1 downto 0);
+  -- shade's inputs: the table colour r g b (tf_rgba UQ1.15), the sample in geom
+  -- coordinates (geom_coord SQ13.15), the ray's direction (the packet's, SQ1.14).
+  type tf3_t   is array (0 to 2) of std_logic_vector(SIG_TF_RGBA_WIDTH - 1 downto 0);
+  type gpos3_t is array (0 to 2) of std_logic_vector(SIG_GEOM_COORD_WIDTH - 1 downto 0);
+  type dir3_t  is array (0 to 2) of std_logic_vector(RAY_PACKET_DIR_X_WIDTH - 1 downto 0);
   -- The 8 trilinear weights (WT_FRAC fraction bits, 1.0 included: one bit more).
   type wt8_t is array (0 to 7) of unsigned(WT_FRAC downto 0);
 
