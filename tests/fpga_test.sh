@@ -22,12 +22,13 @@ trap 'rm -rf "$tmp"' EXIT
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
      fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
      fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd
-     fpga/rtl/classify.vhd fpga/rtl/gradient.vhd fpga/rtl/shade.vhd)
+     fpga/rtl/classify.vhd fpga/rtl/gradient.vhd fpga/rtl/shade.vhd
+     fpga/rtl/traverse.vhd)
 TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
     fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd fpga/tb/tb_classify.vhd
-    fpga/tb/tb_gradient.vhd fpga/tb/tb_shade.vhd)
+    fpga/tb/tb_gradient.vhd fpga/tb/tb_shade.vhd fpga/tb/tb_traverse.vhd)
 # The datapath blocks' testbenches, each named tb_BLOCK, replayed on BLOCK.SOURCE.hex.
-DATAPATH=(interp composite classify gradient shade)
+DATAPATH=(interp composite classify gradient shade traverse)
 
 if ! command -v ghdl >/dev/null 2>&1; then
     bad ghdl_present "ghdl not found: run scripts/setup-deps.sh (installs ghdl)"
@@ -185,6 +186,7 @@ dp_negative composite 2 12 rgb_r_out
 dp_negative classify 3 2 r
 dp_negative gradient 2 31 grad_x
 dp_negative shade 3 13 rgb_r
+dp_negative traverse 2 19 leaped
 # classify with another source's table: the directed vectors' colours no longer come out
 if [ -e "$vectors/classify.directed.hex" ] && [ -e "$vectors/classify.default.tf.hex" ]; then
     if run tb_classify "$(abs "$vectors/classify.directed.hex")" \

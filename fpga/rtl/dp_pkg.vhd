@@ -31,6 +31,19 @@ package dp_pkg is
   constant SHADE_REGS        : positive := 4 + 8 * 8;  -- ka kd ks n_lights, 8 light slots of 8
   constant POW_TABLE_BITS    : positive := 10;         -- 2^10 + 1 entries over N.H in [0, 1]
   constant POW_ADDR_BITS     : positive := POW_TABLE_BITS + 1;
+  constant TRAVERSE_LATENCY  : positive := 3;
+
+  -- traverse: a position has the step vector's fraction (spec: the position advances by
+  -- exact addition) and is signed, one bit wider than a grid coordinate of GRID_BITS (a
+  -- step or a leap carries it up to 8 voxels outside the grid). GRID_BITS, POS_BITS and
+  -- LEAPED_BITS are the traverse vectors' column widths (vectors/gen/vec_traverse.c);
+  -- spec/layouts.toml declares none of them.
+  constant POS_FRAC    : positive := SIG_STEP_VEC_FRAC;
+  constant GRID_BITS   : positive := 10;
+  constant POS_BITS    : positive := GRID_BITS + 1 + POS_FRAC;    -- SQ10.15
+  constant BLOCK_BITS  : positive := 3;                           -- 8^3 space-leaping blocks
+  constant LEAPED_BITS : positive := BLOCK_BITS + POS_FRAC + 1;   -- up to 8 voxels / 2^-15
+  constant LIFE_NONE   : natural := 2 ** RAY_PACKET_LIFETIME_WIDTH - 1;  -- unbounded
 
   -- A voxel is the integer part of sample_value (UQ8.8: 8-bit voxels); a central
   -- difference of two voxels needs one bit more, signed.
@@ -61,6 +74,10 @@ package dp_pkg is
   type tf3_t   is array (0 to 2) of std_logic_vector(SIG_TF_RGBA_WIDTH - 1 downto 0);
   type gpos3_t is array (0 to 2) of std_logic_vector(SIG_GEOM_COORD_WIDTH - 1 downto 0);
   type dir3_t  is array (0 to 2) of std_logic_vector(RAY_PACKET_DIR_X_WIDTH - 1 downto 0);
+  -- traverse's per-axis vectors
+  type pos3_t  is array (0 to 2) of std_logic_vector(POS_BITS - 1 downto 0);
+  type step3_t is array (0 to 2) of std_logic_vector(SIG_STEP_VEC_WIDTH - 1 downto 0);
+  type grid3_t is array (0 to 2) of std_logic_vector(GRID_BITS - 1 downto 0);
   -- The 8 trilinear weights (WT_FRAC fraction bits, 1.0 included: one bit more).
   type wt8_t is array (0 to 7) of unsigned(WT_FRAC downto 0);
 
