@@ -23,12 +23,13 @@ RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl
      fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
      fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd
      fpga/rtl/classify.vhd fpga/rtl/gradient.vhd fpga/rtl/shade.vhd
-     fpga/rtl/traverse.vhd)
+     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd)
 TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
     fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd fpga/tb/tb_classify.vhd
-    fpga/tb/tb_gradient.vhd fpga/tb/tb_shade.vhd fpga/tb/tb_traverse.vhd)
+    fpga/tb/tb_gradient.vhd fpga/tb/tb_shade.vhd fpga/tb/tb_traverse.vhd
+    fpga/tb/tb_cell_tree.vhd)
 # The datapath blocks' testbenches, each named tb_BLOCK, replayed on BLOCK.SOURCE.hex.
-DATAPATH=(interp composite classify gradient shade traverse)
+DATAPATH=(interp composite classify gradient shade traverse cell_tree)
 
 if ! command -v ghdl >/dev/null 2>&1; then
     bad ghdl_present "ghdl not found: run scripts/setup-deps.sh (installs ghdl)"
@@ -73,6 +74,7 @@ images() {
     case $1 in
         classify) echo "-gTABLE=$base.tf.hex" ;;
         shade) echo "-gREGS=$base.regs.hex"; echo "-gPOW=$base.pow.hex" ;;
+        cell_tree) echo "-gRAM=$base.ram_final.hex"; echo "-gROOTS=$base.roots_final.hex" ;;
     esac
 }
 
@@ -187,6 +189,19 @@ dp_negative classify 3 2 r
 dp_negative gradient 2 31 grad_x
 dp_negative shade 3 13 rgb_r
 dp_negative traverse 2 19 leaped
+dp_negative cell_tree 4 3 node_out
+# the Cell Tree's final images: one bit of one slot flipped in a copy of ram_final
+if [ -e "$vectors/cell_tree.directed.hex" ]; then
+    flip "$vectors/cell_tree.directed.ram_final.hex" 3 1 "$tmp/ram_final.flipped.hex"
+    if run tb_cell_tree "$(abs "$vectors/cell_tree.directed.hex")" "-gRAM=$tmp/ram_final.flipped.hex" \
+        "-gROOTS=$(abs "$vectors/cell_tree.directed.roots_final.hex")"; then
+        bad fails_on_flipped_ram_image "tb_cell_tree passed a corrupted RAM image"
+    elif grep -qF "line 3: ram_final slot 2: expected" "$tmp/out" && grep -q "^FAIL tb_cell_tree: 1 error in" "$tmp/out"; then
+        ok fails_on_flipped_ram_image
+    else
+        bad fails_on_flipped_ram_image "$(grep -E '^(PASS|FAIL)|error' "$tmp/out" | head -n 5)"
+    fi
+fi
 # classify with another source's table: the directed vectors' colours no longer come out
 if [ -e "$vectors/classify.directed.hex" ] && [ -e "$vectors/classify.default.tf.hex" ]; then
     if run tb_classify "$(abs "$vectors/classify.directed.hex")" \
