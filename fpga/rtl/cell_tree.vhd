@@ -148,11 +148,6 @@ begin
       st <= IDLE;
     end procedure finish;
 
-    -- takes k slots, or freezes the tree: true when they fit
-    impure function fits(m : positive) return boolean is
-    begin
-      return n_used + m <= CAPACITY;
-    end function fits;
   begin
     if rising_edge(clk) then
       out_valid <= '0';
@@ -189,7 +184,7 @@ begin
         when ROOT_RD =>
           if unsigned(root_q) /= NONE then
             finish(unsigned(root_q));
-          elsif not fits(1) then
+          elsif n_used + 1 > CAPACITY then
             over <= true;
             finish(NONE);
           else  -- the cell's root, in the next free slot
@@ -256,7 +251,7 @@ begin
             end if;
           end loop;
           if free < N_KIDS then
-            if not fits(1) then
+            if n_used + 1 > CAPACITY then
               over <= true;
               finish(NONE);
             else
@@ -269,7 +264,7 @@ begin
               n_used <= n_used + 1;
               st <= WRITE_BACK;
             end if;
-          elsif not fits(2) then
+          elsif n_used + 2 > CAPACITY then
             over <= true;
             finish(NONE);
           else  -- the new node at used + 1; the extension slot (used) next cycle
