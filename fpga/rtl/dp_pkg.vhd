@@ -86,6 +86,8 @@ package dp_pkg is
   function rshift_he(x : signed; s : positive) return signed;
   -- The same for unsigned x (a zero sign bit added; the result has no sign bit).
   function rshift_he(x : unsigned; s : positive) return unsigned;
+  -- |x|, one bit wider (written out: ghdl --synth's Verilog output has no abs).
+  function magnitude(x : signed) return unsigned;
   -- x clamped to [lo, hi], returned in `width` bits (signed: lo may be negative).
   function clamp(x : signed; lo, hi : integer; width : positive) return signed;
   -- 1 when x lies outside [lo, hi] (c5_clamp64 counts one saturation).
@@ -127,6 +129,15 @@ package body dp_pkg is
     r := rshift_he(xs, s);
     return unsigned(r(x'length - s downto 0));
   end function rshift_he;
+
+  function magnitude(x : signed) return unsigned is
+    variable w : signed(x'length downto 0) := resize(x, x'length + 1);
+  begin
+    if w < 0 then
+      w := -w;
+    end if;
+    return unsigned(w);
+  end function magnitude;
 
   function clamp(x : signed; lo, hi : integer; width : positive) return signed is
   begin

@@ -231,7 +231,7 @@ begin
             -- the partial remainders start at |v_a| 2^28 / 2^Q_BITS (below the root, as
             -- |v_a| <= |v|): Q_BITS quotient bits remain, the dividend's low bits are 0
             for a in 0 to 2 loop
-              num(a) <= shift_left(resize(unsigned(abs(resize(nv(a), V_BITS + 1))), P_BITS), 28 - Q_BITS);
+              num(a) <= shift_left(resize(magnitude(nv(a)), P_BITS), 28 - Q_BITS);
               quo(a) <= (others => '0');
             end loop;
             step <= Q_BITS;

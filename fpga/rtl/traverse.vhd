@@ -87,7 +87,6 @@ begin
   process (clk)
     variable p, e, lo, hi, v, b, blo, bhi, num : signed(W_BITS - 1 downto 0);
     variable sa     : signed(SIG_STEP_VEC_WIDTH - 1 downto 0);
-    variable sabs   : signed(den_t'length downto 0);
     variable inside : boolean;
     variable m, n   : n_t;
     variable life   : unsigned(lifetime'range);
@@ -121,8 +120,7 @@ begin
           num := p - shift_left(blo, POS_FRAC);
         end if;
         s1_num(a) <= unsigned(num(num_t'range));
-        sabs := abs(resize(sa, den_t'length + 1));
-        s1_den(a) <= unsigned(sabs(den_t'range));
+        s1_den(a) <= resize(magnitude(sa), den_t'length);
         s1_up(a) <= '1' when sa < 0 else '0';
       end loop;
       if unsigned(lifetime) = 0 or not inside then
