@@ -57,7 +57,7 @@ REGS_H      := $(BUILD)/gen/c5_regs_map.h
 REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
-.PHONY: all demo test asan bench bench-sched bench-peer tb results accuracy deps docs golden fpga-report fuzz clean
+.PHONY: all demo test asan bench bench-sched bench-peer tb results accuracy deps docs golden coverage fpga-report fuzz clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 # The fuzz harnesses (fuzz/, docs/fuzzing.md) built with this toolchain on a replay main:
 # `make test` replays the committed corpus through them (no clang, no libFuzzer).
@@ -217,6 +217,10 @@ results: $(BUILD)/cube5
 GOLDEN_ARGS := --seed 1 --count 128 --size 64x64 --cells 2
 golden: $(BUILD)/cube5
 	$(BUILD)/cube5 vectors --out vectors/golden $(GOLDEN_ARGS)
+
+# Functional coverage of the golden vectors against spec/coverage.toml (docs/vectors.md).
+coverage:
+	python3 scripts/vectors_coverage.py vectors/golden --all
 
 # The sweeps behind docs/accuracy.md into docs/accuracy/ (scripts/accuracy.sh, about 2 minutes).
 accuracy: $(BUILD)/cube5
