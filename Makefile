@@ -179,6 +179,14 @@ $(BUILD)/fuzz/replay-%: $(BUILD)/fuzz/fuzz_%.o $(BUILD)/fuzz/replay_main.o $(BUI
 fuzz: $(LAYOUTS_H) $(REGS_H)
 	bash fuzz/run.sh $(BUILD)
 
+# The model's blocks as a live reference for GHDL (fpga/ref/, VHPIDIRECT; docs/vectors.md).
+# Never sanitized: GHDL's process, which loads it, has no sanitizer runtime.
+REF_SO := $(BUILD)/libc5ref.so
+REF_SRC := $(wildcard fpga/ref/*.c) rtl_model/ray_queue.c
+$(REF_SO): $(REF_SRC) rtl_model/ray_queue.h $(LAYOUTS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -o $@ $(REF_SRC)
+
 demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
@@ -186,13 +194,6 @@ demo: $(BUILD)/cube5
 test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) $(REF_SO) | $(DEPS_TEST)
 	bash tests/run.sh $(BUILD)
 
-# The model's blocks as a live reference for GHDL (fpga/ref/, VHPIDIRECT; docs/vectors.md).
-# Never sanitized: GHDL's process, which loads it, has no sanitizer runtime.
-REF_SO := $(BUILD)/libc5ref.so
-REF_SRC := $(wildcard fpga/ref/*.c) rtl_model/ray_queue.c
-$(REF_SO): $(REF_SRC) $(wildcard rtl_model/ray_queue.h)
-	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -o $@ $(REF_SRC)
 
 # The full regression tier: golden replay in C and VHDL, coverage, N seeds of random vectors
 # through every testbench and of the VHDL against the live model (scripts/regress.sh; env

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# The model inside the simulator (docs/vectors.md): GHDL runs fpga/tb/tb_ray_queue_live.vhd,
-# which drives seeded random stimulus into fpga/rtl/ray_queue.vhd and checks every output,
-# every cycle, against the C model's sorter called through VHPIDIRECT (BUILD/libc5ref.so).
-# Each seed must PASS, and the first again with the same figures (the stimulus comes from the
-# seed alone); with the reference told to be wrong in one cycle (C5REF_FAULT) the run must
-# FAIL naming the seed, the cycle, the port and both values. Usage: live_test.sh [BUILD]
-# [SEEDS] [CYCLES] (defaults build/, "1 2", 1200; `make regress` runs more).
+# The model inside the simulator (docs/vectors.md): GHDL runs the `_live` testbenches, which
+# drive seeded random stimulus into the VHDL and check every output against the C model
+# called through VHPIDIRECT (BUILD/libc5ref.so): tb_ray_queue_live (fpga/rtl/ray_queue.vhd,
+# every cycle) and tb_ray_packet_codec_live (fpga/rtl/ray_packet_codec.vhd, every field and
+# the packed packet). Each seed must PASS, and the first again with the same figures (the
+# stimulus comes from the seed alone); with the reference told to be wrong once
+# (C5REF_FAULT) a run must FAIL naming the seed, where, the port or field and both values.
+# Usage: live_test.sh [BUILD] [SEEDS] [CYCLES] (defaults build/, "1 2", 1200 queue cycles;
+# the codec runs 8 packets a cycle; `make regress` runs more).
 set -u
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -24,13 +26,15 @@ rm -rf "$work"
 mkdir -p "$work"
 cp "$build/libc5ref.so" "$work/" # the foreign attribute names ./libc5ref.so
 src=("$build/gen/c5_layouts_pkg.vhd" fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd
-     fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd fpga/tb/c5ref_pkg.vhd fpga/tb/tb_ray_queue_live.vhd)
+     fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd fpga/tb/c5ref_pkg.vhd
+     fpga/tb/tb_ray_queue_live.vhd fpga/tb/tb_ray_packet_codec_live.vhd)
 if ! ghdl -a --std=08 --workdir="$work" "${src[@]}" 2>"$tmp/err" ||
-    ! (cd "$work" && ghdl -e --std=08 tb_ray_queue_live) 2>>"$tmp/err"; then
+    ! (cd "$work" && ghdl -e --std=08 tb_ray_queue_live && ghdl -e --std=08 tb_ray_packet_codec_live) 2>>"$tmp/err"; then
     bad analyse_live "$(head -n 10 "$tmp/err")"
     summary
 fi
 run() { (cd "$work" && ghdl -r --std=08 tb_ray_queue_live "-gSEED=$1" "-gCYCLES=$cycles") >"$2" 2>&1; }
+codec() { (cd "$work" && ghdl -r --std=08 tb_ray_packet_codec_live "-gSEED=$1" "-gPACKETS=$((8 * cycles))") >"$2" 2>&1; }
 
 # Every seed passes and fills the queue; the first seed twice, with the same figures.
 first=${seeds%% *}
@@ -42,6 +46,11 @@ for s in $seeds; do
         bad "ray_queue_live_seed_$s" "$(grep -E 'PASS|FAIL|error' "$tmp/a" | head -n 5)"
     fi
     [ "$s" = "$first" ] && cp "$tmp/a" "$tmp/first"
+    if codec "$s" "$tmp/c" && grep -q "PASS tb_ray_packet_codec_live: seed $s, $((8 * cycles)) packets" "$tmp/c"; then
+        ok "ray_packet_codec_live_seed_$s"
+    else
+        bad "ray_packet_codec_live_seed_$s" "$(grep -E 'PASS|FAIL|error' "$tmp/c" | head -n 5)"
+    fi
 done
 if run "$first" "$tmp/b" && [ "$(grep -o 'PASS.*' "$tmp/first")" = "$(grep -o 'PASS.*' "$tmp/b")" ]; then
     ok live_seed_reproduces
@@ -54,5 +63,12 @@ elif grep -q "FAIL tb_ray_queue_live: seed $first cycle 700: pop_key: model [0-9
     ok live_fails_on_a_wrong_output
 else
     bad live_fails_on_a_wrong_output "$(grep -E 'PASS|FAIL|error' "$tmp/f" | head -n 5)"
+fi
+if C5REF_FAULT=77 codec "$first" "$tmp/f"; then
+    bad codec_live_fails_on_a_wrong_field "a wrong reference field passed"
+elif grep -q "FAIL tb_ray_packet_codec_live: seed $first packet 77: pos_x: model [0-9-]*, VHDL [0-9-]*" "$tmp/f"; then
+    ok codec_live_fails_on_a_wrong_field
+else
+    bad codec_live_fails_on_a_wrong_field "$(grep -E 'PASS|FAIL|error' "$tmp/f" | head -n 5)"
 fi
 summary

@@ -10,6 +10,15 @@ package c5ref_pkg is
   attribute foreign of c5ref_rq_step : function is "VHPIDIRECT ./libc5ref.so c5ref_rq_step";
   impure function c5ref_rq_out(k : integer) return integer;
   attribute foreign of c5ref_rq_out : function is "VHPIDIRECT ./libc5ref.so c5ref_rq_out";
+  -- the ray packet codec (fpga/ref/c5ref_packet.c)
+  impure function c5ref_pk_set(i, word : integer) return integer;
+  attribute foreign of c5ref_pk_set : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_set";
+  impure function c5ref_pk_run return integer;
+  attribute foreign of c5ref_pk_run : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_run";
+  impure function c5ref_pk_field(k : integer) return integer;
+  attribute foreign of c5ref_pk_field : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_field";
+  impure function c5ref_pk_word(i : integer) return integer;
+  attribute foreign of c5ref_pk_word : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_word";
 end package c5ref_pkg;
 
 package body c5ref_pkg is
@@ -27,6 +36,26 @@ package body c5ref_pkg is
   impure function c5ref_rq_out(k : integer) return integer is
   begin
     report "c5ref_rq_out: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_pk_set(i, word : integer) return integer is
+  begin
+    report "c5ref_pk_set: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_pk_run return integer is
+  begin
+    report "c5ref_pk_run: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_pk_field(k : integer) return integer is
+  begin
+    report "c5ref_pk_field: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_pk_word(i : integer) return integer is
+  begin
+    report "c5ref_pk_word: libc5ref.so not bound" severity failure;
     return 0;
   end function;
 end package body c5ref_pkg;
