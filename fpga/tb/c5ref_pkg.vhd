@@ -2,7 +2,14 @@
 -- functions through VHPIDIRECT, loading ./libc5ref.so from the directory the simulation
 -- runs in (tests/live_test.sh copies it there). Each body only runs when the library could
 -- not be bound, and then stops the simulation.
+use std.env.all;
+
 package c5ref_pkg is
+  -- A `_live` testbench's check: a difference ends the run with
+  -- "FAIL TB: seed S WHAT N: NAME: model X, VHDL Y" and exit status 1.
+  procedure live_expect(tb : string; seed : positive; what : string; n : natural; name : string;
+                        model, vhdl : integer);
+
   impure function c5ref_rq_reset(capacity, key_bits : integer) return integer;
   attribute foreign of c5ref_rq_reset : function is "VHPIDIRECT ./libc5ref.so c5ref_rq_reset";
   impure function c5ref_rq_step(insert_valid, insert_key, insert_payload, pop_ready : integer)
@@ -22,6 +29,16 @@ package c5ref_pkg is
 end package c5ref_pkg;
 
 package body c5ref_pkg is
+  procedure live_expect(tb : string; seed : positive; what : string; n : natural; name : string;
+                        model, vhdl : integer) is
+  begin
+    if model /= vhdl then
+      report "FAIL " & tb & ": seed " & integer'image(seed) & " " & what & " " & integer'image(n) & ": " &
+        name & ": model " & integer'image(model) & ", VHDL " & integer'image(vhdl) severity note;
+      finish(1);
+    end if;
+  end procedure;
+
   impure function c5ref_rq_reset(capacity, key_bits : integer) return integer is
   begin
     report "c5ref_rq_reset: libc5ref.so not bound" severity failure;

@@ -39,11 +39,7 @@ begin
 
     procedure expect(n : natural; name : string; model, vhdl : integer) is
     begin
-      if model /= vhdl then
-        report "FAIL tb_ray_packet_codec_live: seed " & integer'image(SEED) & " packet " & integer'image(n) &
-          ": " & name & ": model " & integer'image(model) & ", VHDL " & integer'image(vhdl) severity note;
-        finish(1);
-      end if;
+      live_expect("tb_ray_packet_codec_live", SEED, "packet", n, name, model, vhdl);
     end procedure;
 
     -- field k of the model against a DUT field (signed fields as negative numbers)

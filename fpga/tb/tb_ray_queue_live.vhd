@@ -66,14 +66,9 @@ begin
       return 0;
     end function;
 
-    -- The first difference ends the run.
     procedure expect(cyc : natural; name : string; model, vhdl : integer) is
     begin
-      if model /= vhdl then
-        report "FAIL tb_ray_queue_live: seed " & integer'image(SEED) & " cycle " & integer'image(cyc) &
-          ": " & name & ": model " & integer'image(model) & ", VHDL " & integer'image(vhdl) severity note;
-        finish(1);
-      end if;
+      live_expect("tb_ray_queue_live", SEED, "cycle", cyc, name, model, vhdl);
     end procedure;
   begin
     assert c5ref_rq_reset(CAPACITY, 32) = 0 report "the model refused the configuration" severity failure;
