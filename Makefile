@@ -57,7 +57,7 @@ REGS_H      := $(BUILD)/gen/c5_regs_map.h
 REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
-.PHONY: all demo test asan bench bench-sched bench-peer tb results accuracy deps docs golden fpga-report fuzz clean
+.PHONY: all demo test regress asan bench bench-sched bench-peer tb results accuracy deps docs golden coverage fpga-report fuzz clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 # The fuzz harnesses (fuzz/, docs/fuzzing.md) built with this toolchain on a replay main:
 # `make test` replays the committed corpus through them (no clang, no libFuzzer).
@@ -179,12 +179,27 @@ $(BUILD)/fuzz/replay-%: $(BUILD)/fuzz/fuzz_%.o $(BUILD)/fuzz/replay_main.o $(BUI
 fuzz: $(LAYOUTS_H) $(REGS_H)
 	bash fuzz/run.sh $(BUILD)
 
+# The model's blocks as a live reference for GHDL (fpga/ref/, VHPIDIRECT; docs/vectors.md).
+# Never sanitized: GHDL's process, which loads it, has no sanitizer runtime.
+REF_SO := $(BUILD)/libc5ref.so
+REF_SRC := $(wildcard fpga/ref/*.c) rtl_model/ray_queue.c
+$(REF_SO): $(REF_SRC) rtl_model/ray_queue.h $(LAYOUTS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -o $@ $(REF_SRC)
+
 demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) | $(DEPS_TEST)
+test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) $(REF_SO) | $(DEPS_TEST)
 	bash tests/run.sh $(BUILD)
+
+
+# The full regression tier: golden replay in C and VHDL, coverage, N seeds of random vectors
+# through every testbench and of the VHDL against the live model (scripts/regress.sh; env
+# SEEDS, COUNT, CYCLES).
+regress: $(BUILD)/cube5 $(LAYOUTS_VHD) $(REF_SO) | $(DEPS_TEST)
+	bash scripts/regress.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.
 asan:
@@ -217,6 +232,10 @@ results: $(BUILD)/cube5
 GOLDEN_ARGS := --seed 1 --count 128 --size 64x64 --cells 2
 golden: $(BUILD)/cube5
 	$(BUILD)/cube5 vectors --out vectors/golden $(GOLDEN_ARGS)
+
+# Functional coverage of the golden vectors against spec/coverage.toml (docs/vectors.md).
+coverage:
+	python3 scripts/vectors_coverage.py vectors/golden --all
 
 # The sweeps behind docs/accuracy.md into docs/accuracy/ (scripts/accuracy.sh, about 2 minutes).
 accuracy: $(BUILD)/cube5

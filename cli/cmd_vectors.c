@@ -11,7 +11,7 @@
 
 static const char usage_text[] =
     "usage: cube5 vectors [--out DIR] [--scene S ...] [--count N] [--seed N] [--size WxH] [--cells N|NxMxK]\n"
-    "                     [--progress]\n\n"
+    "                     [--vcd] [--progress]\n\n"
     "Writes input and expected-output vectors for every block of the board model into DIR\n"
     "(default out/vectors): BLOCK.SOURCE.hex files (hex text, one vector per line, fixed\n"
     "columns) and manifest.json (each file's block, fields, widths, count, seed, scene and\n"
@@ -26,14 +26,17 @@ static const char usage_text[] =
     "                  first cycles of a trace); default 256\n"
     "  --seed N        seed of the random cases and samples (default 1)\n"
     "  --size WxH      image size of the scenes (default 64x64)\n"
-    "  --cells N|NxMxK cell split of the scenes (default 2: 8 cells)\n" C5_PROGRESS_HELP;
+    "  --cells N|NxMxK cell split of the scenes (default 2: 8 cells)\n"
+    "  --vcd           also each vector file's waveform, BLOCK.SOURCE.vcd: one clock cycle a\n"
+    "                  vector on the testbenches' 10 ns clock, the fields as signals, to load\n"
+    "                  beside GHDL's --vcd of the testbench in GTKWave (docs/vectors.md)\n" C5_PROGRESS_HELP;
 
 #define MAX_SCENES 32
 
 typedef struct {
     const char *out;
     const char *scenes[MAX_SCENES];
-    int n_scenes, no_scenes, w, h, cells[3];
+    int n_scenes, no_scenes, w, h, cells[3], vcd;
     long count, seed;
 } vec_args;
 
@@ -47,6 +50,10 @@ static int parse_args(int argc, char **argv, vec_args *a, c5_err *err)
     a->cells[0] = a->cells[1] = a->cells[2] = 2;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
+        if (!strcmp(o, "--vcd")) {
+            a->vcd = 1;
+            continue;
+        }
         if (strcmp(o, "--out") && strcmp(o, "--scene") && strcmp(o, "--count") && strcmp(o, "--seed") &&
             strcmp(o, "--size") && strcmp(o, "--cells"))
             return c5_fail(err, "vectors: unknown option or argument '%s' (see 'cube5 vectors --help')", o);
@@ -142,6 +149,7 @@ int c5_cmd_vectors(int argc, char **argv)
         fprintf(stderr, "cube5: error: %s\n", err.msg);
         return C5_EXIT_INPUT;
     }
+    set.vcd = a.vcd;
     int rc = 0;
     c5_progress prog;
     c5_progress_begin(&prog, "vectors", c5_n_vblock_gens + a.n_scenes);

@@ -28,8 +28,11 @@ run_suite bash tests/prefetch_test.sh "$build"
 run_suite bash tests/layouts_test.sh
 run_suite bash tests/regmap_test.sh
 run_suite bash tests/vectors_test.sh "$build"
+run_suite bash tests/coverage_test.sh
 run_suite bash tests/fingerprint_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
+run_suite bash tests/vcd_test.sh "$build"
+run_suite bash tests/live_test.sh "$build"
 run_suite bash tests/link_test.sh "$build"
 run_suite bash tests/pipefail_lint_test.sh
 run_suite bash tests/man_test.sh "$build"

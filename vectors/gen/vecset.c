@@ -1,5 +1,6 @@
 /* The vector set writer (vecset.h). */
 #include "vecset.h"
+#include "vcd.h"
 
 #include <assert.h>
 #include <dirent.h>
@@ -13,6 +14,7 @@ struct c5_vfile {
     c5_vset *set;
     const c5_vblock *b;
     FILE *f;
+    c5_vcd *vcd;        /* the waveform, or NULL */
     char name[512];
     json_t *entry;
     int field;          /* next field of the current vector */
@@ -57,13 +59,16 @@ static int clear_dir(const char *dir, c5_err *err)
     size_t i;
     json_t *f;
     json_array_foreach(json_object_get(m, "files"), i, f) {
-        const char *name = json_string_value(json_object_get(f, "file"));
-        if (!name || strchr(name, '/') || name[0] == '.')
-            continue; /* not a file this program wrote */
-        snprintf(path, sizeof path, "%s/%s", dir, name);
-        if (remove(path) != 0 && errno != ENOENT) {
-            json_decref(m);
-            return c5_fail(err, "cannot remove %s: %s", path, strerror(errno));
+        static const char *const kinds[] = {"file", "waveform"};
+        for (int k = 0; k < 2; k++) {
+            const char *name = json_string_value(json_object_get(f, kinds[k]));
+            if (!name || strchr(name, '/') || name[0] == '.')
+                continue; /* not a file this program wrote */
+            snprintf(path, sizeof path, "%s/%s", dir, name);
+            if (remove(path) != 0 && errno != ENOENT) {
+                json_decref(m);
+                return c5_fail(err, "cannot remove %s: %s", path, strerror(errno));
+            }
         }
     }
     json_decref(m);
@@ -148,6 +153,14 @@ c5_vfile *c5_vfile_open(c5_vset *s, const c5_vblock *b, const char *source, cons
     }
     f->crc = crc32(0L, Z_NULL, 0);
     f->entry = json_object();
+    if (s->vcd && !image) {
+        char wave[512];
+        snprintf(wave, sizeof wave, "%s.%s.vcd", b->name, source);
+        snprintf(path, sizeof path, "%s/%s", s->dir, wave);
+        if (!(f->vcd = c5_vcd_open(path, b)))
+            set_fail(s, "cannot create", path);
+        json_object_set_new(f->entry, "waveform", json_string(wave));
+    }
     json_object_set_new(f->entry, "file", json_string(f->name));
     json_object_set_new(f->entry, "block", json_string(b->name));
     json_object_set_new(f->entry, "kind", json_string(image ? "image" : "vectors"));
@@ -215,6 +228,8 @@ void c5_vfile_end(c5_vfile *f)
     if (fwrite(f->line, 1, f->len, f->f) != f->len)
         set_fail(f->set, "cannot write", f->name);
     f->crc = crc32(f->crc, (const Bytef *)f->line, (uInt)f->len);
+    if (f->vcd && c5_vcd_vector(f->vcd, f->line) != 0)
+        set_fail(f->set, "cannot write the waveform of", f->name);
     f->len = 0;
     f->field = 0;
     f->count++;
@@ -231,6 +246,8 @@ void c5_vfile_close(c5_vfile *f)
     assert(f->field == 0);
     if (fclose(f->f) != 0)
         set_fail(f->set, "cannot write", f->name);
+    if (f->vcd && c5_vcd_close(f->vcd) != 0)
+        set_fail(f->set, "cannot write the waveform of", f->name);
     char crc[32];
     snprintf(crc, sizeof crc, "crc32:%08lx", (unsigned long)f->crc);
     json_object_set_new(f->entry, "count", json_integer(f->count));

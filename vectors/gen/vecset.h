@@ -45,6 +45,7 @@ typedef struct {
     json_t *files;      /* manifest entries, in the order the files were closed */
     c5_err *err;
     int failed;         /* an I/O error happened; the first message is in *err */
+    int vcd;            /* 1: each vector file gets its waveform, BLOCK.SOURCE.vcd (vcd.h) */
 } c5_vset;
 
 /* Starts a set writing into dir: created if missing; an earlier set in it is removed (its
@@ -56,7 +57,8 @@ int c5_vset_finish(c5_vset *s, json_t *params);
 /* Frees without writing the manifest. */
 void c5_vset_abort(c5_vset *s);
 
-/* Opens BLOCK.SOURCE.hex (image NULL: the block's vectors) or BLOCK.SOURCE.IMAGE.hex (a
+/* Opens BLOCK.SOURCE.hex (image NULL: the block's vectors, and with s->vcd their waveform
+ * BLOCK.SOURCE.vcd, the manifest entry's "waveform") or BLOCK.SOURCE.IMAGE.hex (a
  * memory image of the block, whose "fields" are one entry's). source: "directed" or the
  * scene's name; scene: the scene's name, NULL for directed vectors. NULL on an error
  * (reported through the set). */

@@ -1,0 +1,78 @@
+-- The C model as a live reference (fpga/ref/, built into libc5ref.so): GHDL calls these
+-- functions through VHPIDIRECT, loading ./libc5ref.so from the directory the simulation
+-- runs in (tests/live_test.sh copies it there). Each body only runs when the library could
+-- not be bound, and then stops the simulation.
+use std.env.all;
+
+package c5ref_pkg is
+  -- A `_live` testbench's check: a difference ends the run with
+  -- "FAIL TB: seed S WHAT N: NAME: model X, VHDL Y" and exit status 1.
+  procedure live_expect(tb : string; seed : positive; what : string; n : natural; name : string;
+                        model, vhdl : integer);
+
+  impure function c5ref_rq_reset(capacity, key_bits : integer) return integer;
+  attribute foreign of c5ref_rq_reset : function is "VHPIDIRECT ./libc5ref.so c5ref_rq_reset";
+  impure function c5ref_rq_step(insert_valid, insert_key, insert_payload, pop_ready : integer)
+    return integer;
+  attribute foreign of c5ref_rq_step : function is "VHPIDIRECT ./libc5ref.so c5ref_rq_step";
+  impure function c5ref_rq_out(k : integer) return integer;
+  attribute foreign of c5ref_rq_out : function is "VHPIDIRECT ./libc5ref.so c5ref_rq_out";
+  -- the ray packet codec (fpga/ref/c5ref_packet.c)
+  impure function c5ref_pk_set(i, word : integer) return integer;
+  attribute foreign of c5ref_pk_set : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_set";
+  impure function c5ref_pk_run return integer;
+  attribute foreign of c5ref_pk_run : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_run";
+  impure function c5ref_pk_field(k : integer) return integer;
+  attribute foreign of c5ref_pk_field : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_field";
+  impure function c5ref_pk_word(i : integer) return integer;
+  attribute foreign of c5ref_pk_word : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_word";
+end package c5ref_pkg;
+
+package body c5ref_pkg is
+  procedure live_expect(tb : string; seed : positive; what : string; n : natural; name : string;
+                        model, vhdl : integer) is
+  begin
+    if model /= vhdl then
+      report "FAIL " & tb & ": seed " & integer'image(seed) & " " & what & " " & integer'image(n) & ": " &
+        name & ": model " & integer'image(model) & ", VHDL " & integer'image(vhdl) severity note;
+      finish(1);
+    end if;
+  end procedure;
+
+  impure function c5ref_rq_reset(capacity, key_bits : integer) return integer is
+  begin
+    report "c5ref_rq_reset: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_rq_step(insert_valid, insert_key, insert_payload, pop_ready : integer)
+    return integer is
+  begin
+    report "c5ref_rq_step: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_rq_out(k : integer) return integer is
+  begin
+    report "c5ref_rq_out: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_pk_set(i, word : integer) return integer is
+  begin
+    report "c5ref_pk_set: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_pk_run return integer is
+  begin
+    report "c5ref_pk_run: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_pk_field(k : integer) return integer is
+  begin
+    report "c5ref_pk_field: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_pk_word(i : integer) return integer is
+  begin
+    report "c5ref_pk_word: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+end package body c5ref_pkg;

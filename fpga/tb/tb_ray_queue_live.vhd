@@ -1,0 +1,129 @@
+-- The ray queue against the C model running beside it (docs/vectors.md, "The model inside
+-- the simulator"): seeded random stimulus drives fpga/rtl/ray_queue.vhd and, every cycle,
+-- the model's sorter through VHPIDIRECT (c5ref_pkg); every output is compared in the cycle
+-- it is produced. The stimulus comes from SEED alone (ieee.math_real.uniform), in phases
+-- that fill the queue to full and past it (refused inserts, pop + insert while full),
+-- drain it to empty (pops on an empty queue) and mix, with keys drawn from a small range
+-- (equal keys in flight), the extremes and the whole 32 bits. The first mismatch ends the
+-- run: "FAIL tb_ray_queue_live: seed S cycle N: PORT: model X, VHDL Y" (exit status 1);
+-- otherwise "PASS tb_ray_queue_live: seed S, N cycles, ..." (status 0).
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+use ieee.math_real.all;
+use std.env.all;
+use work.rq_pkg.all;
+use work.c5ref_pkg.all;
+
+entity tb_ray_queue_live is
+  generic (SEED : positive := 1; CYCLES : positive := 5000; CAPACITY : positive := 256);
+end entity tb_ray_queue_live;
+
+architecture sim of tb_ray_queue_live is
+  constant HALF : time := 5 ns;
+  signal clk, rst : std_logic := '0';
+  signal insert_valid, pop_ready : std_logic := '0';
+  signal insert_key, insert_payload : std_logic_vector(31 downto 0) := (others => '0');
+  signal pop_valid, insert_accepted, full, empty : std_logic;
+  signal pop_key, pop_payload : std_logic_vector(31 downto 0);
+  signal count : std_logic_vector(clog2(CAPACITY + 1) - 1 downto 0);
+begin
+  dut : entity work.ray_queue
+    generic map (CAPACITY => CAPACITY, KEY_BITS => 32, PAYLOAD_BITS => 32)
+    port map (
+      clk => clk, rst => rst,
+      insert_valid => insert_valid, insert_key => insert_key,
+      insert_payload => insert_payload, pop_ready => pop_ready,
+      pop_valid => pop_valid, pop_key => pop_key, pop_payload => pop_payload,
+      insert_accepted => insert_accepted, full => full, count => count, empty => empty);
+
+  run : process
+    variable s1 : positive := SEED;
+    variable s2 : positive := 20261127;
+    variable x : real;
+    variable p_ins, p_pop : real;
+    variable key : std_logic_vector(31 downto 0);
+    variable ins, pop : std_logic;
+    variable rc, nfull, nrefused : integer := 0;
+
+    impure function draw return real is
+      variable r : real;
+    begin
+      uniform(s1, s2, r);
+      return r;
+    end function;
+
+    impure function half16 return std_logic_vector is
+    begin
+      return std_logic_vector(to_unsigned(integer(floor(draw * 65536.0)) mod 65536, 16));
+    end function;
+
+    function bit_int(b : std_logic) return integer is
+    begin
+      if b = '1' then
+        return 1;
+      end if;
+      return 0;
+    end function;
+
+    procedure expect(cyc : natural; name : string; model, vhdl : integer) is
+    begin
+      live_expect("tb_ray_queue_live", SEED, "cycle", cyc, name, model, vhdl);
+    end procedure;
+  begin
+    assert c5ref_rq_reset(CAPACITY, 32) = 0 report "the model refused the configuration" severity failure;
+    rst <= '1';
+    wait for HALF;
+    clk <= '1';
+    wait for HALF;
+    clk <= '0';
+    rst <= '0';
+    for cyc in 0 to CYCLES - 1 loop
+      -- phases of 400 cycles: fill past full, drain past empty, mixed
+      case (cyc / 400) mod 3 is
+        when 0 => p_ins := 0.95; p_pop := 0.05;
+        when 1 => p_ins := 0.15; p_pop := 0.95;
+        when others => p_ins := 0.6; p_pop := 0.5;
+      end case;
+      ins := '0';
+      pop := '0';
+      if draw < p_ins then
+        ins := '1';
+      end if;
+      if draw < p_pop then
+        pop := '1';
+      end if;
+      x := draw;
+      if x < 0.5 then     -- a small range: equal keys
+        key := (31 downto 4 => '0') & half16(3 downto 0);
+      elsif x < 0.6 then
+        key := (others => '0');
+      elsif x < 0.7 then
+        key := (others => '1');
+      else
+        key := half16 & half16;
+      end if;
+      insert_valid <= ins;
+      insert_key <= key;
+      insert_payload <= std_logic_vector(to_unsigned(cyc, 32));
+      pop_ready <= pop;
+      wait for HALF;  -- clock low: the outputs of this cycle settle
+      rc := c5ref_rq_step(bit_int(ins), to_integer(signed(key)), cyc, bit_int(pop));
+      expect(cyc, "pop_valid", c5ref_rq_out(0), bit_int(pop_valid));
+      expect(cyc, "pop_key", c5ref_rq_out(1), to_integer(signed(pop_key)));
+      expect(cyc, "pop_payload", c5ref_rq_out(2), to_integer(signed(pop_payload)));
+      expect(cyc, "insert_accepted", c5ref_rq_out(3), bit_int(insert_accepted));
+      expect(cyc, "full", c5ref_rq_out(4), bit_int(full));
+      expect(cyc, "count", c5ref_rq_out(5), to_integer(unsigned(count)));
+      expect(cyc, "empty", c5ref_rq_out(6), bit_int(empty));
+      nfull := nfull + bit_int(full);
+      nrefused := nrefused + bit_int(ins and full);
+      clk <= '1';
+      wait for HALF;
+      clk <= '0';
+    end loop;
+    report "PASS tb_ray_queue_live: seed " & integer'image(SEED) & ", " & integer'image(CYCLES) &
+      " cycles, " & integer'image(nfull) & " full, " & integer'image(nrefused) & " refused inserts" severity note;
+    finish(0);
+  end process run;
+end architecture sim;
