@@ -183,7 +183,7 @@ fuzz: $(LAYOUTS_H) $(REGS_H)
 # Never sanitized: GHDL's process, which loads it, has no sanitizer runtime.
 REF_SO := $(BUILD)/libc5ref.so
 REF_SRC := $(wildcard fpga/ref/*.c) rtl_model/ray_queue.c
-$(REF_SO): $(REF_SRC) rtl_model/ray_queue.h $(LAYOUTS_H)
+$(REF_SO): $(REF_SRC) $(wildcard fpga/ref/*.h rtl_model/*.h) $(LAYOUTS_H)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -o $@ $(REF_SRC)
 
