@@ -11,6 +11,10 @@
 
 int32_t c5ref_interp(int32_t fx, int32_t fy, int32_t fz, int32_t v0, int32_t v1, int32_t v2, int32_t v3,
                      int32_t v4, int32_t v5, int32_t v6, int32_t v7);
+int32_t c5ref_gr_set(int32_t k, int32_t v);
+int32_t c5ref_gr_run(int32_t axis);
+int32_t c5ref_cl_table(int32_t i, int32_t ch, int32_t v);
+int32_t c5ref_cl_run(int32_t value, int32_t ch);
 int32_t c5ref_cp_set(int32_t k, int32_t v);
 int32_t c5ref_cp_run(void);
 int32_t c5ref_cp_out(int32_t k);
@@ -32,6 +36,56 @@ int32_t c5ref_interp(int32_t fx, int32_t fy, int32_t fz, int32_t v0, int32_t v1,
     const int64_t frac[3] = {fx, fy, fz};
     const int32_t v[8] = {v0, v1, v2, v3, v4, v5, v6, v7};
     return (int32_t)c5_interp_blend(frac, v) ^ faulty();
+}
+
+/* gradient: inputs set one by one (k: 0..2 frac, 3..26 the differences d[axis][corner] as
+ * 3 + 8 axis + corner, 27..29 gs), then each axis's gradient (SQ8.8) read by
+ * c5ref_gr_run(axis), which runs the blend when axis is 0. */
+static int64_t gr_frac[3], gr_gs[3], gr_out[3];
+static int32_t gr_d[3][8];
+
+int32_t c5ref_gr_set(int32_t k, int32_t v)
+{
+    if (k >= 0 && k < 3)
+        gr_frac[k] = v;
+    else if (k >= 3 && k < 27)
+        gr_d[(k - 3) / 8][(k - 3) % 8] = v;
+    else if (k >= 27 && k < 30)
+        gr_gs[k - 27] = v;
+    else
+        return -1;
+    return 0;
+}
+
+int32_t c5ref_gr_run(int32_t axis)
+{
+    if (axis == 0) {
+        c5_grad_blend(gr_frac, gr_d, gr_gs, gr_out);
+        gr_out[0] ^= faulty();
+    }
+    return axis >= 0 && axis < 3 ? (int32_t)gr_out[axis] : 0;
+}
+
+/* classify: the transfer-function table written entry by entry (i 0..255, ch r g b a,
+ * UQ1.15), then channel ch of a sample value's lookup (the lookup runs for ch 0). */
+static c5_frame_regs cl_regs;
+static int64_t cl_out[4];
+
+int32_t c5ref_cl_table(int32_t i, int32_t ch, int32_t v)
+{
+    if (i < 0 || i > 255 || ch < 0 || ch > 3)
+        return -1;
+    cl_regs.tf[i][ch] = v;
+    return 0;
+}
+
+int32_t c5ref_cl_run(int32_t value, int32_t ch)
+{
+    if (ch == 0) {
+        c5_classify(&cl_regs, value, cl_out);
+        cl_out[0] ^= faulty();
+    }
+    return ch >= 0 && ch < 4 ? (int32_t)cl_out[ch] : 0;
 }
 
 /* composite: inputs set one by one (k: 0 w, 1 opa, 2..4 rgb, 5 alpha, 6..8 c, 9 shadow,

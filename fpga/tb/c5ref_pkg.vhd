@@ -34,6 +34,14 @@ package c5ref_pkg is
   -- the datapath (fpga/ref/c5ref_datapath.c)
   impure function c5ref_interp(fx, fy, fz, v0, v1, v2, v3, v4, v5, v6, v7 : integer) return integer;
   attribute foreign of c5ref_interp : function is "VHPIDIRECT ./libc5ref.so c5ref_interp";
+  impure function c5ref_gr_set(k, v : integer) return integer;
+  attribute foreign of c5ref_gr_set : function is "VHPIDIRECT ./libc5ref.so c5ref_gr_set";
+  impure function c5ref_gr_run(axis : integer) return integer;
+  attribute foreign of c5ref_gr_run : function is "VHPIDIRECT ./libc5ref.so c5ref_gr_run";
+  impure function c5ref_cl_table(i, ch, v : integer) return integer;
+  attribute foreign of c5ref_cl_table : function is "VHPIDIRECT ./libc5ref.so c5ref_cl_table";
+  impure function c5ref_cl_run(value, ch : integer) return integer;
+  attribute foreign of c5ref_cl_run : function is "VHPIDIRECT ./libc5ref.so c5ref_cl_run";
   impure function c5ref_cp_set(k, v : integer) return integer;
   attribute foreign of c5ref_cp_set : function is "VHPIDIRECT ./libc5ref.so c5ref_cp_set";
   impure function c5ref_cp_run return integer;
@@ -100,6 +108,26 @@ package body c5ref_pkg is
   impure function c5ref_interp(fx, fy, fz, v0, v1, v2, v3, v4, v5, v6, v7 : integer) return integer is
   begin
     report "c5ref_interp: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_gr_set(k, v : integer) return integer is
+  begin
+    report "c5ref_gr_set: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_gr_run(axis : integer) return integer is
+  begin
+    report "c5ref_gr_run: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_cl_table(i, ch, v : integer) return integer is
+  begin
+    report "c5ref_cl_table: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_cl_run(value, ch : integer) return integer is
+  begin
+    report "c5ref_cl_run: libc5ref.so not bound" severity failure;
     return 0;
   end function;
   impure function c5ref_cp_set(k, v : integer) return integer is
