@@ -42,6 +42,12 @@ package c5ref_pkg is
   attribute foreign of c5ref_cl_table : function is "VHPIDIRECT ./libc5ref.so c5ref_cl_table";
   impure function c5ref_cl_run(value, ch : integer) return integer;
   attribute foreign of c5ref_cl_run : function is "VHPIDIRECT ./libc5ref.so c5ref_cl_run";
+  impure function c5ref_tr_set(k, v : integer) return integer;
+  attribute foreign of c5ref_tr_set : function is "VHPIDIRECT ./libc5ref.so c5ref_tr_set";
+  impure function c5ref_tr_run return integer;
+  attribute foreign of c5ref_tr_run : function is "VHPIDIRECT ./libc5ref.so c5ref_tr_run";
+  impure function c5ref_tr_out(k : integer) return integer;
+  attribute foreign of c5ref_tr_out : function is "VHPIDIRECT ./libc5ref.so c5ref_tr_out";
   impure function c5ref_cp_set(k, v : integer) return integer;
   attribute foreign of c5ref_cp_set : function is "VHPIDIRECT ./libc5ref.so c5ref_cp_set";
   impure function c5ref_cp_run return integer;
@@ -128,6 +134,21 @@ package body c5ref_pkg is
   impure function c5ref_cl_run(value, ch : integer) return integer is
   begin
     report "c5ref_cl_run: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_tr_set(k, v : integer) return integer is
+  begin
+    report "c5ref_tr_set: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_tr_run return integer is
+  begin
+    report "c5ref_tr_run: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_tr_out(k : integer) return integer is
+  begin
+    report "c5ref_tr_out: libc5ref.so not bound" severity failure;
     return 0;
   end function;
   impure function c5ref_cp_set(k, v : integer) return integer is
