@@ -184,7 +184,7 @@ fuzz: $(LAYOUTS_H) $(REGS_H)
 REF_SO := $(BUILD)/libc5ref.so
 # REF_MODEL_SRC: the model sources the references call into and what they use (the link
 # fails on anything missing).
-REF_MODEL_SRC := rtl_model/ray_queue.c rtl_model/processor.c rtl_model/fixed.c rtl_model/cells.c rtl_model/geom.c \
+REF_MODEL_SRC := rtl_model/ray_queue.c rtl_model/cell_tree.c rtl_model/processor.c rtl_model/fixed.c rtl_model/cells.c rtl_model/geom.c \
   rtl_model/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/nrrd_precheck.c \
   common/generators.c common/tlp.c
 REF_SRC := $(wildcard fpga/ref/*.c) $(REF_MODEL_SRC)

@@ -48,6 +48,16 @@ package c5ref_pkg is
   attribute foreign of c5ref_tr_run : function is "VHPIDIRECT ./libc5ref.so c5ref_tr_run";
   impure function c5ref_tr_out(k : integer) return integer;
   attribute foreign of c5ref_tr_out : function is "VHPIDIRECT ./libc5ref.so c5ref_tr_out";
+  impure function c5ref_ct_reset(capacity : integer) return integer;
+  attribute foreign of c5ref_ct_reset : function is "VHPIDIRECT ./libc5ref.so c5ref_ct_reset";
+  impure function c5ref_ct_tag(node, cell : integer) return integer;
+  attribute foreign of c5ref_ct_tag : function is "VHPIDIRECT ./libc5ref.so c5ref_ct_tag";
+  impure function c5ref_ct_state(k : integer) return integer;
+  attribute foreign of c5ref_ct_state : function is "VHPIDIRECT ./libc5ref.so c5ref_ct_state";
+  impure function c5ref_ct_slot_word(slot, i : integer) return integer;
+  attribute foreign of c5ref_ct_slot_word : function is "VHPIDIRECT ./libc5ref.so c5ref_ct_slot_word";
+  impure function c5ref_ct_root(cell : integer) return integer;
+  attribute foreign of c5ref_ct_root : function is "VHPIDIRECT ./libc5ref.so c5ref_ct_root";
   impure function c5ref_cp_set(k, v : integer) return integer;
   attribute foreign of c5ref_cp_set : function is "VHPIDIRECT ./libc5ref.so c5ref_cp_set";
   impure function c5ref_cp_run return integer;
@@ -149,6 +159,31 @@ package body c5ref_pkg is
   impure function c5ref_tr_out(k : integer) return integer is
   begin
     report "c5ref_tr_out: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_ct_reset(capacity : integer) return integer is
+  begin
+    report "c5ref_ct_reset: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_ct_tag(node, cell : integer) return integer is
+  begin
+    report "c5ref_ct_tag: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_ct_state(k : integer) return integer is
+  begin
+    report "c5ref_ct_state: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_ct_slot_word(slot, i : integer) return integer is
+  begin
+    report "c5ref_ct_slot_word: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_ct_root(cell : integer) return integer is
+  begin
+    report "c5ref_ct_root: libc5ref.so not bound" severity failure;
     return 0;
   end function;
   impure function c5ref_cp_set(k, v : integer) return integer is
