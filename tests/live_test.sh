@@ -4,12 +4,13 @@
 # called through VHPIDIRECT (BUILD/libc5ref.so): the ray queue every cycle, the packet
 # codec every field and packed word, interpolation, gradient, classification (after its
 # table), compositing and the traversal step every transaction after their pipeline
-# latency, the Cell Tree tagging unit every tag (to overflow) and its RAM and roots at the end. Each testbench must PASS on each seed (the queue filling to
+# latency, the Cell Tree tagging unit every tag (to overflow) and its RAM and roots at the end,
+# shading every sample under registers and a power table drawn from the seed. Each testbench must PASS on each seed (the queue filling to
 # full), a seed must give the same figures twice (the stimulus comes from the seed alone),
 # and with the reference told to be wrong once (C5REF_FAULT=77) each must FAIL naming the
 # seed, the step, the port and both values. Usage: live_test.sh [BUILD] [SEEDS] [CYCLES]
-# (defaults build/, "1 2", 1200 queue cycles; the other testbenches run 2 x CYCLES samples
-# or 8 x CYCLES packets; `make regress` runs more).
+# (defaults build/, "1 2", 1200 queue cycles; the others run 2 x CYCLES samples, steps or
+# tags, 8 x CYCLES packets, CYCLES / 2 shading samples; `make regress` runs more).
 set -u
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -32,14 +33,15 @@ live=("tb_ray_queue_live|CYCLES|$cycles|cycle|pop_key"
       "tb_classify_live|SAMPLES|$((2 * cycles))|sample|rgba\\(0\\)"
       "tb_composite_live|SAMPLES|$((2 * cycles))|sample|opa_out"
       "tb_traverse_live|STEPS|$((2 * cycles))|step|lifetime_out"
-      "tb_cell_tree_live|TAGS|$((2 * cycles))|tag|node_out")
+      "tb_cell_tree_live|TAGS|$((2 * cycles))|tag|node_out"
+      "tb_shade_live|SAMPLES|$((cycles / 2))|sample|rgb\\(0\\)")
 rm -rf "$work"
 mkdir -p "$work"
 cp "$build/libc5ref.so" "$work/" # the foreign attribute names ./libc5ref.so
 src=("$build/gen/c5_layouts_pkg.vhd" fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd
      fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd fpga/rtl/dp_pkg.vhd
      fpga/rtl/interp.vhd fpga/rtl/gradient.vhd fpga/rtl/classify.vhd fpga/rtl/composite.vhd
-     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd fpga/tb/c5ref_pkg.vhd)
+     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd fpga/rtl/shade.vhd fpga/tb/c5ref_pkg.vhd)
 for l in "${live[@]}"; do src+=("fpga/tb/${l%%|*}.vhd"); done
 if ! ghdl -a --std=08 --workdir="$work" "${src[@]}" 2>"$tmp/err"; then
     bad analyse_live "$(head -n 10 "$tmp/err")"

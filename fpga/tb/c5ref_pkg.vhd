@@ -58,6 +58,18 @@ package c5ref_pkg is
   attribute foreign of c5ref_ct_slot_word : function is "VHPIDIRECT ./libc5ref.so c5ref_ct_slot_word";
   impure function c5ref_ct_root(cell : integer) return integer;
   attribute foreign of c5ref_ct_root : function is "VHPIDIRECT ./libc5ref.so c5ref_ct_root";
+  impure function c5ref_sh_setup(seed : integer) return integer;
+  attribute foreign of c5ref_sh_setup : function is "VHPIDIRECT ./libc5ref.so c5ref_sh_setup";
+  impure function c5ref_sh_reg(addr : integer) return integer;
+  attribute foreign of c5ref_sh_reg : function is "VHPIDIRECT ./libc5ref.so c5ref_sh_reg";
+  impure function c5ref_sh_pow(i : integer) return integer;
+  attribute foreign of c5ref_sh_pow : function is "VHPIDIRECT ./libc5ref.so c5ref_sh_pow";
+  impure function c5ref_sh_dir(x, y, z, a : integer) return integer;
+  attribute foreign of c5ref_sh_dir : function is "VHPIDIRECT ./libc5ref.so c5ref_sh_dir";
+  impure function c5ref_sh_set(k, v : integer) return integer;
+  attribute foreign of c5ref_sh_set : function is "VHPIDIRECT ./libc5ref.so c5ref_sh_set";
+  impure function c5ref_sh_run(k : integer) return integer;
+  attribute foreign of c5ref_sh_run : function is "VHPIDIRECT ./libc5ref.so c5ref_sh_run";
   impure function c5ref_cp_set(k, v : integer) return integer;
   attribute foreign of c5ref_cp_set : function is "VHPIDIRECT ./libc5ref.so c5ref_cp_set";
   impure function c5ref_cp_run return integer;
@@ -184,6 +196,36 @@ package body c5ref_pkg is
   impure function c5ref_ct_root(cell : integer) return integer is
   begin
     report "c5ref_ct_root: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_sh_setup(seed : integer) return integer is
+  begin
+    report "c5ref_sh_setup: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_sh_reg(addr : integer) return integer is
+  begin
+    report "c5ref_sh_reg: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_sh_pow(i : integer) return integer is
+  begin
+    report "c5ref_sh_pow: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_sh_dir(x, y, z, a : integer) return integer is
+  begin
+    report "c5ref_sh_dir: libc5ref.so not bound" severity failure;
+    return 0;
+  end function;
+  impure function c5ref_sh_set(k, v : integer) return integer is
+  begin
+    report "c5ref_sh_set: libc5ref.so not bound" severity failure;
+    return -1;
+  end function;
+  impure function c5ref_sh_run(k : integer) return integer is
+  begin
+    report "c5ref_sh_run: libc5ref.so not bound" severity failure;
     return 0;
   end function;
   impure function c5ref_cp_set(k, v : integer) return integer is
