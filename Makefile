@@ -182,10 +182,16 @@ fuzz: $(LAYOUTS_H) $(REGS_H)
 # The model's blocks as a live reference for GHDL (fpga/ref/, VHPIDIRECT; docs/vectors.md).
 # Never sanitized: GHDL's process, which loads it, has no sanitizer runtime.
 REF_SO := $(BUILD)/libc5ref.so
-REF_SRC := $(wildcard fpga/ref/*.c) rtl_model/ray_queue.c
-$(REF_SO): $(REF_SRC) rtl_model/ray_queue.h $(LAYOUTS_H)
+# REF_MODEL_SRC: the model sources the references call into and what they use (the link
+# fails on anything missing).
+REF_MODEL_SRC := rtl_model/ray_queue.c rtl_model/cell_tree.c rtl_model/processor.c rtl_model/fixed.c rtl_model/cells.c rtl_model/geom.c \
+  rtl_model/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/nrrd_precheck.c \
+  common/generators.c common/tlp.c
+REF_SRC := $(wildcard fpga/ref/*.c) $(REF_MODEL_SRC)
+$(REF_SO): $(REF_SRC) $(wildcard fpga/ref/*.h rtl_model/*.h common/*.h) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -o $@ $(REF_SRC)
+	$(CC) $(CPPFLAGS) -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -Wl,--no-undefined -o $@ $(REF_SRC) \
+	  -lteem -lz -lm
 
 demo: $(BUILD)/cube5
 	@mkdir -p out

@@ -6,7 +6,7 @@
 #   coverage      the golden set against spec/coverage.toml (tests/coverage_test.sh)
 #   random-vhdl   per seed S: `cube5 vectors --scene none --seed S` (fresh directed and
 #                 random cases) replayed by every VHDL testbench
-#   live          per seed S: the VHDL against the C model running beside it (VHPIDIRECT,
+#   live          per seed S: every block's VHDL against the C model running beside it (VHPIDIRECT,
 #                 tests/live_test.sh), CYCLES cycles
 # Every run is reproducible from its seed alone: `scripts/regress.sh BUILD` with SEEDS="S"
 # repeats seed S. A failure is printed with its tier and seed above the sub-suite's own

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The VHDL in fpga/ against the golden vectors: analyses the generated layouts package,
 # fpga/rtl and fpga/tb with GHDL (VHDL-2008), then runs tb_ray_packet_codec on every
-# vectors/golden/packet.*.hex and tb_ray_queue on every vectors/golden/ray_queue.*.hex,
-# and checks that the testbenches can fail (one flipped bit in a copy of a file must give
-# FAIL naming the line and the column). Usage: fpga_test.sh [BUILD] (default build/; needs
-# BUILD/gen/c5_layouts_pkg.vhd, which `make test` builds). C5_VECTORS=DIR reads another
+# vectors/golden/packet.*.hex, tb_ray_queue on every vectors/golden/ray_queue.*.hex and
+# each other block's testbench (tb_interp, ..., tb_cell_tree) on its BLOCK.SOURCE.hex files
+# (given the memory images BLOCK.SOURCE.IMAGE.hex it is configured with or compared
+# against), and checks that the testbenches can fail (one flipped bit in a copy of a file
+# must give FAIL naming the line and the column). Usage: fpga_test.sh [BUILD] (default
+# build/; needs BUILD/gen/c5_layouts_pkg.vhd, which `make test` builds). C5_VECTORS=DIR reads another
 # vector directory. GHDL missing is a failure, not a skip: scripts/setup-deps.sh installs it.
 set -u
 cd "$(dirname "$0")/.."
@@ -19,8 +21,16 @@ trap 'rm -rf "$tmp"' EXIT
 
 # Source files in dependency order: packages first, each entity before its users.
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
-     fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd)
-TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd)
+     fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
+     fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd
+     fpga/rtl/classify.vhd fpga/rtl/gradient.vhd fpga/rtl/shade.vhd
+     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd)
+TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
+    fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd fpga/tb/tb_classify.vhd
+    fpga/tb/tb_gradient.vhd fpga/tb/tb_shade.vhd fpga/tb/tb_traverse.vhd
+    fpga/tb/tb_cell_tree.vhd)
+# The other blocks' testbenches, each named tb_BLOCK, replayed on BLOCK.SOURCE.hex.
+DATAPATH=(interp composite classify gradient shade traverse cell_tree)
 
 if ! command -v ghdl >/dev/null 2>&1; then
     bad ghdl_present "ghdl not found: run scripts/setup-deps.sh (installs ghdl)"
@@ -43,7 +53,7 @@ else
 fi
 # Run from the work directory: the mcode backend elaborates in memory, the LLVM and GCC
 # backends write the executable to the current directory, and -r finds it there.
-for tb in tb_ray_packet_codec tb_ray_queue; do
+for tb in tb_ray_packet_codec tb_ray_queue "${DATAPATH[@]/#/tb_}"; do
     if (cd "$work" && ghdl -e --std=08 "$tb") 2>"$tmp/err"; then
         ok "elaborate_$tb"
     else
@@ -51,21 +61,38 @@ for tb in tb_ray_packet_codec tb_ray_queue; do
     fi
 done
 
-# run TB FILE: the testbench's output in $tmp/out, its exit status returned.
+# run TB FILE [GENERIC...]: the testbench's output in $tmp/out, its exit status returned.
 run() {
-    (cd "$work" && ghdl -r --std=08 "$1" "-gVECTORS=$2") >"$tmp/out" 2>&1
+    local tb=$1 file=$2
+    shift 2
+    (cd "$work" && ghdl -r --std=08 "$tb" "-gVECTORS=$file" "$@") >"$tmp/out" 2>&1
+}
+
+# images BLOCK FILE: the generics naming the memory images the block's testbench loads
+# before replaying FILE (BLOCK.SOURCE.IMAGE.hex beside it), one a line.
+images() {
+    local base=${2%.hex}
+    case $1 in
+        classify) echo "-gTABLE=$base.tf.hex" ;;
+        shade) echo "-gREGS=$base.regs.hex"; echo "-gPOW=$base.pow.hex" ;;
+        cell_tree) echo "-gRAM=$base.ram_final.hex"; echo "-gROOTS=$base.roots_final.hex" ;;
+    esac
 }
 
 # ---- every golden vector file -----------------------------------------------------------
 
-# golden TB BLOCK: the testbench on every BLOCK.*.hex; no such file is a failure.
+# golden TB BLOCK: the testbench on every BLOCK.SOURCE.hex (memory images,
+# BLOCK.SOURCE.IMAGE.hex, are the testbench's configuration, not vectors); no such file is
+# a failure.
 golden() {
-    local tb=$1 block=$2 f name found=0
+    local tb=$1 block=$2 f name found=0 gen
     for f in "$vectors/$block".*.hex; do
         [ -e "$f" ] || continue
+        case $(basename "$f" .hex) in "$block".*.*) continue ;; esac
         found=1
         name="${tb}_$(basename "$f" .hex)"
-        if run "$tb" "$(abs "$f")" && grep -q "^PASS $tb: " "$tmp/out"; then
+        mapfile -t gen < <(images "$block" "$(abs "$f")")
+        if run "$tb" "$(abs "$f")" ${gen[@]+"${gen[@]}"} && grep -q "^PASS $tb: " "$tmp/out"; then
             ok "$name"
         else
             bad "$name" "$(grep -E '^(PASS|FAIL)|error' "$tmp/out" | head -n 12)"
@@ -75,6 +102,9 @@ golden() {
 }
 golden tb_ray_packet_codec packet
 golden tb_ray_queue ray_queue
+for b in "${DATAPATH[@]}"; do
+    golden "tb_$b" "$b"
+done
 
 # ---- the testbenches can fail -----------------------------------------------------------
 
@@ -88,11 +118,14 @@ flip() {
 }
 
 # negative NAME TB FILE PATTERN...: TB on FILE must exit non-zero, print its FAIL line and
-# every PATTERN (fixed strings) in its output.
+# every PATTERN (fixed strings) in its output. A datapath TB (tb_BLOCK) is given the memory
+# images of the golden file FILE was copied from ($origin).
+origin=""
 negative() {
-    local name=$1 tb=$2 file=$3 p
+    local name=$1 tb=$2 file=$3 p gen=()
     shift 3
-    if run "$tb" "$file"; then
+    [ -z "$origin" ] || mapfile -t gen < <(images "${tb#tb_}" "$(abs "$origin")")
+    if run "$tb" "$file" ${gen[@]+"${gen[@]}"}; then
         bad "$name" "the testbench passed a corrupted file"
         return
     fi
@@ -135,5 +168,60 @@ if [ -n "$qf" ]; then
     fi
 fi
 negative fails_on_missing_file tb_ray_queue "$tmp/no-such.hex" "cannot open"
+
+# Each other block: one output bit flipped in the directed file must give one error naming
+# its line and column.
+# dp_negative BLOCK LINE COLUMN NAME: flip bit 0 of COLUMN (1-based) of LINE.
+dp_negative() {
+    local block=$1 line=$2 col=$3 cname=$4 src="$vectors/$1.directed.hex"
+    if [ ! -e "$src" ]; then
+        bad "fails_on_flipped_${block}" "no $src"
+        return
+    fi
+    flip "$src" "$line" "$col" "$tmp/$block.flipped.hex"
+    origin=$src
+    negative "fails_on_flipped_${block}" "tb_$block" "$tmp/$block.flipped.hex" \
+        "line $line: $cname: expected" "1 error in"
+    origin=""
+}
+dp_negative interp 2 12 value
+dp_negative composite 2 12 rgb_r_out
+dp_negative classify 3 2 r
+dp_negative gradient 2 31 grad_x
+dp_negative shade 3 13 rgb_r
+dp_negative traverse 2 19 leaped
+dp_negative cell_tree 4 3 node_out
+# the Cell Tree's final images: one bit of one slot flipped in a copy of ram_final
+if [ -e "$vectors/cell_tree.directed.hex" ]; then
+    flip "$vectors/cell_tree.directed.ram_final.hex" 3 1 "$tmp/ram_final.flipped.hex"
+    if run tb_cell_tree "$(abs "$vectors/cell_tree.directed.hex")" "-gRAM=$tmp/ram_final.flipped.hex" \
+        "-gROOTS=$(abs "$vectors/cell_tree.directed.roots_final.hex")"; then
+        bad fails_on_flipped_ram_image "tb_cell_tree passed a corrupted RAM image"
+    elif grep -qF "line 3: ram_final slot 2: expected" "$tmp/out" && grep -q "^FAIL tb_cell_tree: 1 error in" "$tmp/out"; then
+        ok fails_on_flipped_ram_image
+    else
+        bad fails_on_flipped_ram_image "$(grep -E '^(PASS|FAIL)|error' "$tmp/out" | head -n 5)"
+    fi
+fi
+# classify with another source's table: the directed vectors' colours no longer come out
+if [ -e "$vectors/classify.directed.hex" ] && [ -e "$vectors/classify.default.tf.hex" ]; then
+    if run tb_classify "$(abs "$vectors/classify.directed.hex")" \
+        "-gTABLE=$(abs "$vectors/classify.default.tf.hex")"; then
+        bad fails_on_wrong_table "tb_classify passed with another scene's table"
+    elif grep -q "^FAIL tb_classify: " "$tmp/out"; then
+        ok fails_on_wrong_table
+    else
+        bad fails_on_wrong_table "no FAIL line" "$(tail -n 5 "$tmp/out")"
+    fi
+fi
+# a table one entry short is refused before any vector
+head -n 255 "$vectors/classify.directed.tf.hex" >"$tmp/short.tf.hex"
+if run tb_classify "$(abs "$vectors/classify.directed.hex")" "-gTABLE=$tmp/short.tf.hex"; then
+    bad fails_on_short_table "tb_classify passed with a 255-entry table"
+elif grep -q "255 entries read" "$tmp/out" && grep -q "^FAIL tb_classify: " "$tmp/out"; then
+    ok fails_on_short_table
+else
+    bad fails_on_short_table "$(tail -n 5 "$tmp/out")"
+fi
 
 summary

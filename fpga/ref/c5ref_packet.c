@@ -4,9 +4,9 @@
  * little-endian), the model unpacks it and packs the fields again, and the testbench reads
  * back every field (in the layout's order, MSB first) and the packed words. */
 #include <stdint.h>
-#include <stdlib.h>
 
 #include "c5_layouts.h"
+#include "c5ref.h"
 
 int32_t c5ref_pk_set(int32_t i, int32_t word);
 int32_t c5ref_pk_run(void);
@@ -15,7 +15,7 @@ int32_t c5ref_pk_word(int32_t i);
 
 static uint8_t in[C5_RAY_PACKET_BYTES], packed[C5_RAY_PACKET_BYTES];
 static int64_t fields[32];
-static long runs, fault = -2; /* C5REF_FAULT=N: field 0 of the model is wrong in run N */
+static long runs, fault = -2; /* field 0 of the model is wrong in this run (c5ref.h); -2: not read yet */
 
 int32_t c5ref_pk_set(int32_t i, int32_t word)
 {
@@ -29,10 +29,8 @@ int32_t c5ref_pk_set(int32_t i, int32_t word)
 /* Unpacks the packet set so far, packs its fields again. */
 int32_t c5ref_pk_run(void)
 {
-    if (fault == -2) {
-        const char *f = getenv("C5REF_FAULT");
-        fault = f ? atol(f) : -1;
-    }
+    if (fault == -2)
+        fault = c5ref_fault_step();
     c5_ray_packet_t f;
     c5_ray_packet_unpack(in, &f);
     c5_ray_packet_pack(&f, packed);

@@ -4,8 +4,8 @@
  * the simulator"). Integers cross as VHDL `integer` (32-bit signed): keys and payloads are
  * their bit patterns. One queue per process, as one testbench drives one DUT. */
 #include <stdint.h>
-#include <stdlib.h>
 
+#include "c5ref.h"
 #include "ray_queue.h"
 
 int32_t c5ref_rq_reset(int32_t capacity, int32_t key_bits);
@@ -15,7 +15,7 @@ int32_t c5ref_rq_out(int32_t k);
 static c5_rq q;
 static int ready;
 static c5_rq_out out;
-static long cycle, fault = -1; /* C5REF_FAULT=N: the model's pop_key is wrong in cycle N */
+static long cycle, fault = -1; /* the model's pop_key is wrong in this cycle (c5ref.h) */
 
 /* Empties the queue (the DUT's reset); 0, or -1 for a configuration the model refuses. */
 int32_t c5ref_rq_reset(int32_t capacity, int32_t key_bits)
@@ -25,8 +25,7 @@ int32_t c5ref_rq_reset(int32_t capacity, int32_t key_bits)
     c5_rq_cfg cfg = {(uint32_t)capacity, (uint32_t)key_bits};
     ready = c5_rq_init(&q, &cfg) == 0;
     cycle = 0;
-    const char *f = getenv("C5REF_FAULT");
-    fault = f ? atol(f) : -1;
+    fault = c5ref_fault_step();
     return ready ? 0 : -1;
 }
 

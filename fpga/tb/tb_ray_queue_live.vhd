@@ -58,14 +58,6 @@ begin
       return std_logic_vector(to_unsigned(integer(floor(draw * 65536.0)) mod 65536, 16));
     end function;
 
-    function bit_int(b : std_logic) return integer is
-    begin
-      if b = '1' then
-        return 1;
-      end if;
-      return 0;
-    end function;
-
     procedure expect(cyc : natural; name : string; model, vhdl : integer) is
     begin
       live_expect("tb_ray_queue_live", SEED, "cycle", cyc, name, model, vhdl);
@@ -108,16 +100,16 @@ begin
       insert_payload <= std_logic_vector(to_unsigned(cyc, 32));
       pop_ready <= pop;
       wait for HALF;  -- clock low: the outputs of this cycle settle
-      rc := c5ref_rq_step(bit_int(ins), to_integer(signed(key)), cyc, bit_int(pop));
-      expect(cyc, "pop_valid", c5ref_rq_out(0), bit_int(pop_valid));
+      rc := c5ref_rq_step(live_bit(ins), to_integer(signed(key)), cyc, live_bit(pop));
+      expect(cyc, "pop_valid", c5ref_rq_out(0), live_bit(pop_valid));
       expect(cyc, "pop_key", c5ref_rq_out(1), to_integer(signed(pop_key)));
       expect(cyc, "pop_payload", c5ref_rq_out(2), to_integer(signed(pop_payload)));
-      expect(cyc, "insert_accepted", c5ref_rq_out(3), bit_int(insert_accepted));
-      expect(cyc, "full", c5ref_rq_out(4), bit_int(full));
+      expect(cyc, "insert_accepted", c5ref_rq_out(3), live_bit(insert_accepted));
+      expect(cyc, "full", c5ref_rq_out(4), live_bit(full));
       expect(cyc, "count", c5ref_rq_out(5), to_integer(unsigned(count)));
-      expect(cyc, "empty", c5ref_rq_out(6), bit_int(empty));
-      nfull := nfull + bit_int(full);
-      nrefused := nrefused + bit_int(ins and full);
+      expect(cyc, "empty", c5ref_rq_out(6), live_bit(empty));
+      nfull := nfull + live_bit(full);
+      nrefused := nrefused + live_bit(ins and full);
       clk <= '1';
       wait for HALF;
       clk <= '0';

@@ -35,6 +35,9 @@ package vec_io_pkg is
   procedure check(lineno : positive; name : string; expected, got : std_logic_vector;
                   errs : inout natural);
 
+  -- A boolean as a 1-bit vector, for check on single-bit ports: bits(b) = "1" or "0".
+  function bits(b : boolean) return std_logic_vector;
+
   -- The verdict, a plain line on standard output: "PASS tb: N vectors" or "FAIL tb: E
   -- error(s) in N vectors" (or "FAIL tb: no vectors"), then std.env.finish with status 0
   -- on PASS and 1 on FAIL, which ghdl -r returns as its exit status.
@@ -146,6 +149,14 @@ package body vec_io_pkg is
       problem(lineno, name & ": expected " & lower_hex(expected) & " got " & lower_hex(got), errs);
     end if;
   end procedure check;
+
+  function bits(b : boolean) return std_logic_vector is
+  begin
+    if b then
+      return "1";
+    end if;
+    return "0";
+  end function bits;
 
   procedure finish_run(tb : string; vectors : natural; errs : natural) is
   begin

@@ -1,0 +1,154 @@
+-- The traversal step against the C model running beside it (docs/vectors.md, "The model
+-- inside the simulator"): one step a cycle from SEED alone into fpga/rtl/traverse.vhd and
+-- into the model's c5_trav_step (c5ref_tr_*): grids of 1 to 1023 voxels an axis, a cell box
+-- inside, positions in the cell or up to two voxels around it (one in ten anywhere within 8
+-- voxels of the grid), step vectors up to 8 voxels a component (a quarter of them below
+-- 2^-8), lifetimes 0, short, unbounded (4095) or any, block_empty drawn inside the grid.
+-- The model's outputs are held for TRAVERSE_LATENCY cycles and compared with the DUT's then.
+-- The first difference ends the run: "FAIL tb_traverse_live: seed S step N: PORT: model X,
+-- VHDL Y".
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+use ieee.math_real.all;
+use std.env.all;
+use work.c5_layouts_pkg.all;
+use work.dp_pkg.all;
+use work.c5ref_pkg.all;
+
+entity tb_traverse_live is
+  generic (SEED : positive := 1; STEPS : positive := 5000);
+end entity tb_traverse_live;
+
+architecture sim of tb_traverse_live is
+  constant HALF : time := 5 ns;
+  constant LAT : positive := TRAVERSE_LATENCY;
+  signal clk, rst, in_valid, out_valid, block_empty : std_logic := '0';
+  signal pos, pos_out : pos3_t := (others => (others => '0'));
+  signal step : step3_t := (others => (others => '0'));
+  signal lifetime, lifetime_out : std_logic_vector(RAY_PACKET_LIFETIME_WIDTH - 1 downto 0) := (others => '0');
+  signal cell_lo, cell_hi, dims : grid3_t := (others => (others => '0'));
+  signal action : std_logic_vector(1 downto 0);
+  signal leaped : std_logic_vector(LEAPED_BITS - 1 downto 0);
+begin
+  dut : entity work.traverse
+    port map (clk => clk, rst => rst, in_valid => in_valid, pos => pos, step => step, lifetime => lifetime,
+              cell_lo => cell_lo, cell_hi => cell_hi, dims => dims, block_empty => block_empty,
+              out_valid => out_valid, action => action, leaped => leaped, pos_out => pos_out,
+              lifetime_out => lifetime_out);
+
+  run : process
+    variable s1 : positive := SEED;
+    variable s2 : positive := 20261127;
+    variable r : real;
+    variable dm, lo, hi, x, y, q, life, rc : integer;
+    variable sv : integer_vector(0 to 2);
+    variable in_grid : boolean;
+    type o_t is array (0 to 5) of integer;  -- action, leaped, pos_out x3, lifetime_out
+    type ring_t is array (0 to LAT) of o_t;
+    variable ring : ring_t;
+    variable e : o_t;
+    constant ONE : integer := 2 ** POS_FRAC;
+    constant SMAX : integer := 2 ** (SIG_STEP_VEC_WIDTH - 1);
+
+    impure function pick(n : positive) return natural is
+    begin
+      uniform(s1, s2, r);
+      return integer(floor(r * real(n))) mod n;
+    end function;
+
+    impure function between(a, b : integer) return integer is  -- a <= x < b
+    begin
+      return a + pick(b - a);
+    end function;
+  begin
+    rst <= '1';
+    wait for HALF;
+    clk <= '1';
+    wait for HALF;
+    clk <= '0';
+    rst <= '0';
+    for n in 0 to STEPS + LAT - 1 loop
+      if n < STEPS then
+        in_grid := true;
+        for a in 0 to 2 loop
+          dm := 1 + pick(2 ** GRID_BITS - 1);
+          x := pick(dm);
+          y := pick(dm);
+          lo := minimum(x, y);
+          hi := maximum(x, y) + 1;
+          if n mod 10 = 9 then
+            q := between(-8 * ONE, (dm + 8) * ONE);
+          else
+            q := between((lo - 2) * ONE, (hi + 2) * ONE);
+          end if;
+          in_grid := in_grid and q >= 0 and q < dm * ONE;
+          dims(a) <= std_logic_vector(to_unsigned(dm, GRID_BITS));
+          cell_lo(a) <= std_logic_vector(to_unsigned(lo, GRID_BITS));
+          cell_hi(a) <= std_logic_vector(to_unsigned(hi, GRID_BITS));
+          pos(a) <= std_logic_vector(to_signed(q, POS_BITS));
+          rc := c5ref_tr_set(a, q);
+          rc := c5ref_tr_set(7 + a, lo);
+          rc := c5ref_tr_set(10 + a, hi);
+          rc := c5ref_tr_set(13 + a, dm);
+          if n mod 4 = 0 then
+            sv(a) := between(-256, 256);                -- tiny steps
+          else
+            sv(a) := between(-SMAX, SMAX);
+          end if;
+        end loop;
+        if sv(0) = 0 and sv(1) = 0 and sv(2) = 0 then
+          sv(0) := 1;
+        end if;
+        for a in 0 to 2 loop
+          step(a) <= std_logic_vector(to_signed(sv(a), SIG_STEP_VEC_WIDTH));
+          rc := c5ref_tr_set(3 + a, sv(a));
+        end loop;
+        case pick(8) is
+          when 0 => life := 0;
+          when 1 | 2 => life := pick(16);
+          when 3 | 4 => life := LIFE_NONE;
+          when others => life := pick(LIFE_NONE);
+        end case;
+        lifetime <= std_logic_vector(to_unsigned(life, lifetime'length));
+        rc := c5ref_tr_set(6, life);
+        x := 0;
+        if in_grid and pick(2) = 1 then
+          x := 1;
+        end if;
+        block_empty <= '0';
+        if x = 1 then
+          block_empty <= '1';
+        end if;
+        rc := c5ref_tr_set(16, x);
+        rc := c5ref_tr_run;
+        for k in 0 to 5 loop
+          e(k) := c5ref_tr_out(k);
+        end loop;
+        ring(n mod (LAT + 1)) := e;
+        in_valid <= '1';
+      else
+        in_valid <= '0';
+      end if;
+      wait for HALF;  -- clock low: this cycle's outputs are stable
+      if n >= LAT then
+        e := ring((n - LAT) mod (LAT + 1));
+        live_expect("tb_traverse_live", SEED, "step", n - LAT, "out_valid", 1, live_bit(out_valid));
+        live_expect("tb_traverse_live", SEED, "step", n - LAT, "action", e(0), to_integer(unsigned(action)));
+        live_expect("tb_traverse_live", SEED, "step", n - LAT, "leaped", e(1), to_integer(unsigned(leaped)));
+        for a in 0 to 2 loop
+          live_expect("tb_traverse_live", SEED, "step", n - LAT, "pos_out(" & integer'image(a) & ")", e(2 + a),
+                      to_integer(signed(pos_out(a))));
+        end loop;
+        live_expect("tb_traverse_live", SEED, "step", n - LAT, "lifetime_out", e(5),
+                    to_integer(unsigned(lifetime_out)));
+      end if;
+      clk <= '1';
+      wait for HALF;
+      clk <= '0';
+    end loop;
+    report "PASS tb_traverse_live: seed " & integer'image(SEED) & ", " & integer'image(STEPS) & " steps"
+      severity note;
+    finish(0);
+  end process run;
+end architecture sim;
