@@ -63,7 +63,7 @@ LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 # `make test` replays the committed corpus through them (no clang, no libFuzzer).
 FUZZ_NAMES  := scene volume tlp driver
 FUZZ_REPLAY := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay-%)
-all: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
+all: $(BUILD)/cube5 $(BUILD)/cube5-nompi $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
 
 deps: $(DEPS_TEST)
 $(DEPS_OK): scripts/setup-deps.sh scripts/deps/demo.txt
@@ -123,7 +123,25 @@ $(BUILD)/libcube5.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+# Several boards over MPI (docs/multi-board.md): cli/mpi_link.c is the only file that calls
+# MPI, built with Open MPI when pkg-config finds it (the demo profile installs it); MPI=0, or
+# no Open MPI, builds without: one board, and --boards N > 1 says how to get MPI. Deferred
+# (=): on a fresh machine the packages arrive with $(DEPS_OK), after this file was read.
+MPI ?= 1
+MPI_FOUND  = $(if $(filter 1,$(MPI)),$(shell pkg-config --exists ompi-c && echo yes))
+MPI_CFLAGS = $(if $(MPI_FOUND),-DC5_HAVE_MPI $(shell pkg-config --cflags ompi-c))
+MPI_LIBS   = $(if $(MPI_FOUND),$(shell pkg-config --libs ompi-c))
+$(BUILD)/cli/mpi_link.o: CPPFLAGS += $(MPI_CFLAGS)
+
 $(BUILD)/cube5: $(CLI_OBJ) $(BUILD)/libcube5.a
+	$(CXX) $(LDFLAGS) $^ $(LDLIBS) $(MPI_LIBS) -o $@
+
+# cube5 once more without MPI, for tests/mpi_test.sh: what a build without Open MPI does.
+$(BUILD)/nompi/cli/mpi_link.o: cli/mpi_link.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/cube5-nompi: $(filter-out $(BUILD)/cli/mpi_link.o,$(CLI_OBJ)) $(BUILD)/nompi/cli/mpi_link.o $(BUILD)/libcube5.a
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(BUILD)/libc5drv.a: $(DRV_SRC:%.c=$(BUILD)/%.o)
@@ -183,7 +201,7 @@ demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) | $(DEPS_TEST)
+test: $(BUILD)/cube5 $(BUILD)/cube5-nompi $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) | $(DEPS_TEST)
 	bash tests/run.sh $(BUILD)
 
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer.
