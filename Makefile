@@ -57,7 +57,7 @@ REGS_H      := $(BUILD)/gen/c5_regs_map.h
 REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
-.PHONY: all demo test asan bench bench-sched bench-peer tb results accuracy deps docs golden fpga-report fuzz clean
+.PHONY: all demo test asan bench bench-boards bench-sched bench-peer tb results accuracy deps docs golden fpga-report fuzz clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 # The fuzz harnesses (fuzz/, docs/fuzzing.md) built with this toolchain on a replay main:
 # `make test` replays the committed corpus through them (no clang, no libFuzzer).
@@ -216,6 +216,11 @@ bench: $(BUILD)/cube5 $(LINK_BINS)
 # with each frame's bound (scripts/bench-sched.sh; env SIZE, FRAMES, CELLS, SPEEDS, RULES).
 bench-sched: $(BUILD)/cube5
 	bash scripts/bench-sched.sh $(BUILD)
+
+# Several boards on one super volume over MPI ranks on this machine: 1, 2, 4, 8 boards, every
+# scene and assignment rule (scripts/bench-boards.sh; env SIZE, CELLS, BOARDS, RULES, SCENES).
+bench-boards: $(BUILD)/cube5
+	bash scripts/bench-boards.sh $(BUILD)
 
 # Our caster against VTK's vtkFixedPointVolumeRayCastMapper (../shared/bench/peer-vtk),
 # interleaved rounds; env ROUNDS, ONLY, DISTS (scripts/bench-peer.sh).
