@@ -10,8 +10,14 @@
 # scene, the default rule). The large volume with mirrors is brain_mirrors at SIZE with
 # 4x4x4 cells; with ../shared/data/volumes/ present, also brain_mirrors with the CThead CT
 # volume (256x256x113), else the run says it is absent.
+# Then each board's own scheduling: `cube5 schedule` on brain_mirrors (SCHED_SIZE 32x32, 3x3x3
+# cells, SCHED_FRAMES 4 frames orbiting 2 degrees a frame) on SCHED_BOARDS ("1 2 4") boards:
+# per board count the fetches of all boards with Max Work and following each board's own
+# Cell Tree schedule (frames 1..), and the sum over boards and frames of each board's
+# tree's lower bound: sched.txt and bench-boards-sched.json.
 # Environment: SIZE (128x128), CELLS (4), BOARDS ("1 2 4 8"), RULES ("kd slab mod"), SCENES
-# (the built-in scenes), LINK_BW / LINK_LATENCY (MB/s, us; empty: the defaults).
+# (the built-in scenes), LINK_BW / LINK_LATENCY (MB/s, us; empty: the defaults), RENDER=0 or
+# SCHED=0 to skip a part.
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -40,6 +46,7 @@ else
 fi
 list="$out/runs.list"
 : >"$list"
+[ "${RENDER:-1}" = 0 ] && cases=()
 for c in "${cases[@]}"; do
     IFS='|' read -r label scene extra <<<"$c"
     for rule in $RULES; do
@@ -53,7 +60,7 @@ for c in "${cases[@]}"; do
         done
     done
 done
-python3 - "$list" "$out" "$SIZE" "$CELLS" <<'PY'
+[ "${RENDER:-1}" = 0 ] || python3 - "$list" "$out" "$SIZE" "$CELLS" <<'PY'
 import json, sys
 lst, out, size, cells = sys.argv[1:5]
 rows, one = [], {}
@@ -92,19 +99,58 @@ if not all(r["same_image"] for r in rows):
     sys.exit("bench-boards: an image differs from one board's")
 PY
 rule0=${RULES%% *}
-cat >"$out/boards.gp" <<GP
-set terminal pngcairo size 1100,420
+[ "${RENDER:-1}" = 0 ] || cat >"$out/boards.gp" <<GP
+set terminal pngcairo size 1100,420 noenhanced
 set output "$out/boards.png"
 set multiplot layout 1,2 title "cube5: several boards, $SIZE, ${CELLS}x${CELLS}x${CELLS} cells, $rule0 assignment (modelled)"
 set key top left
 set xlabel "boards"
 set logscale x 2
 set xtics (1, 2, 4, 8)
+set xrange [0.9:9]
 set ylabel "speed-up of the frame time over one board"
 plot for [i=0:*] "$out/boards.dat" index i using 1:2 with linespoints title columnheader(1), x with lines dt 2 title "linear"
 set ylabel "cell fetches, x one board's"
 plot for [i=0:*] "$out/boards.dat" index i using 1:3 with linespoints title columnheader(1)
 unset multiplot
 GP
-gnuplot "$out/boards.gp"
-echo "bench-boards: wrote $out/bench-boards.json and $out/boards.png" >&2
+[ "${RENDER:-1}" = 0 ] || gnuplot "$out/boards.gp"
+[ "${RENDER:-1}" = 0 ] || echo "bench-boards: wrote $out/bench-boards.json and $out/boards.png" >&2
+
+[ "${SCHED:-1}" = 0 ] && exit 0
+SCHED_SIZE=${SCHED_SIZE:-32x32}
+SCHED_FRAMES=${SCHED_FRAMES:-4}
+SCHED_BOARDS=${SCHED_BOARDS:-1 2 4}
+slist="$out/sched.list"
+: >"$slist"
+for n in $SCHED_BOARDS; do
+    f="$out/runs/sched_brain_mirrors_$n.json"
+    mpirun --oversubscribe -np "$n" "$cube5" schedule brain_mirrors --size "$SCHED_SIZE" --cells 3 \
+        --frames "$SCHED_FRAMES" --orbit 2 --exact-states 1000 --boards "$n" "${link[@]}" --json >"$f"
+    echo "$n $f" >>"$slist"
+    echo "bench-boards: schedule on $n boards" >&2
+done
+python3 - "$slist" "$out" <<'PY' | tee "$out/sched.txt"
+import json, sys
+rows = []
+for line in open(sys.argv[1]):
+    n, f = line.split()
+    d = json.load(open(f))
+    fr = d["frames"][1:]
+    mb = [r["multi_board"] for r in fr]
+    rows.append(dict(boards=int(n), frames=len(fr),
+                     fetches_maxwork=sum(r["fetches_maxwork"] for r in fr),
+                     fetches_celltree=sum(r["fetches_celltree"] for r in fr),
+                     bound_sum=(None if any(m["lower_bound_sum"] is None for m in mb)
+                                else sum(m["lower_bound_sum"] for m in mb)),
+                     cycles_maxwork=sum(m["maxwork"]["frame_cycles"] for m in mb),
+                     cycles_celltree=sum(m["celltree"]["frame_cycles"] for m in mb),
+                     followed=[r["followed"] for r in fr]))
+json.dump(rows, open(sys.argv[2] + "/bench-boards-sched.json", "w"), indent=1)
+print("%6s %8s %9s %7s %14s %15s  %s" % ("boards", "maxwork", "celltree", "bound", "cycles maxwork",
+      "cycles celltree", "followed (frames 1..)"))
+for r in rows:
+    print("%6d %8d %9d %7s %14d %15d  %s" % (r["boards"], r["fetches_maxwork"], r["fetches_celltree"],
+          "-" if r["bound_sum"] is None else r["bound_sum"], r["cycles_maxwork"], r["cycles_celltree"],
+          "; ".join(r["followed"])))
+PY

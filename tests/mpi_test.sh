@@ -51,6 +51,32 @@ for run in "2 kd" "3 kd" "3 slab" "3 mod"; do
     else ok "$name"; fi
 done
 
+# compare: the same model image on 2 boards, so the same difference to cref.
+"$cube5" compare "${scene[@]:0:1}" --size 40x40 --cells 4 --json >"$tmp/c1.json" 2>"$tmp/err"
+if timeout 120 "${mpirun[@]}" -np 2 "$cube5" compare "${scene[@]:0:1}" --size 40x40 --cells 4 --boards 2 --json \
+    >"$tmp/c2.json" 2>>"$tmp/err" &&
+    [ "$(field "$tmp/c1.json" "d['rmse'], d['max_abs_err']")" = "$(field "$tmp/c2.json" "d['rmse'], d['max_abs_err']")" ] &&
+    [ "$(field "$tmp/c2.json" "len(d['multi_board']['per_board']), d['fetches'] == sum(b['fetches'] for b in d['multi_board']['per_board'])")" = "(2, True)" ]; then
+    ok mpi_compare_2_ranks_same_difference
+else
+    bad mpi_compare_2_ranks_same_difference "$(tail -5 "$tmp/err")"
+fi
+
+# schedule: each board follows its own Cell Tree's schedule (the command itself fails when the
+# image under the schedule differs from Max Work's); the fetches add up over the boards.
+if timeout 120 "${mpirun[@]}" -np 3 "$cube5" schedule "${scene[@]:0:1}" --size 24x24 --cells 2 --frames 3 --boards 3 \
+    --json >"$tmp/s.json" 2>"$tmp/err"; then
+    check=$(field "$tmp/s.json" "all(len(r['multi_board']['per_board']) == 3 and
+        r['fetches_maxwork'] == sum(b['fetches_maxwork'] for b in r['multi_board']['per_board']) and
+        r['fetches_celltree'] == sum(b['fetches_celltree'] for b in r['multi_board']['per_board']) and
+        r['multi_board']['lower_bound_sum'] is not None and r['multi_board']['celltree']['frame_cycles'] > 0
+        for r in d['frames']) and d['frames'][2]['followed'].startswith('celltree')")
+    if [ "$check" = True ]; then ok mpi_schedule_3_ranks_per_board_trees
+    else bad mpi_schedule_3_ranks_per_board_trees "per-board figures: $check" "$(head -c 600 "$tmp/s.json")"; fi
+else
+    bad mpi_schedule_3_ranks_per_board_trees "$(tail -5 "$tmp/err")"
+fi
+
 # The text report: a line per board.
 if timeout 120 "${mpirun[@]}" -np 2 "$cube5" render "${scene[@]}" --boards 2 >"$tmp/t.txt" 2>"$tmp/err" &&
     grep -q '^  boards   2 (kd assignment)' "$tmp/t.txt" && [ "$(grep -cE '^  [01] +[0-9]+ ' "$tmp/t.txt")" -eq 2 ]; then
