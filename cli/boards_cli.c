@@ -18,7 +18,7 @@ int c5_boards_option(int argc, char **argv, int *i, c5_boards_args *b, c5_err *e
         return c5_cli_int(o, v, 1, C5_MB_MAX_BOARDS, &b->boards, err) ? -1 : 1;
     if (!strcmp(o, "--assign")) {
         if (!(b->mo.assign = c5_assign_parse(v)))
-            return c5_fail(err, "--assign: expected kd, slab or mod, got '%s'", v);
+            return c5_fail(err, "--assign: expected kd, slab, mod or tree, got '%s'", v);
         return 1;
     }
     double x;
@@ -61,6 +61,7 @@ int c5_boards_begin(c5_boards_args *b, c5_err *err)
 {
     if (b->boards < 1)
         b->boards = 1;
+    b->mo.history = &b->hist;
     if (b->boards == 1) {
         b->t = (c5_mb_transport){NULL, 0, 1, one_alltoall, one_allgather, one_sum};
         return 0;
@@ -75,6 +76,7 @@ int c5_boards_leader(const c5_boards_args *b) { return !b->mpi || b->t.rank == 0
 
 void c5_boards_end(c5_boards_args *b)
 {
+    c5_mb_history_free(&b->hist);
     if (b->mpi)
         c5_mpi_end();
     b->mpi = 0;

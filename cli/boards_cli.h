@@ -14,13 +14,15 @@ typedef struct {
     int given;            /* any of the options given */
     int mpi;              /* c5_mpi_begin succeeded: t is the transport */
     c5_mb_transport t;
+    c5_mb_history hist;   /* --assign tree: the previous frame's traffic */
 } c5_boards_args;
 
 #define C5_BOARDS_HELP                                                                              \
     "  --boards N        rtl only: N boards share the super volume, one MPI rank each: run as\n"      \
     "                    'mpirun -np N cube5 ... --boards N' (docs/multi-board.md); the image is\n"   \
     "                    the same bits for any N\n"                                                    \
-    "  --assign R        how cells go to boards: kd (default, a k-d split), slab, or mod\n"          \
+    "  --assign R        how cells go to boards: kd (default, a k-d split), slab, mod (scattered),\n" \
+    "                    or tree (from the previous frame's rays between cells; kd in frame 0)\n"  \
     "  --link-bw MB/S    inter-board link bandwidth each way per board (default 125: Gigabit\n"      \
     "                    Ethernet)\n"                                                                 \
     "  --link-latency US inter-board latency per exchange round in us (default 50)\n"

@@ -19,7 +19,7 @@ static const char usage_text[] =
     "usage: cube5 compare [SCENE|FILE.json] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
     "                     [--size WxH] [--frame I] [--diff OUT.png] [--gain G] [--json]\n"
     "                     [--volume [I=]FILE] [--threads N] [--ref-precision double|long]\n"
-    "                     [--boards N] [--assign kd|slab|mod] [--link-bw MB/S]\n"
+    "                     [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S]\n"
     "                     [--link-latency US] [--progress]\n\n"
     "Renders one frame of a scene (default: 'default') with cref, the reference, and with the\n"
     "bit-accurate board model, then prints how far the model's image is from cref's (PSNR,\n"

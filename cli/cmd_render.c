@@ -15,7 +15,7 @@ static const char usage_text[] =
     "usage: cube5 render [SCENE|FILE.json] [-o OUT] [--threads N] [--frames N]\n"
     "                    [--size WxH] [--volume [I=]FILE] [--json] [--progress]\n"
     "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
-    "                    [--boards N] [--assign kd|slab|mod] [--link-bw MB/S] [--link-latency US]\n\n"
+    "                    [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n\n"
     "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file\n"
     "with cref, the double-precision reference renderer, or with the bit-accurate board model.\n\n"
     "  -o OUT            write the image: .png (8-bit, clamped) or .exr (float); with\n"

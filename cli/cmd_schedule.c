@@ -21,7 +21,7 @@ static const char usage_text[] =
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
     "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n"
-    "                      [--boards N] [--assign kd|slab|mod] [--link-bw MB/S] [--link-latency US]\n\n"
+    "                      [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
     "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"

@@ -182,6 +182,10 @@ static void dsp_queue(board *b, const c5_bray *r, int arrival);
 static void on_enqueue(void *ctx, const c5_bray *r)
 {
     board *b = ctx;
+    if (b->o->moves && !b->eye_probe && (int)r->cell != b->proc.active) {
+        int from = b->proc.active < 0 ? (int)r->cell : b->proc.active;
+        b->o->moves[(size_t)from * (size_t)b->cells.count + r->cell]++;
+    }
     if (b->o->link && link_enqueue(b, r))
         return;
     if ((int)r->cell == b->proc.active) {
@@ -675,6 +679,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     }
     stats->switched_at_load = -1;
     stats->start_overlap = -1;
+    if (o.moves)
+        memset(o.moves, 0, (size_t)b.cells.count * (size_t)b.cells.count * sizeof *o.moves);
     if (o.node_rays)
         memset(o.node_rays, 0, C5_TREE_SLOTS * sizeof *o.node_rays);
     if (o.sched == C5_SCHED_EXTERNAL && o.stale_check >= 0 && b.sgroup[0] * b.sgroup[1] * b.sgroup[2] == 1) {

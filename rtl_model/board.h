@@ -150,6 +150,9 @@ typedef struct {
     const c5_board_link *link;
     uint64_t *frame_acc;     /* out, or NULL: the frame buffer's integer sums before the clamp,
                               * [width x height x 3] (what several boards add up) */
+    uint32_t *moves;         /* out, or NULL: [cells x cells] rays handed on from the active cell
+                              * (row) to another cell (column); rays the eye-ray set-up queues
+                              * count on their cell's diagonal (the --assign tree rule's input) */
 } c5_board_opts;
 
 /* Where a frame is (c5_board_opts.progress). */

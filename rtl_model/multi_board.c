@@ -9,12 +9,13 @@
 
 const char *c5_assign_name(c5_assign_rule r)
 {
-    return r == C5_ASSIGN_SLAB ? "slab" : r == C5_ASSIGN_MOD ? "mod" : "kd";
+    return r == C5_ASSIGN_SLAB ? "slab" : r == C5_ASSIGN_MOD ? "mod" : r == C5_ASSIGN_TREE ? "tree" : "kd";
 }
 
 c5_assign_rule c5_assign_parse(const char *s)
 {
-    return !strcmp(s, "slab") ? C5_ASSIGN_SLAB : !strcmp(s, "kd") ? C5_ASSIGN_KD : !strcmp(s, "mod") ? C5_ASSIGN_MOD : 0;
+    return !strcmp(s, "slab") ? C5_ASSIGN_SLAB : !strcmp(s, "kd") ? C5_ASSIGN_KD : !strcmp(s, "mod") ? C5_ASSIGN_MOD
+           : !strcmp(s, "tree") ? C5_ASSIGN_TREE : 0;
 }
 
 /* The axis with the most cells of the box [lo, hi); ties to the later axis (z, the volume's
@@ -54,6 +55,112 @@ static void kd(const int n[3], const int lo[3], const int hi[3], int b0, int nb,
     kd(n, l2, hi, b0 + (int)left, nb - (int)left, owner);
 }
 
+/* The k-d split on cell weights w: the longest axis cut where the weight on each side is
+ * closest to its boards' share (half the boards on the left), each side keeping at least one
+ * cell a board. */
+static void kd_weighted(const int n[3], const int lo[3], const int hi[3], int b0, int nb, const uint64_t *w,
+                        uint16_t *owner)
+{
+    int a = longest(lo, hi), ext = hi[a] - lo[a];
+    if (nb == 1 || ext == 1) {
+        kd(n, lo, hi, b0, 1, owner);
+        return;
+    }
+    long slice = (long)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) / ext;
+    int left = nb / 2, best = -1;
+    double total = 0, best_d = 0;
+    for (int z = lo[2]; z < hi[2]; z++)
+        for (int y = lo[1]; y < hi[1]; y++)
+            for (int x = lo[0]; x < hi[0]; x++)
+                total += (double)w[x + n[0] * (y + n[1] * z)];
+    double acc = 0;
+    for (int cut = lo[a] + 1; cut < hi[a]; cut++) {
+        int p[3];
+        for (p[0] = lo[0]; p[0] < hi[0]; p[0]++) /* the slice at cut - 1 */
+            for (p[1] = lo[1]; p[1] < hi[1]; p[1]++)
+                for (p[2] = lo[2]; p[2] < hi[2]; p[2]++)
+                    if (p[a] == cut - 1)
+                        acc += (double)w[p[0] + n[0] * (p[1] + n[1] * p[2])];
+        if (slice * (cut - lo[a]) < left || slice * (hi[a] - cut) < nb - left)
+            continue;
+        double d = fabs(acc * nb - total * left);
+        if (best < 0 || d < best_d)
+            best = cut, best_d = d;
+    }
+    if (best < 0) { /* too few cells for half the boards on each side: the plain rule */
+        kd(n, lo, hi, b0, nb, owner);
+        return;
+    }
+    int h1[3] = {hi[0], hi[1], hi[2]}, l2[3] = {lo[0], lo[1], lo[2]};
+    h1[a] = best;
+    l2[a] = best;
+    kd_weighted(n, lo, h1, b0, left, w, owner);
+    kd_weighted(n, l2, hi, b0 + left, nb - left, w, owner);
+}
+
+int c5_mb_assign_tree(const int n[3], int boards, const uint64_t *moves, uint16_t *owner, c5_err *err)
+{
+    if (boards < 1 || boards > C5_MB_MAX_BOARDS)
+        return c5_fail(err, "boards: %d is outside 1..%d", boards, C5_MB_MAX_BOARDS);
+    int count = n[0] * n[1] * n[2];
+    uint64_t *w = calloc((size_t)count, sizeof *w);
+    if (!w)
+        return c5_fail(err, "out of memory");
+    for (int c = 0; c < count; c++) {
+        w[c] = 1;
+        for (int a = 0; a < count; a++)
+            w[c] += moves[(size_t)a * count + c];
+    }
+    int lo[3] = {0, 0, 0};
+    kd_weighted(n, lo, n, 0, boards, w, owner);
+    uint64_t load[C5_MB_MAX_BOARDS] = {0}, conn[C5_MB_MAX_BOARDS], cap = 0;
+    int cells[C5_MB_MAX_BOARDS] = {0};
+    for (int c = 0; c < count; c++)
+        load[owner[c]] += w[c], cells[owner[c]]++;
+    uint64_t total = 0, heaviest = 0;
+    for (int k = 0; k < boards; k++)
+        cap = load[k] > cap ? load[k] : cap, total += load[k];
+    for (int c = 0; c < count; c++)
+        heaviest = w[c] > heaviest ? w[c] : heaviest;
+    /* Cells move to the board they trade most rays with: fewer rays cross boards, and no
+     * board ends with more weight than the heaviest after the split and 10 %, or the mean and
+     * one cell. A bounded number of passes. */
+    cap += cap / 10;
+    if (total / (uint64_t)boards + heaviest > cap)
+        cap = total / (uint64_t)boards + heaviest;
+    for (int pass = 0; pass < 8; pass++) {
+        int moved = 0;
+        for (int c = 0; c < count; c++) {
+            int k0 = owner[c], best = k0;
+            if (cells[k0] == 1)
+                continue;
+            memset(conn, 0, sizeof conn);
+            for (int d = 0; d < count; d++)
+                if (d != c)
+                    conn[owner[d]] += moves[(size_t)c * count + d] + moves[(size_t)d * count + c];
+            for (int k = 0; k < boards; k++)
+                if (k != k0 && conn[k] > conn[best] && load[k] + w[c] <= cap)
+                    best = k;
+            if (best != k0) {
+                owner[c] = (uint16_t)best;
+                load[k0] -= w[c], load[best] += w[c];
+                cells[k0]--, cells[best]++;
+                moved++;
+            }
+        }
+        if (!moved)
+            break;
+    }
+    free(w);
+    return 0;
+}
+
+void c5_mb_history_free(c5_mb_history *h)
+{
+    free(h->moves);
+    memset(h, 0, sizeof *h);
+}
+
 int c5_mb_assign(c5_assign_rule rule, const int n[3], int boards, uint16_t *owner, c5_err *err)
 {
     if (boards < 1 || boards > C5_MB_MAX_BOARDS)
@@ -71,7 +178,7 @@ int c5_mb_assign(c5_assign_rule rule, const int n[3], int boards, uint16_t *owne
                     long i = ((long)p[a] * n[o2] + p[o2]) * n[o1] + p[o1]; /* its place, axis a slowest */
                     owner[x + n[0] * (y + n[1] * z)] = (uint16_t)(i * boards / count);
                 }
-    } else {
+    } else { /* kd, and the tree rule without a previous frame */
         int lo[3] = {0, 0, 0};
         kd(n, lo, n, 0, boards, owner);
     }
@@ -248,13 +355,22 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     uint64_t *acc = malloc(nacc * sizeof *acc);
     round_rec *all = malloc((size_t)nb * sizeof *all);
     c5_board_stats *every = malloc((size_t)nb * sizeof *every);
+    uint32_t *moves = NULL;
+    uint64_t *moves64 = NULL;
     int rc = -1;
     if (!owner || !acc || !all || !every) {
         c5_fail(err, "out of memory for %d boards", nb);
         goto done;
     }
-    if (c5_mb_assign(ms->assign, n, nb, owner, err) != 0)
+    c5_mb_history *h = ms->assign == C5_ASSIGN_TREE && count <= C5_MB_TREE_MAX_CELLS ? mo->history : NULL;
+    if (h && h->cells == count ? c5_mb_assign_tree(n, nb, h->moves, owner, err) != 0
+                               : c5_mb_assign(ms->assign, n, nb, owner, err) != 0)
         goto done;
+    size_t nmoves = (size_t)count * (size_t)count;
+    if (h && (!(moves = malloc(nmoves * sizeof *moves)) || !(moves64 = malloc(nmoves * sizeof *moves64)))) {
+        c5_fail(err, "out of memory for the tree rule's %d x %d table", count, count);
+        goto done;
+    }
     for (int c = 0; c < count; c++)
         ms->board[owner[c]].cells++;
     mb_link ml = {t, ms, 0, all};
@@ -263,6 +379,7 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     memcpy(o.cells, n, sizeof o.cells);
     o.link = nb > 1 ? &link : NULL;
     o.frame_acc = acc;
+    o.moves = moves;
     c5_board_stats mine;
     c5_image img;
     if (c5_board_render(s, sv, frame, &o, &img, &mine, err) != 0)
@@ -283,6 +400,16 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
         ms->board[k].fetch_bytes = every[k].fetch_bytes;
         ms->board[k].rays_processed = every[k].queue_pops;
     }
+    if (h) { /* this frame's traffic of every board, for the next frame's assignment */
+        for (size_t i = 0; i < nmoves; i++)
+            moves64[i] = moves[i];
+        if (t->sum_u64(t->ctx, moves64, nmoves, err) != 0)
+            goto done;
+        free(h->moves);
+        h->moves = moves64;
+        moves64 = NULL;
+        h->cells = count;
+    }
     uint64_t clamped = 0; /* one board clamped its own buffer, counted in its saturations */
     if (to_image(s, acc, out, &clamped, err) != 0)
         goto done;
@@ -297,5 +424,7 @@ done:
     free(acc);
     free(all);
     free(every);
+    free(moves);
+    free(moves64);
     return rc;
 }

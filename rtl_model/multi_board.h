@@ -30,7 +30,23 @@ typedef enum {
     C5_ASSIGN_SLAB = 1, /* contiguous runs of cells in order, the axis with the most cells slowest: slabs */
     C5_ASSIGN_KD = 2,   /* recursive bisection of the grid of cells, longest axis first (a k-d split) */
     C5_ASSIGN_MOD = 3,  /* cell id mod boards: scattered (a worst case; tests "any assignment") */
+    C5_ASSIGN_TREE = 4, /* from the previous frame's ray traffic between cells: a k-d split balancing
+                         * the rays each cell received, then cells moved to the board they trade
+                         * most rays with (the paper's proposal); kd in a run's first frame */
 } c5_assign_rule;
+
+/* The tree rule works on a cells x cells table: up to this many cells (else kd). */
+#define C5_MB_TREE_MAX_CELLS 1024
+
+/* What the tree rule carries from frame to frame: the caller's, zeroed before the first
+ * frame, c5_mb_history_free after the last. */
+typedef struct {
+    int cells;          /* the split's cells the table is for, 0: none yet */
+    uint64_t *moves;    /* [cells x cells] the last frame's rays handed from cell (row) to cell
+                         * (column) on all boards; set-up rays on their cell's diagonal */
+} c5_mb_history;
+
+void c5_mb_history_free(c5_mb_history *h);
 
 /* The collectives the boards need; every board calls each one the same number of times in
  * the same order. 0, or -1 with a message. */
@@ -52,6 +68,7 @@ typedef struct {
     c5_assign_rule assign;  /* 0: C5_ASSIGN_KD */
     double link_bw;         /* bytes/s a board's port moves each way, 0: C5_LINK_BW_DEFAULT */
     double link_latency_s;  /* per exchange, 0: C5_LINK_LATENCY_DEFAULT, < 0: none */
+    c5_mb_history *history; /* C5_ASSIGN_TREE: read and then updated each frame; NULL: kd */
 } c5_mb_opts;
 
 /* One board's share of a frame. */
@@ -86,6 +103,14 @@ c5_assign_rule c5_assign_parse(const char *s);
  * `boards` boards: owner[count]. Every board owns at least one cell when there are as many
  * cells as boards. 0, or -1 with a message (boards outside 1..C5_MB_MAX_BOARDS). */
 int c5_mb_assign(c5_assign_rule rule, const int n[3], int boards, uint16_t *owner, c5_err *err);
+
+/* The tree rule on a traffic table (c5_mb_history.moves of this split): each cell's weight is
+ * the rays it received (its column's sum, + 1); a k-d split cuts where the weights balance
+ * (each side at least as many cells as boards), then passes move a cell to the board it
+ * trades most rays with while no board's weight grows beyond the largest after the split and
+ * 10 %, or the mean and the heaviest cell.
+ * 0, or -1 with a message. */
+int c5_mb_assign_tree(const int n[3], int boards, const uint64_t *moves, uint16_t *owner, c5_err *err);
 
 /* The cell split c5_board_render uses for these options and grid (the automatic one for
  * cells < 1). */

@@ -25,7 +25,7 @@ typedef struct {
     const c5_supervol *sv;
     int frame;
     const c5_board_opts *base;
-    const c5_mb_opts *mo;
+    c5_mb_opts mo;
     c5_image img;
     c5_mb_stats *ms;
     c5_err err;
@@ -99,12 +99,18 @@ static void *run(void *arg)
 {
     board_thread *t = arg;
     c5_mb_transport tr = {t, t->rank, t->L->size, alltoall, allgather, sum_u64};
-    t->rc = c5_mb_render(t->s, t->sv, t->frame, t->base, t->mo, &tr, &t->img, t->ms, &t->err);
+    t->rc = c5_mb_render(t->s, t->sv, t->frame, t->base, &t->mo, &tr, &t->img, t->ms, &t->err);
     return NULL;
 }
 
 int c5t_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *base,
                   const c5_mb_opts *mo, int boards, c5_image *out, c5_mb_stats *ms)
+{
+    return c5t_mb_render_hist(s, sv, frame, base, mo, boards, NULL, out, ms);
+}
+
+int c5t_mb_render_hist(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *base,
+                       const c5_mb_opts *mo, int boards, c5_mb_history *hist, c5_image *out, c5_mb_stats *ms)
 {
     static loop L;
     board_thread *t = calloc((size_t)boards, sizeof *t);
@@ -119,7 +125,8 @@ int c5t_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_
     L.size = boards;
     pthread_barrier_init(&L.bar, NULL, (unsigned)boards);
     for (int k = 0; k < boards; k++) {
-        t[k] = (board_thread){.L = &L, .rank = k, .s = s, .sv = sv, .frame = frame, .base = base, .mo = mo, .ms = &st[k]};
+        t[k] = (board_thread){.L = &L, .rank = k, .s = s, .sv = sv, .frame = frame, .base = base, .mo = *mo, .ms = &st[k]};
+        t[k].mo.history = hist ? &hist[k] : NULL;
         pthread_create(&th[k], NULL, run, &t[k]);
     }
     int rc = 0;

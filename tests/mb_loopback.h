@@ -10,5 +10,9 @@
  * message if not). 0, or -1 after printing the error. */
 int c5t_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *base,
                   const c5_mb_opts *mo, int boards, c5_image *out, c5_mb_stats *ms);
+/* The same with each board's own history for the tree rule: hist[boards], kept by the caller
+ * from frame to frame (as each MPI rank keeps its own). */
+int c5t_mb_render_hist(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *base,
+                       const c5_mb_opts *mo, int boards, c5_mb_history *hist, c5_image *out, c5_mb_stats *ms);
 
 #endif

@@ -182,3 +182,93 @@ TEST(mb_link_model_latency_and_bandwidth)
     c5_image_free(&c);
     c5_supervol_free(&l.sv);
 }
+
+/* The tree rule on a made-up traffic table: cells 0 and 63 (opposite corners of 4x4x4) trade
+ * more rays than any other two, so they end on one board; every board keeps a cell; no board's weight exceeds
+ * the heaviest after the weighted split. */
+TEST(mb_assign_tree_keeps_trading_cells_together)
+{
+    int n[3] = {4, 4, 4}, count = 64;
+    uint64_t *m = calloc((size_t)count * count, sizeof *m);
+    CHECK(m != NULL);
+    for (int c = 0; c < count; c++) {
+        m[(size_t)c * count + c] = 1000; /* set-up rays: equal work */
+        if (c + 1 < count)
+            m[(size_t)c * count + c + 1] = 5; /* a little traffic to the next cell */
+    }
+    m[0 * count + 63] = m[(size_t)63 * count + 0] = 300;
+    for (int nb = 2; nb <= 4; nb *= 2) {
+        uint16_t owner[64], plain[64];
+        c5_err err;
+        CHECK(c5_mb_assign_tree(n, nb, m, owner, &err) == 0);
+        CHECK(c5_mb_assign(C5_ASSIGN_KD, n, nb, plain, &err) == 0);
+        CHECK_MSG(plain[0] != plain[63], "%d boards: the k-d split already joins the corners", nb);
+        CHECK_MSG(owner[0] == owner[63], "%d boards: cells 0 and 63 on boards %d and %d", nb, owner[0], owner[63]);
+        int per[8] = {0};
+        for (int c = 0; c < count; c++) {
+            CHECK(owner[c] < nb);
+            per[owner[c]]++;
+        }
+        for (int k = 0; k < nb; k++)
+            CHECK(per[k] >= 1);
+    }
+    /* No traffic at all: the weights are equal, the split is the plain k-d split. */
+    memset(m, 0, (size_t)count * count * sizeof *m);
+    uint16_t owner[64], plain[64];
+    c5_err err;
+    CHECK(c5_mb_assign_tree(n, 4, m, owner, &err) == 0);
+    CHECK(c5_mb_assign(C5_ASSIGN_KD, n, 4, plain, &err) == 0);
+    CHECK(!memcmp(owner, plain, sizeof owner));
+    free(m);
+}
+
+/* Two frames of brain_mirrors under the tree rule, each board with its own history: frame 0
+ * is the k-d split, frame 1 the tree rule on frame 0's traffic of all boards (the same table
+ * on every board), and both images and ray counts are one board's. */
+TEST(mb_tree_rule_second_frame_same_image)
+{
+    loaded l;
+    CHECK(c5t_load_scene("brain_mirrors", 40, &l.s, &l.sv) == 0);
+    c5_board_opts o = {.cells = {4, 4, 4}};
+    c5_mb_history hist[4];
+    memset(hist, 0, sizeof hist);
+    c5_mb_opts tree = {.assign = C5_ASSIGN_TREE}, kd = {.assign = C5_ASSIGN_KD};
+    for (int f = 0; f < 2; f++) {
+        c5_image ref, img, kimg;
+        c5_board_stats one;
+        c5_mb_stats ms, mk;
+        c5_err err;
+        int want[4] = {0};
+        uint16_t owner[64];
+        if (f == 1) { /* the assignment frame 1 must use */
+            for (int k = 1; k < 4; k++)
+                CHECK(!memcmp(hist[k].moves, hist[0].moves, 64 * 64 * sizeof *hist[0].moves));
+            uint64_t off = 0;
+            for (int i = 0; i < 64 * 64; i++)
+                off += i / 64 != i % 64 ? hist[0].moves[i] : 0;
+            CHECK(off > 0);
+            CHECK(c5_mb_assign_tree((int[3]){4, 4, 4}, 4, hist[0].moves, owner, &err) == 0);
+            for (int c = 0; c < 64; c++)
+                want[owner[c]]++;
+        }
+        CHECK(c5_board_render(&l.s, &l.sv, f, &o, &ref, &one, &err) == 0);
+        CHECK(c5t_mb_render_hist(&l.s, &l.sv, f, &o, &tree, 4, hist, &img, &ms) == 0);
+        CHECK(c5t_mb_render(&l.s, &l.sv, f, &o, &kd, 4, &kimg, &mk) == 0);
+        CHECK_MSG(same_image(&ref, &img), "frame %d: image differs", f);
+        CHECK(conserved(&ms.sum));
+        for (int t = 0; t < C5_RAY_TYPES; t++)
+            CHECK_INT(ms.sum.rays[t], one.rays[t]);
+        for (int k = 0; k < 4; k++) {
+            CHECK_INT(hist[k].cells, 64);
+            CHECK_INT(ms.board[k].cells, f == 0 ? mk.board[k].cells : want[k]);
+        }
+        if (f == 0) /* no previous frame: the k-d split */
+            CHECK_INT(ms.frame_cycles, mk.frame_cycles);
+        c5_image_free(&ref);
+        c5_image_free(&img);
+        c5_image_free(&kimg);
+    }
+    for (int k = 0; k < 4; k++)
+        c5_mb_history_free(&hist[k]);
+    c5_supervol_free(&l.sv);
+}
