@@ -27,7 +27,7 @@ field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)
 ref_crc=$(field "$tmp/one.json" "d['frames'][0]['crc32']")
 ref_rays=$(field "$tmp/one.json" "sorted(d['rays'].items())")
 
-for run in "2 kd" "3 kd" "3 slab" "3 mod"; do
+for run in "2 kd" "3 kd" "3 slab" "3 mod" "2 tree"; do
     set -- $run
     n=$1 rule=$2 name="mpi_${1}_ranks_${2}_same_image_rays_conserved"
     if ! timeout 120 "${mpirun[@]}" -np "$n" "$cube5" render "${scene[@]}" --boards "$n" --assign "$rule" --json \
