@@ -20,6 +20,7 @@ typedef struct {
     uint8_t (*sbuf)[C5_PACKET_BYTES], (*rbuf)[C5_PACKET_BYTES];
     size_t scap, rcap;
     long kill_at;      /* C5_MPI_TEST_KILL: the exchange at which this rank kills itself, -1: never */
+    long fail_at;      /* C5_MPI_TEST_FAIL: the exchange at which this rank reports an error, -1: never */
     long exchanges;
 } mpi_ctx;
 
@@ -42,8 +43,11 @@ static int alltoall(void *vc, const uint8_t (*out)[C5_PACKET_BYTES], const uint1
 {
     mpi_ctx *c = vc;
     /* The failure test (tests/mpi_test.sh): this rank dies mid-frame, the others must end. */
-    if (c->kill_at >= 0 && c->exchanges++ == c->kill_at)
+    if (c->kill_at >= 0 && c->exchanges == c->kill_at)
         raise(SIGKILL);
+    if (c->fail_at >= 0 && c->exchanges == c->fail_at)
+        return c5_fail(err, "a failure on purpose at exchange %ld (C5_MPI_TEST_FAIL)", c->exchanges);
+    c->exchanges++;
     memset(c->scount, 0, (size_t)c->size * sizeof *c->scount);
     for (size_t i = 0; i < n_out; i++)
         c->scount[dest[i]]++;
@@ -120,6 +124,8 @@ int c5_mpi_begin(int boards, c5_mb_transport *t, c5_err *err)
     int kr = -1;
     long ke = 0;
     ctx.kill_at = kill && sscanf(kill, "%d:%ld", &kr, &ke) == 2 && kr == ctx.rank ? ke : -1;
+    const char *fail = getenv("C5_MPI_TEST_FAIL"); /* "RANK:EXCHANGE": the error path */
+    ctx.fail_at = fail && sscanf(fail, "%d:%ld", &kr, &ke) == 2 && kr == ctx.rank ? ke : -1;
     *t = (c5_mb_transport){&ctx, ctx.rank, ctx.size, alltoall, allgather, sum_u64};
     return 0;
 }

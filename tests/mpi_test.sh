@@ -95,6 +95,17 @@ elif [ "$t" -gt 20 ]; then bad mpi_killed_rank_ends_the_job "took ${t}s"
 elif ! grep -qE 'rank 1 .*(signal 9|Killed)' "$tmp/err"; then bad mpi_killed_rank_ends_the_job "no message naming rank 1 and its signal" "$(cat "$tmp/err")"
 else ok mpi_killed_rank_ends_the_job; fi
 
+# A board whose model fails mid-frame (an error at its second exchange) ends every board:
+# its message, MPI_Abort, a non-zero exit, in seconds.
+t0=$(date +%s)
+C5_MPI_TEST_FAIL=2:1 timeout 60 "${mpirun[@]}" -np 3 -x C5_MPI_TEST_FAIL "$cube5" render "${scene[@]}" --boards 3 \
+    >/dev/null 2>"$tmp/err"
+status=$? t=$(($(date +%s) - t0))
+if [ "$status" -eq 0 ] || [ "$status" -eq 124 ]; then bad mpi_failed_board_ends_the_job "exit $status after ${t}s" "$(tail -5 "$tmp/err")"
+elif [ "$t" -gt 20 ]; then bad mpi_failed_board_ends_the_job "took ${t}s"
+elif ! grep -q '^cube5: error: board 2: a failure on purpose' "$tmp/err"; then bad mpi_failed_board_ends_the_job "no message from board 2" "$(cat "$tmp/err")"
+else ok mpi_failed_board_ends_the_job; fi
+
 # Ranks and --boards must agree; --boards needs mpirun; options checked.
 timeout 60 "${mpirun[@]}" -np 2 "$cube5" render "${scene[@]}" --boards 3 >/dev/null 2>"$tmp/err"
 status=$?
