@@ -57,13 +57,13 @@ REGS_H      := $(BUILD)/gen/c5_regs_map.h
 REGS_VHD    := $(BUILD)/gen/c5_regs_pkg.vhd
 GEN_REGS    := python3 scripts/gen-layouts.py --regs spec/registers.toml
 
-.PHONY: all demo test regress asan bench bench-sched bench-peer tb results accuracy deps docs golden coverage fpga-report fuzz clean
+.PHONY: all demo test regress asan bench bench-boards bench-sched bench-peer tb results accuracy deps docs golden coverage fpga-report fuzz clean
 LINK_BINS := $(BUILD)/cube5ctl $(BUILD)/cube5-board $(BUILD)/tests/link-tests
 # The fuzz harnesses (fuzz/, docs/fuzzing.md) built with this toolchain on a replay main:
 # `make test` replays the committed corpus through them (no clang, no libFuzzer).
 FUZZ_NAMES  := scene volume tlp driver
 FUZZ_REPLAY := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay-%)
-all: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
+all: $(BUILD)/cube5 $(BUILD)/cube5-nompi $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD)
 
 deps: $(DEPS_TEST)
 $(DEPS_OK): scripts/setup-deps.sh scripts/deps/demo.txt
@@ -123,7 +123,25 @@ $(BUILD)/libcube5.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+# Several boards over MPI (docs/multi-board.md): cli/mpi_link.c is the only file that calls
+# MPI, built with Open MPI when pkg-config finds it (the demo profile installs it); MPI=0, or
+# no Open MPI, builds without: one board, and --boards N > 1 says how to get MPI. Deferred
+# (=): on a fresh machine the packages arrive with $(DEPS_OK), after this file was read.
+MPI ?= 1
+MPI_FOUND  = $(if $(filter 1,$(MPI)),$(shell pkg-config --exists ompi-c && echo yes))
+MPI_CFLAGS = $(if $(MPI_FOUND),-DC5_HAVE_MPI $(shell pkg-config --cflags ompi-c))
+MPI_LIBS   = $(if $(MPI_FOUND),$(shell pkg-config --libs ompi-c))
+$(BUILD)/cli/mpi_link.o: CPPFLAGS += $(MPI_CFLAGS)
+
 $(BUILD)/cube5: $(CLI_OBJ) $(BUILD)/libcube5.a
+	$(CXX) $(LDFLAGS) $^ $(LDLIBS) $(MPI_LIBS) -o $@
+
+# cube5 once more without MPI, for tests/mpi_test.sh: what a build without Open MPI does.
+$(BUILD)/nompi/cli/mpi_link.o: cli/mpi_link.c | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/cube5-nompi: $(filter-out $(BUILD)/cli/mpi_link.o,$(CLI_OBJ)) $(BUILD)/nompi/cli/mpi_link.o $(BUILD)/libcube5.a
 	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(BUILD)/libc5drv.a: $(DRV_SRC:%.c=$(BUILD)/%.o)
@@ -197,7 +215,7 @@ demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) $(REF_SO) | $(DEPS_TEST)
+test: $(BUILD)/cube5 $(BUILD)/cube5-nompi $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) $(REF_SO) | $(DEPS_TEST)
 	bash tests/run.sh $(BUILD)
 
 
@@ -219,6 +237,11 @@ bench: $(BUILD)/cube5 $(LINK_BINS)
 # with each frame's bound (scripts/bench-sched.sh; env SIZE, FRAMES, CELLS, SPEEDS, RULES).
 bench-sched: $(BUILD)/cube5
 	bash scripts/bench-sched.sh $(BUILD)
+
+# Several boards on one super volume over MPI ranks on this machine: 1, 2, 4, 8 boards, every
+# scene and assignment rule (scripts/bench-boards.sh; env SIZE, CELLS, BOARDS, RULES, SCENES).
+bench-boards: $(BUILD)/cube5
+	bash scripts/bench-boards.sh $(BUILD)
 
 # Our caster against VTK's vtkFixedPointVolumeRayCastMapper (../shared/bench/peer-vtk),
 # interleaved rounds; env ROUNDS, ONLY, DISTS (scripts/bench-peer.sh).

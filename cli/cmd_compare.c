@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "board.h"
+#include "boards_cli.h"
 #include "cli.h"
 #include "cref.h"
 #include "metrics.h"
@@ -18,7 +19,8 @@ static const char usage_text[] =
     "usage: cube5 compare [SCENE|FILE.json] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
     "                     [--size WxH] [--frame I] [--diff OUT.png] [--gain G] [--json]\n"
     "                     [--volume [I=]FILE] [--threads N] [--ref-precision double|long]\n"
-    "                     [--progress]\n\n"
+    "                     [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S]\n"
+    "                     [--link-latency US] [--progress]\n\n"
     "Renders one frame of a scene (default: 'default') with cref, the reference, and with the\n"
     "bit-accurate board model, then prints how far the model's image is from cref's (PSNR,\n"
     "RMSE, largest error, overall and per channel, and a histogram of the errors in 8-bit\n"
@@ -33,7 +35,8 @@ static const char usage_text[] =
     "  --json            print one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
     "  --threads N       cref's worker threads (default: one per CPU); the model uses one\n"
-    "  --ref-precision P cref in double (default) or long (long double; docs/stability.md)\n" C5_PROGRESS_HELP;
+    "  --ref-precision P cref in double (default) or long (long double; docs/stability.md)\n"
+    C5_BOARDS_HELP C5_PROGRESS_HELP;
 
 typedef struct {
     const char *scene_arg, *diff;
@@ -44,6 +47,7 @@ typedef struct {
     int n_volumes;
     int cells[3];
     c5_queue_key key;
+    c5_boards_args bd;
 } compare_args;
 
 static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
@@ -56,6 +60,11 @@ static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
     int have_scene = 0;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
+        int bo = c5_boards_option(argc, argv, &i, &a->bd, err);
+        if (bo < 0)
+            return -1;
+        if (bo)
+            continue;
         if (!strcmp(o, "--cells") || !strcmp(o, "--queue-key") || !strcmp(o, "--size") || !strcmp(o, "--frame") ||
             !strcmp(o, "--diff") || !strcmp(o, "--gain") || !strcmp(o, "--volume") || !strcmp(o, "--threads") ||
             !strcmp(o, "--ref-precision")) {
@@ -103,6 +112,7 @@ typedef struct {
     c5_board_stats board;
     double cref_wall_s, model_wall_s;
     c5_image_diff d;
+    c5_mb_stats mb;          /* with --boards */
 } compare_result;
 
 static json_t *triple(const double v[3])
@@ -143,6 +153,8 @@ static void print_json(const compare_args *a, const c5_scene *s, int threads, co
     json_object_set_new(o, "fetches", json_integer((json_int_t)r->board.fetches));
     json_object_set_new(o, "fetch_bytes", json_integer((json_int_t)r->board.fetch_bytes));
     json_object_set_new(o, "board", c5_cli_board_json(&r->board));
+    if (a->bd.given)
+        json_object_set_new(o, "multi_board", c5_cli_mb_json(&r->mb));
     json_object_set_new(o, "diff", a->diff ? json_string(a->diff) : json_null());
     json_object_set_new(o, "diff_gain", json_real(a->gain));
     char *text = json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(9));
@@ -194,6 +206,8 @@ static void print_text(const char *label, const compare_args *a, const c5_scene 
            (unsigned long long)b->fetch_bytes);
     c5_cli_stages_text(&b->stages, stages, sizeof stages);
     printf("  stages    %s\n", stages);
+    if (a->bd.given)
+        c5_cli_mb_print(&r->mb);
     if (a->diff)
         printf("  diff      %s (|e| x %g)\n", a->diff, a->gain);
     else
@@ -232,26 +246,45 @@ int c5_cmd_compare(int argc, char **argv)
     if (c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0)
         goto fail;
 
+    if (c5_boards_begin(&a.bd, &err) != 0)
+        goto fail;
     rc = C5_EXIT_RUNTIME;
     c5_cref_opts copts = {.threads = (int)a.threads};
     c5_board_opts bopts = {.key = a.key};
     memcpy(bopts.cells, a.cells, sizeof bopts.cells);
     c5_progress_begin(&prog, "compare", 2);
+    if (!c5_boards_leader(&a.bd))
+        prog.mode = 0;
     c5_progress_frame pf = {&prog, 1, (int)a.frame};
     bopts.progress = c5_progress_board;
     bopts.progress_ctx = &pf;
+    /* Several boards: the model first (every board), then cref on board 0 alone. */
+    double tm = c5_now_s();
+    if (a.bd.given && c5_mb_render(&s, &sv, (int)a.frame, &bopts, &a.bd.mo, &a.bd.t, &r.test, &r.mb, &err) != 0) {
+        if (a.bd.mpi)
+            c5_mpi_fail(&a.bd.t, err.msg, C5_EXIT_RUNTIME);
+        goto fail;
+    }
+    r.board = r.mb.sum;
+    tm = c5_now_s() - tm;
+    if (!c5_boards_leader(&a.bd)) {
+        result_free(&r);
+        c5_supervol_free(&sv);
+        c5_boards_end(&a.bd);
+        return 0;
+    }
     double t0 = c5_now_s();
     if ((a.ref_long ? c5_cref_render_long : c5_cref_render)(&s, &sv, (int)a.frame, &copts, &r.ref, &r.cref, &err) !=
         0)
         goto fail;
     double t1 = c5_now_s();
     c5_progress_step(&prog, 1, "cref: %.2f s", t1 - t0);
-    if (c5_board_render(&s, &sv, (int)a.frame, &bopts, &r.test, &r.board, &err) != 0)
+    if (!a.bd.given && c5_board_render(&s, &sv, (int)a.frame, &bopts, &r.test, &r.board, &err) != 0)
         goto fail;
     c5_progress_step(&prog, 2, "rtl model: %.2f s", c5_now_s() - t1);
     c5_progress_end(&prog);
     r.cref_wall_s = t1 - t0;
-    r.model_wall_s = c5_now_s() - t1;
+    r.model_wall_s = a.bd.given ? tm : c5_now_s() - t1;
     if (c5_image_compare(&r.ref, &r.test, &r.d, &err) != 0)
         goto fail;
     if (a.diff) {
@@ -269,6 +302,7 @@ int c5_cmd_compare(int argc, char **argv)
         print_text(label, &a, &s, frames, threads, &r);
     result_free(&r);
     c5_supervol_free(&sv);
+    c5_boards_end(&a.bd);
     return 0;
 fail:
     c5_progress_end(&prog);

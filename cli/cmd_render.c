@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "board.h"
+#include "boards_cli.h"
 #include "cli.h"
 #include "cref.h"
 #include "progress.h"
@@ -13,7 +14,8 @@
 static const char usage_text[] =
     "usage: cube5 render [SCENE|FILE.json] [-o OUT] [--threads N] [--frames N]\n"
     "                    [--size WxH] [--volume [I=]FILE] [--json] [--progress]\n"
-    "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n\n"
+    "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
+    "                    [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n\n"
     "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file\n"
     "with cref, the double-precision reference renderer, or with the bit-accurate board model.\n\n"
     "  -o OUT            write the image: .png (8-bit, clamped) or .exr (float); with\n"
@@ -29,7 +31,7 @@ static const char usage_text[] =
     "                    or the fewest that keep a cell within 256 voxels a side)\n"
     "  --queue-key K     rtl only: morton (default) or fifo order of the ray queue\n"
     "  --host-bw MB/S    rtl only: host/disk -> RDRAM bandwidth of a cell fetch (default 132)\n"
-    "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n"
+    "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n" C5_BOARDS_HELP
     "  --json            print one JSON object instead of the text summary; each frame\n"
     "                    has \"crc32\", a CRC-32 of its float RGB pixels, and with rtl\n"
     "                    \"board\", the model's counters\n" C5_PROGRESS_HELP;
@@ -46,6 +48,7 @@ typedef struct {
     int have_key;
     double host_mbs, host_ms; /* --host-bw, --host-latency; 0: the model's defaults */
     int have_host;
+    c5_boards_args bd;       /* --boards and the link */
 } render_args;
 
 static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
@@ -58,7 +61,11 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
     int have_scene = 0;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
-        int has_val = i + 1 < argc;
+        int has_val = i + 1 < argc, bo = c5_boards_option(argc, argv, &i, &a->bd, err);
+        if (bo < 0)
+            return -1;
+        if (bo)
+            continue;
         if (!strcmp(o, "-o") || !strcmp(o, "--threads") || !strcmp(o, "--frames") || !strcmp(o, "--size") ||
             !strcmp(o, "--volume") || !strcmp(o, "--model") || !strcmp(o, "--cells") || !strcmp(o, "--queue-key") ||
             !strcmp(o, "--host-bw") || !strcmp(o, "--host-latency")) {
@@ -105,9 +112,10 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
     }
     /* Options of the other model are refused rather than ignored: a run that silently did
      * not do what was asked is worse than an error. */
-    if (!a->rtl && (a->have_cells || a->have_key || a->have_host))
+    if (!a->rtl && (a->have_cells || a->have_key || a->have_host || a->bd.given))
         return c5_fail(err, "%s: only with --model rtl",
-                       a->have_cells ? "--cells" : a->have_key ? "--queue-key" : "--host-bw/--host-latency");
+                       a->have_cells ? "--cells" : a->have_key ? "--queue-key" : a->have_host ? "--host-bw/--host-latency"
+                       : "--boards/--assign/--link-bw/--link-latency");
     if (a->rtl && a->threads)
         return c5_fail(err, "--threads: only with --model cref (the board model runs on one thread)");
     return 0;
@@ -250,7 +258,7 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
 /* One frame through the chosen model: the image, the cref-shaped statistics and, for rtl,
  * the board's. */
 static int render_frame(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
-                        c5_cref_stats *st, c5_board_stats *board, c5_progress *prog, c5_err *err)
+                        c5_cref_stats *st, c5_board_stats *board, c5_mb_stats *mb, c5_progress *prog, c5_err *err)
 {
     if (!a->rtl) {
         c5_cref_opts opts = {.threads = (int)a->threads};
@@ -261,10 +269,15 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
     opts.host_latency_s = a->host_ms < 0 ? 0 : a->host_ms == 0 ? -1 : a->host_ms * 1e-3;
     memcpy(opts.cells, a->cells, sizeof opts.cells);
     c5_progress_frame pf = {prog, f, f};
-    opts.progress = c5_progress_board;
+    opts.progress = c5_boards_leader(&a->bd) ? c5_progress_board : NULL;
     opts.progress_ctx = &pf;
-    if (c5_board_render(s, sv, f, &opts, img, board, err) != 0)
+    if (a->bd.given) {
+        if (c5_mb_render(s, sv, f, &opts, &a->bd.mo, &a->bd.t, img, mb, err) != 0)
+            return -1;
+        *board = mb->sum;
+    } else if (c5_board_render(s, sv, f, &opts, img, board, err) != 0) {
         return -1;
+    }
     *st = board_base(board);
     return 0;
 }
@@ -296,18 +309,28 @@ int c5_cmd_render(int argc, char **argv)
     if (a.rtl ? c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0 : c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
 
+    if (a.rtl && c5_boards_begin(&a.bd, &err) != 0)
+        goto fail;
+    int lead = c5_boards_leader(&a.bd);
     int frames = c5_scene_frames(&s);
+    c5_mb_stats *mb = calloc(2, sizeof *mb), *mb_total = mb + 1; /* a frame's, the run's */
     c5_cref_stats total = {0};
     c5_board_stats board_total = {0};
     json_t *per_frame = json_array(), *outputs = json_array();
     c5_progress prog;
     c5_progress_begin(&prog, "render", frames);
+    if (!lead)
+        prog.mode = 0; /* board 0 reports */
     rc = 0;
     for (int f = 0; f < frames && rc == 0; f++) {
         c5_image img;
         c5_cref_stats st;
         c5_board_stats bst;
-        if (render_frame(&a, &s, &sv, f, &img, &st, &bst, &prog, &err) != 0) {
+        if (!mb || render_frame(&a, &s, &sv, f, &img, &st, &bst, mb, &prog, &err) != 0) {
+            if (!mb)
+                err = (c5_err){"out of memory"};
+            if (a.bd.mpi) /* the other boards wait in a collective: end them all */
+                c5_mpi_fail(&a.bd.t, err.msg, C5_EXIT_RUNTIME);
             rc = C5_EXIT_RUNTIME;
             break;
         }
@@ -316,12 +339,16 @@ int c5_cmd_render(int argc, char **argv)
         if (a.rtl) {
             add_board(&board_total, &bst);
             json_object_set_new(fj, "board", c5_cli_board_json(&bst));
+            if (a.bd.given) {
+                c5_mb_add(mb_total, mb);
+                json_object_set_new(fj, "multi_board", c5_cli_mb_json(mb));
+            }
         }
         /* CRC-32 of the frame's float RGB bytes: a bit-exact fingerprint of the image. */
         uLong crc = crc32(0L, (const Bytef *)img.rgb, (uInt)(sizeof(float) * 3 * (size_t)img.w * img.h));
         json_object_set_new(fj, "crc32", json_sprintf("%08lx", (unsigned long)crc));
         json_array_append_new(per_frame, fj);
-        if (a.out) {
+        if (a.out && lead) {
             char path[2048];
             c5_cli_frame_path(a.out, f, frames, path, sizeof path);
             if (c5_image_write(path, &img, &err) != 0)
@@ -335,7 +362,7 @@ int c5_cmd_render(int argc, char **argv)
                              a.out ? json_string_value(json_array_get(outputs, (size_t)f)) : "");
     }
     c5_progress_end(&prog);
-    if (rc == 0) {
+    if (rc == 0 && lead) {
         int threads = c5_cref_thread_count((int)a.threads);
         if (a.json) {
             json_t *o = stats_json(&total);
@@ -348,7 +375,9 @@ int c5_cmd_render(int argc, char **argv)
             if (a.rtl) {
                 json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a.cells[0], a.cells[1], a.cells[2]));
                 json_object_set_new(o, "queue_key", json_string(c5_cli_queue_key_name(a.key)));
-                json_object_set_new(o, "board", c5_cli_board_json(&board_total));
+                json_object_set_new(o, "board", c5_cli_board_json(a.bd.given ? &mb_total->sum : &board_total));
+                if (a.bd.given)
+                    json_object_set_new(o, "multi_board", c5_cli_mb_json(mb_total));
             } else {
                 json_object_set_new(o, "threads", json_integer(threads));
             }
@@ -366,9 +395,14 @@ int c5_cmd_render(int argc, char **argv)
             free(text);
             json_decref(o);
         } else {
-            print_text(label, &s, &sv, frames, threads, &a, &total, a.rtl ? &board_total : NULL, outputs);
+            print_text(label, &s, &sv, frames, threads, &a, &total,
+                       a.rtl ? (a.bd.given ? &mb_total->sum : &board_total) : NULL, outputs);
+            if (a.bd.given)
+                c5_cli_mb_print(mb_total);
         }
     }
+    free(mb);
+    c5_boards_end(&a.bd);
     json_decref(per_frame);
     json_decref(outputs);
     c5_supervol_free(&sv);

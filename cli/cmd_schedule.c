@@ -8,6 +8,7 @@
 #include "board.h"
 #include "camera.h"
 #include "camera_motion.h"
+#include "boards_cli.h"
 #include "cli.h"
 #include "dsp_cost.h"
 #include "dsp_sched.h"
@@ -19,7 +20,8 @@ static const char usage_text[] =
     "                      [--local-window N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
-    "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n\n"
+    "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n"
+    "                      [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n\n"
     "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
     "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
     "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"
@@ -69,7 +71,10 @@ static const char usage_text[] =
     "                    switches to Max Work for the rest of the frame; off: it follows the\n"
     "                    schedule to its end (the paper's board). docs/cell-tree.md\n"
     "  --json            one JSON object instead of the text\n"
-    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_PROGRESS_HELP;
+    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_BOARDS_HELP
+    "                    each board schedules its own cells from its own Cell Tree; the tree\n"
+    "                    columns are board 0's, \"boards\" lines (JSON \"multi_board\") add up\n"
+    "                    every board's fetches and lower bounds\n" C5_PROGRESS_HELP;
 
 #define EXACT_STATES_DEFAULT 200000
 #define EXACT_NODES_MAX 4096
@@ -87,6 +92,7 @@ typedef struct {
     int stale_off;    /* --stale-check off */
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
+    c5_boards_args bd;
 } sched_args;
 
 static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
@@ -101,6 +107,11 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
     int have_scene = 0;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
+        int bo = c5_boards_option(argc, argv, &i, &a->bd, err);
+        if (bo < 0)
+            return -1;
+        if (bo)
+            continue;
         if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
             !strcmp(o, "--exact-states") || !strcmp(o, "--local-window") || !strcmp(o, "--tree-nodes") ||
             !strcmp(o, "--volume") || !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group") || !strcmp(o, "--orbit") ||
@@ -184,7 +195,51 @@ typedef struct {
     int jump;                /* the camera motion cut to a new view at this frame */
     uint32_t *start;         /* [cells] rays queued per cell after the set-up (stale check) */
     c5_stale_plan plan;      /* the DSP's replay of this frame's tree for the next frame */
+    /* With --boards: both runs' per-board figures, and each board's tree's lower bound (-1:
+     * its tree overflowed) and nodes. */
+    c5_mb_stats *mb_mw, *mb_ct;
+    int lower_bound[C5_MB_MAX_BOARDS], nodes[C5_MB_MAX_BOARDS];
 } frame_row;
+
+/* One render of the frame: the board, or every board (the summed counters into st). */
+static int model(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f, const c5_board_opts *o,
+                 c5_image *img, c5_board_stats *st, c5_mb_stats *mb, c5_err *err)
+{
+    if (!a->bd.given)
+        return c5_board_render(s, sv, f, o, img, st, err);
+    if (c5_mb_render(s, sv, f, o, &a->bd.mo, &a->bd.t, img, mb, err) != 0)
+        return -1;
+    *st = mb->sum;
+    return 0;
+}
+
+/* The frame's figures of every board (after each board scheduled its own tree). */
+static int gather_bounds(const sched_args *a, frame_row *r, c5_err *err)
+{
+    int mine[2] = {r->sch.overflow ? -1 : r->sch.lower_bound, r->sch.nodes}, all[2 * C5_MB_MAX_BOARDS];
+    if (a->bd.t.allgather(a->bd.t.ctx, mine, sizeof mine, all, err) != 0)
+        return -1;
+    for (int k = 0; k < a->bd.t.size; k++) {
+        r->lower_bound[k] = all[2 * k];
+        r->nodes[k] = all[2 * k + 1];
+    }
+    return 0;
+}
+
+static json_t *boards_json(const sched_args *a, const frame_row *r)
+{
+    json_t *per = json_array();
+    long bound = 0;
+    for (int k = 0; k < a->bd.t.size; k++) {
+        json_array_append_new(per, json_pack("{s:i, s:I, s:I, s:i, s:i}", "board", k, "fetches_maxwork",
+                                             (json_int_t)r->mb_mw->board[k].fetches, "fetches_celltree",
+                                             (json_int_t)r->mb_ct->board[k].fetches, "lower_bound", r->lower_bound[k],
+                                             "nodes", r->nodes[k]));
+        bound = bound < 0 || r->lower_bound[k] < 0 ? -1 : bound + r->lower_bound[k];
+    }
+    return json_pack("{s:o, s:o, s:o, s:o}", "maxwork", c5_cli_mb_json(r->mb_mw), "celltree", c5_cli_mb_json(r->mb_ct),
+                     "lower_bound_sum", bound < 0 ? json_null() : json_integer(bound), "per_board", per);
+}
 
 static uint64_t rays_of(const c5_board_stats *st)
 {
@@ -369,7 +424,10 @@ static void print_json(const sched_args *a, const c5_scene *s, const frame_row *
     json_t *o = json_object(), *arr = json_array();
     uint64_t mw = 0, ct = 0;
     for (int f = 0; f < frames; f++) {
-        json_array_append_new(arr, row_json(f, &rows[f], a->exact_states));
+        json_t *rj = row_json(f, &rows[f], a->exact_states);
+        if (a->bd.given)
+            json_object_set_new(rj, "multi_board", boards_json(a, &rows[f]));
+        json_array_append_new(arr, rj);
         if (f > 0) {
             mw += rows[f].fetches_maxwork;
             ct += rows[f].fetches_celltree;
@@ -431,6 +489,14 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
                r->followed, !x->overflow ? ""
                             : a->partial ? " (tree OVERFLOWED the DSP RAM: next frame follows what it holds)"
                                          : " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)");
+        if (a->bd.given) {
+            long bound = 0;
+            for (int k = 0; k < a->bd.t.size; k++)
+                bound = bound < 0 || r->lower_bound[k] < 0 ? -1 : bound + r->lower_bound[k];
+            printf("%5s boards %d: frame %llu cycles with Max Work, %llu following the Cell Trees; sum of the "
+                   "boards' lower bounds %ld%s\n", "", a->bd.t.size, (unsigned long long)r->mb_mw->frame_cycles,
+                   (unsigned long long)r->mb_ct->frame_cycles, bound, bound < 0 ? " (a tree overflowed)" : "");
+        }
         if (r->group > 1)
             printf("%5s this frame's tree is over groups of %dx%dx%d cells\n", "", r->group, r->group, r->group);
         if (r->ct.sched_switches) {
@@ -525,8 +591,10 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     o.fetch_log_cap = log ? FETCH_LOG_MAX : 0;
     c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
     int rc = -1;
-    if (c5_board_render(s, sv, f, &o, &mw_img, &mw, err) != 0)
+    if (model(a, s, sv, f, &o, &mw_img, &mw, row->mb_mw, err) != 0)
         goto done;
+    if (row->mb_ct)
+        *row->mb_ct = *row->mb_mw;
     c5_ctree *tree = &trees[0];
     row->ct = mw;
     row->followed = maxwork_reason(f, prev);
@@ -541,7 +609,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
-        if (c5_board_render(s, sv, f, &o, &ct_img, &row->ct, err) != 0)
+        if (model(a, s, sv, f, &o, &ct_img, &row->ct, row->mb_ct, err) != 0)
             goto done;
         if (!same_bits(&mw_img, &ct_img)) {
             c5_fail(err, "frame %d: the image under the Cell Tree schedule differs from Max Work's (a model bug)", f);
@@ -569,6 +637,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->demand_nodes = row->ct.tree_demand_nodes;
     row->demand_slots = row->ct.tree_demand_slots;
     rc = c5_dsp_schedule(tree, &so, &row->sch, err);
+    if (rc == 0 && a->bd.given)
+        rc = gather_bounds(a, row, err);
     if (rc == 0 && g == 1)
         rc = c5_stale_plan_make(tree, node_rays, row->sch.next.cells, row->sch.next.len,
                                 o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL,
@@ -618,14 +688,23 @@ int c5_cmd_schedule(int argc, char **argv)
         goto fail;
     if (c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0)
         goto fail;
+    if (c5_boards_begin(&a.bd, &err) != 0)
+        goto fail;
     rc = C5_EXIT_RUNTIME;
     rows = calloc((size_t)frames, sizeof *rows);
-    if (!rows) {
+    for (int f = 0; rows && a.bd.given && f < frames; f++)
+        if (!(rows[f].mb_mw = calloc(2, sizeof *rows[f].mb_mw)))
+            break;
+        else
+            rows[f].mb_ct = rows[f].mb_mw + 1;
+    if (!rows || (a.bd.given && !rows[frames - 1].mb_mw)) {
         c5_fail(&err, "out of memory for %d frames", frames);
         goto fail;
     }
     c5_progress prog;
     c5_progress_begin(&prog, "schedule", frames);
+    if (!c5_boards_leader(&a.bd))
+        prog.mode = 0;
     for (int f = 0; f < frames; f++) {
         rows[f].group = a.group ? (int)a.group
                         : f == 0 ? 1 : c5_dsp_next_group(rows[f - 1].group, rows[f - 1].sch.overflow, a.cells);
@@ -634,12 +713,16 @@ int c5_cmd_schedule(int argc, char **argv)
                       f ? rows[f - 1].start : NULL, trees, &rows[f], &prog,
                       &err) != 0) {
             c5_progress_end(&prog);
+            if (a.bd.mpi) /* the other boards wait in a collective: end them all */
+                c5_mpi_fail(&a.bd.t, err.msg, C5_EXIT_RUNTIME);
             goto fail;
         }
         c5_progress_step(&prog, f + 1, "frame %d: %s", f, rows[f].followed);
     }
     c5_progress_end(&prog);
-    if (a.json)
+    if (!c5_boards_leader(&a.bd))
+        ;
+    else if (a.json)
         print_json(&a, &s, rows, frames);
     else
         print_text(label, &a, &s, rows, frames);
@@ -647,9 +730,11 @@ int c5_cmd_schedule(int argc, char **argv)
 fail:
     if (rows)
         for (int f = 0; f < frames; f++)
-            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), c5_stale_plan_free(&rows[f].plan);
+            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), c5_stale_plan_free(&rows[f].plan),
+                free(rows[f].mb_mw);
     free(rows);
     c5_supervol_free(&sv);
+    c5_boards_end(&a.bd);
     if (rc)
         fprintf(stderr, "cube5: error: %s\n", err.msg);
     return rc;

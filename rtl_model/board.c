@@ -61,7 +61,16 @@ typedef struct {
     c5_ctree *tree;          /* opts->tree or own_tree */
     c5_ctree *own_tree;
     int oom;
+    /* Several boards (opts.link): packets for other boards' cells, waiting for the exchange;
+     * while eye_probe is set, the set-up only records each pixel's first cell in px_owner. */
+    uint8_t (*out_pk)[C5_PACKET_BYTES];
+    uint16_t *out_dest;
+    size_t n_out, cap_out;
+    int eye_probe;
+    uint16_t *px_owner;      /* [pixels]: the board that generates the pixel's eye ray; UINT16_MAX: unset */
 } board;
+
+static int link_enqueue(board *b, const c5_bray *r);
 
 static int push_sdram(board *b, int cell, const uint8_t pk[C5_PACKET_BYTES], uint32_t shadow)
 {
@@ -168,21 +177,37 @@ static int tree_unit(const board *b, int cell) { return group_of(b, cell, b->gro
 /* The processor hands a ray on: the active cell's sorter (the ray stays in its cell, so its
  * Cell Tree node stays), else (full, or another cell) over the ray bus to the DSP, which
  * tags it with its node before queueing it in SDRAM. */
+static void dsp_queue(board *b, const c5_bray *r, int arrival);
+
 static void on_enqueue(void *ctx, const c5_bray *r)
 {
     board *b = ctx;
+    if (b->o->moves && !b->eye_probe && (int)r->cell != b->proc.active) {
+        int from = b->proc.active < 0 ? (int)r->cell : b->proc.active;
+        b->o->moves[(size_t)from * (size_t)b->cells.count + r->cell]++;
+    }
+    if (b->o->link && link_enqueue(b, r))
+        return;
     if ((int)r->cell == b->proc.active) {
         if (edram_insert(b, r))
             return;
         b->st->spills++;
     }
+    dsp_queue(b, r, (int)r->cell != b->proc.active);
+    b->st->bus_packets++;
+}
+
+/* The DSP tags a ray with its Cell Tree node and queues it in SDRAM; arrival: it comes
+ * from another cell (a spill of the active cell's own ray is not an arrival). */
+static void dsp_queue(board *b, const c5_bray *r, int arrival)
+{
     c5_bray q = *r;
     double t0 = c5_now_s();
     q.node = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
     b->st->tree_wall_s += c5_now_s() - t0;
     /* The rays each node brings to its cell's queue (stale_plan.h); a spill of the active
      * cell's own ray is not an arrival. */
-    if (b->o->node_rays && q.node != C5_NODE_NONE && (int)r->cell != b->proc.active) {
+    if (b->o->node_rays && q.node != C5_NODE_NONE && arrival) {
         b->o->node_rays[q.node]++;
         b->st->node_count_ops += C5_OPS_NODE_COUNT;
     }
@@ -194,12 +219,13 @@ static void on_enqueue(void *ctx, const c5_bray *r)
     pack(b, &q, pk);
     if (push_sdram(b, (int)r->cell, pk, q.shadow) != 0)
         b->oom = 1;
-    b->st->bus_packets++;
 }
 
 static void on_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
 {
     board *b = ctx;
+    if (b->eye_probe)
+        return;
     uint64_t *px = b->fb + 3 * ((size_t)v * (size_t)b->s->render.width + u);
     for (int c = 0; c < 3; c++)
         px[c] += (uint64_t)rgb[c];
@@ -462,6 +488,8 @@ static int generate_eye_rays(board *b, const c5_supervol *sv, int frame, c5_err 
     c5_bray proto = {.w = C5_ONE15, .type = C5_RAY_EYE, .node = C5_NODE_NONE, .shadow = C5_DEMAND_NONE};
     for (int py = 0; py < basis.h; py++)
         for (int px = 0; px < basis.w; px++) {
+            if (b->px_owner && !b->eye_probe && b->px_owner[(size_t)py * (size_t)basis.w + (size_t)px] != b->o->link->self)
+                continue;
             int64_t d[3];
             c5_regs_unit14(c5_camera_pixel_dir(&basis, px, py), d);
             proto.u = (uint32_t)px;
@@ -486,6 +514,9 @@ static void board_free(board *b)
     c5_rqh_free(&b->heap);
     free(b->own_tree);
     free(b->rem);
+    free(b->out_pk);
+    free(b->out_dest);
+    free(b->px_owner);
     c5_rdram_free(&b->mem);
     c5_cells_free(&b->cells);
 }
@@ -501,6 +532,117 @@ static const c5_supervol *grid_or_dummy(const c5_supervol *sv, c5_supervol *dumm
     *voxel = 0;
     dummy->v = voxel;
     return dummy;
+}
+
+/* ---- Several boards (opts.link; rtl_model/multi_board.h, docs/multi-board.md) ---------- */
+
+/* During the eye-ray probe: records the pixel's first cell's board and drops the ray. Else a
+ * ray for another board's cell goes into the out-box as its packet (over the ray bus to the
+ * DSP, which sends it on at the next exchange). 1: taken here. */
+static int link_enqueue(board *b, const c5_bray *r)
+{
+    const c5_board_link *l = b->o->link;
+    if (b->eye_probe) {
+        uint16_t *own = &b->px_owner[(size_t)r->v * (size_t)b->s->render.width + r->u];
+        if (*own == UINT16_MAX)
+            *own = l->owner[r->cell];
+        return 1;
+    }
+    if (l->owner[r->cell] == l->self)
+        return 0;
+    if (b->n_out == b->cap_out) {
+        size_t cap = b->cap_out ? 2 * b->cap_out : 1024;
+        void *p = realloc(b->out_pk, cap * C5_PACKET_BYTES);
+        if (p)
+            b->out_pk = p;
+        void *d = p ? realloc(b->out_dest, cap * sizeof *b->out_dest) : NULL;
+        if (!d) {
+            b->oom = 1;
+            return 1;
+        }
+        b->out_dest = d;
+        b->cap_out = cap;
+    }
+    c5_bray q = *r;
+    q.node = C5_NODE_NONE; /* a node of this board's tree means nothing to the receiver's */
+    c5_bray_pack(&q, &b->cells, b->out_pk[b->n_out]);
+    b->out_dest[b->n_out++] = l->owner[r->cell];
+    b->st->bus_packets++;
+    return 1;
+}
+
+/* Which board generates each pixel's eye ray: the owner of the cell the pixel's first queued
+ * ray (eye ray, or a ray it spawns before reaching the volume) is for, so that eye rays do
+ * not cross the link; pixels whose rays never reach the volume: pixel index mod boards.
+ * Every board's set-up unit runs this over every pixel (the same answer on every board);
+ * its cycles are charged (cycles_eye_owner), its rays and colours are not kept. */
+static int eye_owners(board *b, const c5_supervol *sv, int frame, c5_err *err)
+{
+    const c5_board_link *l = b->o->link;
+    size_t npx = (size_t)b->s->render.width * (size_t)b->s->render.height;
+    if (!(b->px_owner = malloc(npx * sizeof *b->px_owner)))
+        return c5_fail(err, "out of memory for the board model");
+    if (l->boards <= 1) {
+        memset(b->px_owner, 0, npx * sizeof *b->px_owner);
+        return 0;
+    }
+    memset(b->px_owner, 0xff, npx * sizeof *b->px_owner);
+    b->eye_probe = 1;
+    int rc = generate_eye_rays(b, sv, frame, err);
+    b->eye_probe = 0;
+    b->st->cycles_eye_owner = b->proc.st.cycles;
+    b->st->cycles_process += b->proc.st.cycles;
+    memset(&b->proc.st, 0, sizeof b->proc.st);
+    for (size_t i = 0; i < npx; i++)
+        if (b->px_owner[i] == UINT16_MAX)
+            b->px_owner[i] = (uint16_t)(i % (size_t)l->boards);
+    return rc;
+}
+
+/* This board's queues are empty: one exchange with the other boards; the packets received
+ * are queued in SDRAM as new roots of this board's Cell Tree. 1: go on, 0: the frame is over. */
+static int link_round(board *b, c5_err *err)
+{
+    const c5_board_link *l = b->o->link;
+    c5_board_stats *st = b->st;
+    st->cycles = st->cycles_process + st->cycles_fetch;
+    const uint8_t (*in)[C5_PACKET_BYTES] = NULL;
+    size_t n_in = 0;
+    int more = l->exchange(l->ctx, (const uint8_t (*)[C5_PACKET_BYTES])b->out_pk, b->out_dest, b->n_out, st, &in,
+                           &n_in, err);
+    st->link_sent += b->n_out;
+    st->link_rounds++;
+    b->n_out = 0;
+    if (more < 0)
+        return -1;
+    for (size_t i = 0; i < n_in; i++) {
+        c5_bray r;
+        c5_bray_unpack(in[i], &b->cells, &r);
+        if ((int)r.cell >= b->cells.count || l->owner[r.cell] != l->self)
+            return c5_fail(err, "board %d received a ray for cell %u, which it does not own", l->self, r.cell);
+        r.node = C5_NODE_NONE;
+        r.shadow = C5_DEMAND_NONE;
+        dsp_queue(b, &r, 1);
+    }
+    st->link_received += n_in;
+    if (b->oom)
+        return c5_fail(err, "out of memory for the DSP's SDRAM ray queues");
+    return more;
+}
+
+/* The next cell to load; with several boards, exchanges while this board's queues are empty
+ * (so a followed schedule is not run through while rays are still on their way). -1: the
+ * frame is over, -2: an error (err set). */
+static int next_cell(board *b, int *sched_pos, c5_err *err)
+{
+    if (!b->o->link)
+        return schedule(b, sched_pos);
+    while (!b->queued) {
+        int more = link_round(b, err);
+        if (more <= 0)
+            return more < 0 ? -2 : -1;
+    }
+    return schedule(b, sched_pos);
 }
 
 int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
@@ -568,6 +710,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     }
     stats->switched_at_load = -1;
     stats->start_overlap = -1;
+    if (o.moves)
+        memset(o.moves, 0, (size_t)b.cells.count * (size_t)b.cells.count * sizeof *o.moves);
     if (o.node_rays)
         memset(o.node_rays, 0, C5_TREE_SLOTS * sizeof *o.node_rays);
     if (o.sched == C5_SCHED_EXTERNAL && o.stale_check >= 0 && b.sgroup[0] * b.sgroup[1] * b.sgroup[2] == 1) {
@@ -587,6 +731,10 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->stages = b.r.st;
     stats->cells = b.cells.count;
 
+    if (o.link && (o.taps || eye_owners(&b, sv, frame, err) != 0)) {
+        board_free(&b);
+        return o.taps ? c5_fail(err, "several boards: taps (golden vectors) are for one board") : -1;
+    }
     if (generate_eye_rays(&b, sv, frame, err) != 0) {
         board_free(&b);
         return -1;
@@ -599,8 +747,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     /* Rays that never reach the volume were finished by the set-up: the first visit. */
     uint64_t proc_cycles = b.proc.st.cycles, bus = stats->bus_packets;
     stats->cycles_process += proc_cycles > bus ? proc_cycles : bus;
-    int sched_pos = 0, cell;
-    while (!b.oom && (cell = schedule(&b, &sched_pos)) >= 0) {
+    int sched_pos = 0, cell = -1;
+    while (!b.oom && (cell = next_cell(&b, &sched_pos, err)) >= 0) {
         if ((host ? c5_rdram_place(&b.mem, &b.cells, cell, err) != 0 ||
                         host->fetch(host->ctx, cell, b.mem.v, c5_cell_bytes(&b.cells, cell), err) != 0
                   : c5_rdram_load(&b.mem, &b.cells, grid, cell, err) != 0)) {
@@ -621,9 +769,9 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         if (o.progress)
             o.progress(o.progress_ctx, &(c5_board_progress){stats->fetches, b.queued});
     }
-    if (b.oom) {
+    if (b.oom || cell == -2) {
         board_free(&b);
-        return c5_fail(err, "out of memory for the DSP's SDRAM ray queues");
+        return cell == -2 ? -1 : c5_fail(err, "out of memory for the DSP's SDRAM ray queues");
     }
     if (c5_image_alloc(out, s->render.width, s->render.height, err) != 0) {
         board_free(&b);
@@ -631,8 +779,10 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     }
     /* frame_acc is UQ20.12: 32 bits a channel. Far beyond any scene's light, but a clamp
      * here would be counted, never wrapped. */
+    if (o.frame_acc)
+        memcpy(o.frame_acc, b.fb, npx * 3 * sizeof *b.fb);
     for (size_t i = 0; i < npx * 3; i++) {
-        if (b.fb[i] > UINT32_MAX) {
+        if (b.fb[i] > UINT32_MAX && !o.link) { /* several boards: their sum is clamped */
             b.fb[i] = UINT32_MAX;
             b.proc.st.saturations++;
         }

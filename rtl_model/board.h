@@ -53,6 +53,24 @@ typedef struct {
 } c5_board_host;
 
 struct c5_board_progress;
+struct c5_board_stats;
+
+/* One of several boards sharing the super volume (rtl_model/multi_board.h,
+ * docs/multi-board.md): each board owns some cells; a ray leaving for a cell another board
+ * owns goes to it as its 32-byte packet, exchanged in rounds. */
+typedef struct {
+    void *ctx;
+    int self, boards;      /* this board's number, 0..boards-1 */
+    const uint16_t *owner; /* [cells of the split]: the board owning each cell */
+    /* Called when this board's queues are empty: hands over the packets for other boards
+     * (out[i] goes to board dest[i]) with the board's counters so far (cycles filled in),
+     * and receives the packets the other boards sent this board (*in, *n_in: the link's
+     * memory, valid until the next call). 1: rays are queued somewhere (go on), 0: every
+     * board is idle and no packet is in flight (the frame is over), -1 with a message. */
+    int (*exchange)(void *ctx, const uint8_t (*out)[C5_PACKET_BYTES], const uint16_t *dest, size_t n_out,
+                    const struct c5_board_stats *so_far, const uint8_t (**in)[C5_PACKET_BYTES], size_t *n_in,
+                    c5_err *err);
+} c5_board_link;
 
 /* Why the board stopped following a schedule (c5_board_stats.switch_reason). */
 typedef enum {
@@ -131,6 +149,15 @@ typedef struct {
      * the schedule and Max Work cost there, and per entry the rays it expects. */
     const c5_stale_plan *plan;
     uint32_t *node_rays;     /* out, or NULL: packets tagged with each node slot, [C5_TREE_SLOTS] */
+    /* Several boards (rtl_model/multi_board.h): NULL: this board owns every cell. With a
+     * link the board generates only the eye rays of its pixels (those whose first queued ray
+     * is for a cell it owns; pixels with none: pixel index mod boards), and taps must be NULL. */
+    const c5_board_link *link;
+    uint64_t *frame_acc;     /* out, or NULL: the frame buffer's integer sums before the clamp,
+                              * [width x height x 3] (what several boards add up) */
+    uint32_t *moves;         /* out, or NULL: [cells x cells] rays handed on from the active cell
+                              * (row) to another cell (column); rays the eye-ray set-up queues
+                              * count on their cell's diagonal (the --assign tree rule's input) */
 } c5_board_opts;
 
 /* Where a frame is (c5_board_opts.progress). */
@@ -148,7 +175,7 @@ typedef struct {
     int scheduling; /* more than one cell */
 } c5_board_stages;
 
-typedef struct {
+typedef struct c5_board_stats {
     uint64_t rays[C5_RAY_TYPES];
     uint64_t samples;        /* samples taken through the datapath */
     uint64_t samples_leaped; /* sample positions passed by leaps over empty blocks and cells */
@@ -186,6 +213,10 @@ typedef struct {
     c5_board_stages stages;
     int cells;               /* cells in the split */
     double wall_s;           /* host time of the model */
+    /* With opts.link: packets sent to and received from other boards, the exchanges taken
+     * part in, the processor cycles of the replicated eye-ray set-up that finds which board
+     * owns each pixel (in cycles_process). */
+    uint64_t link_sent, link_received, link_rounds, cycles_eye_owner;
 } c5_board_stats;
 
 /* Renders frame `frame` of the scene into out (allocated here). 0, or -1 with a message

@@ -81,7 +81,7 @@ covered test_profile_covers_cube5_board "$build/cube5-board" test
 # driver's, the emulated board's and the tests' from the test profile.
 # shellcheck disable=SC2046
 check demo_profile_covers_cube5_headers demo headers \
-    $(headers jansson OpenImageIO -- common cref rtl_model vectors sweep cli)
+    $(headers jansson OpenImageIO ompi-c -- common cref rtl_model vectors sweep cli)
 # shellcheck disable=SC2046
 check test_profile_covers_driver_headers test headers \
     $(headers jansson OpenImageIO libusb-1.0 umockdev-1.0 -- host_driver board_emu tests)

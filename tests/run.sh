@@ -23,6 +23,7 @@ run_suite() {
 run_suite "$build/tests/unit"
 run_suite "$build/tests/cast-nosimd" cast   # the caster on its scalar definition (no SSE2)
 run_suite bash tests/cli_test.sh "$build"
+run_suite bash tests/mpi_test.sh "$build"
 run_suite bash tests/scene_limits_test.sh "$build"
 run_suite bash tests/prefetch_test.sh "$build"
 run_suite bash tests/layouts_test.sh

@@ -1,0 +1,132 @@
+/* --boards and friends; the per-board report. */
+#include <stdio.h>
+#include <string.h>
+
+#include "boards_cli.h"
+#include "cli.h"
+
+int c5_boards_option(int argc, char **argv, int *i, c5_boards_args *b, c5_err *err)
+{
+    const char *o = argv[*i];
+    if (strcmp(o, "--boards") && strcmp(o, "--assign") && strcmp(o, "--link-bw") && strcmp(o, "--link-latency"))
+        return 0;
+    if (*i + 1 >= argc)
+        return c5_fail(err, "%s: missing value", o);
+    const char *v = argv[++*i];
+    b->given = 1;
+    if (!strcmp(o, "--boards"))
+        return c5_cli_int(o, v, 1, C5_MB_MAX_BOARDS, &b->boards, err) ? -1 : 1;
+    if (!strcmp(o, "--assign")) {
+        if (!(b->mo.assign = c5_assign_parse(v)))
+            return c5_fail(err, "--assign: expected kd, slab, mod or tree, got '%s'", v);
+        return 1;
+    }
+    double x;
+    if (!strcmp(o, "--link-bw")) {
+        if (c5_cli_double(o, v, 0.001, 1e9, &x, err))
+            return -1;
+        b->mo.link_bw = x * 1e6;
+        return 1;
+    }
+    if (c5_cli_double(o, v, 0, 1e9, &x, err))
+        return -1;
+    b->mo.link_latency_s = x > 0 ? x * 1e-6 : -1;
+    return 1;
+}
+
+/* One board: the collectives of a job of one. */
+static int one_alltoall(void *ctx, const uint8_t (*out)[C5_PACKET_BYTES], const uint16_t *dest, size_t n_out,
+                        const uint8_t (**in)[C5_PACKET_BYTES], size_t *n_in, c5_err *err)
+{
+    (void)ctx, (void)out, (void)dest;
+    *in = NULL;
+    *n_in = 0;
+    return n_out ? c5_fail(err, "one board sent packets to another") : 0;
+}
+
+static int one_allgather(void *ctx, const void *mine, size_t bytes, void *all, c5_err *err)
+{
+    (void)ctx, (void)err;
+    memcpy(all, mine, bytes);
+    return 0;
+}
+
+static int one_sum(void *ctx, uint64_t *v, size_t n, c5_err *err)
+{
+    (void)ctx, (void)v, (void)n, (void)err;
+    return 0;
+}
+
+int c5_boards_begin(c5_boards_args *b, c5_err *err)
+{
+    if (b->boards < 1)
+        b->boards = 1;
+    b->mo.history = &b->hist;
+    if (b->boards == 1) {
+        b->t = (c5_mb_transport){NULL, 0, 1, one_alltoall, one_allgather, one_sum};
+        return 0;
+    }
+    if (c5_mpi_begin((int)b->boards, &b->t, err) != 0)
+        return -1;
+    b->mpi = 1;
+    return 0;
+}
+
+int c5_boards_leader(const c5_boards_args *b) { return !b->mpi || b->t.rank == 0; }
+
+void c5_boards_end(c5_boards_args *b)
+{
+    c5_mb_history_free(&b->hist);
+    if (b->mpi)
+        c5_mpi_end();
+    b->mpi = 0;
+}
+
+json_t *c5_cli_mb_json(const c5_mb_stats *ms)
+{
+    json_t *per = json_array();
+    for (int k = 0; k < ms->boards; k++) {
+        const c5_mb_board *b = &ms->board[k];
+        json_t *o = json_object();
+        const struct {
+            const char *key;
+            uint64_t v;
+        } n[] = {
+            {"board", (uint64_t)k},           {"cells", (uint64_t)b->cells},
+            {"fetches", b->fetches},          {"fetch_bytes", b->fetch_bytes},
+            {"packets_sent", b->packets_sent}, {"packets_received", b->packets_received},
+            {"bytes_sent", b->packets_sent * C5_PACKET_BYTES},
+            {"bytes_received", b->packets_received * C5_PACKET_BYTES},
+            {"busy_cycles", b->busy_cycles},  {"link_cycles", b->link_cycles},
+            {"idle_cycles", b->idle_cycles},  {"rays_processed", b->rays_processed},
+        };
+        for (size_t i = 0; i < sizeof n / sizeof n[0]; i++)
+            json_object_set_new(o, n[i].key, json_integer((json_int_t)n[i].v));
+        json_array_append_new(per, o);
+    }
+    return json_pack("{s:i, s:s, s:f, s:f, s:I, s:I, s:f, s:I, s:I, s:f, s:o}", "boards", ms->boards, "assign",
+                     c5_assign_name(ms->assign), "link_bw", ms->link_bw, "link_latency_s", ms->link_latency_s,
+                     "rounds", (json_int_t)ms->rounds, "frame_cycles", (json_int_t)ms->frame_cycles, "frame_s",
+                     ms->frame_s, "link_packets", (json_int_t)ms->link_packets, "link_bytes",
+                     (json_int_t)ms->link_bytes, "balance", ms->balance, "per_board", per);
+}
+
+void c5_cli_mb_print(const c5_mb_stats *ms)
+{
+    printf("  boards   %d (%s assignment), frame %llu cycles = %.6f s at 100 MHz (the slowest board's), "
+           "%llu round(s)\n", ms->boards, c5_assign_name(ms->assign), (unsigned long long)ms->frame_cycles,
+           ms->frame_s, (unsigned long long)ms->rounds);
+    printf("  link     %.0f MB/s, %.0f us a round; %llu packets = %llu bytes between boards; balance %.3f\n",
+           ms->link_bw / 1e6, ms->link_latency_s * 1e6, (unsigned long long)ms->link_packets,
+           (unsigned long long)ms->link_bytes, ms->balance);
+    printf("  %-6s %6s %8s %12s %10s %10s %12s %12s %12s\n", "board", "cells", "fetches", "rays", "sent", "received",
+           "busy cyc", "link cyc", "idle cyc");
+    for (int k = 0; k < ms->boards; k++) {
+        const c5_mb_board *b = &ms->board[k];
+        printf("  %-6d %6d %8llu %12llu %10llu %10llu %12llu %12llu %12llu\n", k, b->cells,
+               (unsigned long long)b->fetches, (unsigned long long)b->rays_processed,
+               (unsigned long long)b->packets_sent, (unsigned long long)b->packets_received,
+               (unsigned long long)b->busy_cycles, (unsigned long long)b->link_cycles,
+               (unsigned long long)b->idle_cycles);
+    }
+}

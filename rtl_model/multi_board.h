@@ -1,0 +1,134 @@
+/* Several boards on one super volume (docs/multi-board.md): each board is a whole board model
+ * (DSP, RDRAM, ray queues, Cell Tree) owning a part of the cells; a ray leaving for a cell
+ * another board owns travels there as its 32-byte packet. Boards work in bulk-synchronous
+ * rounds: each works off its queues, then all exchange the packets for each other and learn
+ * how many moved; a round in which no packet moved ends the frame (every queue is empty and
+ * nothing is in flight). The frame buffers' integer sums are added, so the image is the
+ * same bits as one board's for any number of boards and any assignment.
+ *
+ * This layer is independent of the transport: c5_mb_transport carries the collectives
+ * (cli/mpi_link.c over MPI; tests/mb_loopback.c over threads in one process). It also holds
+ * the modelled cost of the inter-board link and each board's time. */
+#ifndef C5_MULTI_BOARD_H
+#define C5_MULTI_BOARD_H
+
+#include <stdint.h>
+
+#include "board.h"
+
+#define C5_MB_MAX_BOARDS 64
+#define C5_MB_CLOCK_HZ 100e6      /* the board clock: modelled times are counted in its cycles */
+/* The inter-board link's defaults (docs/multi-board.md, "Link model"): one full-duplex
+ * Gigabit Ethernet port a board into a switch (IEEE 802.3ab, 1000BASE-T: 1 Gbit/s =
+ * 125 MB/s of line rate) and 50 us a message exchange, the order of small-message MPI
+ * latency over TCP on Gigabit Ethernet (an assumption, not measured here). */
+#define C5_LINK_BW_DEFAULT 125e6
+#define C5_LINK_LATENCY_DEFAULT 50e-6
+
+/* How cells are assigned to boards (c5_mb_assign). */
+typedef enum {
+    C5_ASSIGN_SLAB = 1, /* contiguous runs of cells in order, the axis with the most cells slowest: slabs */
+    C5_ASSIGN_KD = 2,   /* recursive bisection of the grid of cells, longest axis first (a k-d split) */
+    C5_ASSIGN_MOD = 3,  /* cell id mod boards: scattered (a worst case; tests "any assignment") */
+    C5_ASSIGN_TREE = 4, /* from the previous frame's ray traffic between cells: a k-d split balancing
+                         * the rays each cell received, then cells moved to the board they trade
+                         * most rays with (the paper's proposal); kd in a run's first frame */
+} c5_assign_rule;
+
+/* The tree rule works on a cells x cells table: up to this many cells (else kd). */
+#define C5_MB_TREE_MAX_CELLS 1024
+
+/* What the tree rule carries from frame to frame: the caller's, zeroed before the first
+ * frame, c5_mb_history_free after the last. */
+typedef struct {
+    int cells;          /* the split's cells the table is for, 0: none yet */
+    uint64_t *moves;    /* [cells x cells] the last frame's rays handed from cell (row) to cell
+                         * (column) on all boards; set-up rays on their cell's diagonal */
+} c5_mb_history;
+
+void c5_mb_history_free(c5_mb_history *h);
+
+/* The collectives the boards need; every board calls each one the same number of times in
+ * the same order. 0, or -1 with a message. */
+typedef struct {
+    void *ctx;
+    int rank, size; /* this board, the number of boards */
+    /* Packets to other boards: out[i] to board dest[i]; receives those sent to this board,
+     * ordered by sender then by the sender's order, into the transport's memory (valid until
+     * the next call). */
+    int (*alltoall)(void *ctx, const uint8_t (*out)[C5_PACKET_BYTES], const uint16_t *dest, size_t n_out,
+                    const uint8_t (**in)[C5_PACKET_BYTES], size_t *n_in, c5_err *err);
+    /* Every board's `bytes` bytes into all[size * bytes], by board. */
+    int (*allgather)(void *ctx, const void *mine, size_t bytes, void *all, c5_err *err);
+    /* v[0..n) summed element by element over the boards, the sum on every board. */
+    int (*sum_u64)(void *ctx, uint64_t *v, size_t n, c5_err *err);
+} c5_mb_transport;
+
+typedef struct {
+    c5_assign_rule assign;  /* 0: C5_ASSIGN_KD */
+    double link_bw;         /* bytes/s a board's port moves each way, 0: C5_LINK_BW_DEFAULT */
+    double link_latency_s;  /* per exchange, 0: C5_LINK_LATENCY_DEFAULT, < 0: none */
+    c5_mb_history *history; /* C5_ASSIGN_TREE: read and then updated each frame; NULL: kd */
+} c5_mb_opts;
+
+/* One board's share of a frame. */
+typedef struct {
+    int cells;                 /* cells it owns */
+    uint64_t busy_cycles;      /* its board cycles (process + fetch stalls, eye-owner set-up included) */
+    uint64_t link_cycles;      /* its port's time in the exchanges: latency + max(sent, received) / bandwidth */
+    uint64_t idle_cycles;      /* frame_cycles - busy - link: waiting for the slowest board */
+    uint64_t packets_sent, packets_received;
+    uint64_t fetches, fetch_bytes;
+    uint64_t rays_processed;   /* rays taken from its eDRAM sorter */
+} c5_mb_board;
+
+typedef struct {
+    int boards;
+    c5_assign_rule assign;
+    double link_bw, link_latency_s; /* the link model used */
+    uint64_t rounds;                /* exchanges (the last moves nothing: the termination round) */
+    uint64_t frame_cycles;          /* sum over rounds of the slowest board's work and the slowest port */
+    double frame_s;                 /* frame_cycles at 100 MHz */
+    uint64_t link_packets, link_bytes; /* between boards, all boards together */
+    double balance;                 /* mean busy cycles / the largest: 1 is perfectly balanced */
+    c5_mb_board board[C5_MB_MAX_BOARDS];
+    c5_board_stats sum;             /* counters added over the boards; cycles and board_s: the frame's */
+} c5_mb_stats;
+
+const char *c5_assign_name(c5_assign_rule r);
+/* "slab", "kd", "mod" -> the rule; 0: unknown. */
+c5_assign_rule c5_assign_parse(const char *s);
+
+/* The owner of each cell of an n[0] x n[1] x n[2] split (cell id x + n0 (y + n1 z)) among
+ * `boards` boards: owner[count]. Every board owns at least one cell when there are as many
+ * cells as boards. 0, or -1 with a message (boards outside 1..C5_MB_MAX_BOARDS). */
+int c5_mb_assign(c5_assign_rule rule, const int n[3], int boards, uint16_t *owner, c5_err *err);
+
+/* The tree rule on a traffic table (c5_mb_history.moves of this split): each cell's weight is
+ * the rays it received (its column's sum, + 1); a k-d split cuts where the weights balance
+ * (each side at least as many cells as boards), then passes move a cell to the board it
+ * trades most rays with while no board's weight grows beyond the largest after the split and
+ * 10 %, or the mean and the heaviest cell.
+ * 0, or -1 with a message. */
+int c5_mb_assign_tree(const int n[3], int boards, const uint64_t *moves, uint16_t *owner, c5_err *err);
+
+/* The cell split c5_board_render uses for these options and grid (the automatic one for
+ * cells < 1). */
+void c5_mb_split(const c5_board_opts *o, const c5_supervol *sv, int cells[3]);
+
+/* Renders frame `frame` as board t->rank of t->size (base: the board options every board
+ * uses; link and frame_acc are set here). Every board gets the summed image in out and the
+ * frame's statistics of every board in ms. With one board: c5_board_render unchanged (no
+ * link). 0, or -1 with a message; after -1 on one board the others may wait in a collective:
+ * the transport must end them (MPI_Abort). */
+int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *base,
+                 const c5_mb_opts *mo, const c5_mb_transport *t, c5_image *out, c5_mb_stats *ms, c5_err *err);
+
+/* Adds frame f's figures into a run's totals (counters and cycles add; balance is recomputed
+ * from the summed busy cycles). */
+void c5_mb_add(c5_mb_stats *sum, const c5_mb_stats *f);
+
+/* The board statistics' counters added (a + b into a); queue_max and the tree sizes: the larger. */
+void c5_board_stats_add(c5_board_stats *a, const c5_board_stats *b);
+
+#endif

@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# Several boards over real MPI ranks on this machine (docs/multi-board.md): 2 and 3 ranks give
+# the image of one board bit for bit, every ray ends once across the boards, packets sent are
+# packets received; a rank that dies mid-frame ends the job with an error within seconds; a
+# build without MPI runs one board and says how to get more. Usage: mpi_test.sh BUILD
+set -uo pipefail
+build=${1:-build}
+. "$(dirname "$0")/lib.sh"
+cube5="$build/cube5"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+# Open MPI refuses to start as root unless told; told here only, for these runs.
+if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+# Loopback only, no other transports probed; more ranks than cores.
+export OMPI_MCA_btl=self,vader,tcp OMPI_MCA_btl_tcp_if_include=lo OMPI_MCA_oob_tcp_if_include=lo
+mpirun=(mpirun --oversubscribe)
+if ! command -v mpirun >/dev/null; then
+    bad mpi_installed "no mpirun: bash scripts/setup-deps.sh demo installs Open MPI (openmpi-bin)"
+    summary
+fi
+scene=(brain_mirrors --model rtl --size 40x40 --cells 4 --frames 2)
+
+# field FILE EXPR: a Python expression over the JSON object d.
+field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1"; }
+
+"$cube5" render "${scene[@]}" --json >"$tmp/one.json" 2>"$tmp/err" || { bad mpi_reference "$(cat "$tmp/err")"; summary; }
+ref_crc=$(field "$tmp/one.json" "d['frames'][0]['crc32']")
+ref_rays=$(field "$tmp/one.json" "sorted(d['rays'].items())")
+
+for run in "2 kd" "3 kd" "3 slab" "3 mod" "2 tree"; do
+    set -- $run
+    n=$1 rule=$2 name="mpi_${1}_ranks_${2}_same_image_rays_conserved"
+    if ! timeout 120 "${mpirun[@]}" -np "$n" "$cube5" render "${scene[@]}" --boards "$n" --assign "$rule" --json \
+        -o "$tmp/img$n$rule.exr" >"$tmp/m.json" 2>"$tmp/err"; then
+        bad "$name" "mpirun failed" "$(tail -5 "$tmp/err")"
+        continue
+    fi
+    crc=$(field "$tmp/m.json" "d['frames'][0]['crc32']")
+    rays=$(field "$tmp/m.json" "sorted(d['rays'].items())")
+    check=$(field "$tmp/m.json" "' '.join(str(x) for x in [
+        sum(d['rays'].values()) == sum(v for k, v in d['ends'].items() if k not in ('bounce_limit', 'weight_cutoff')),
+        sum(b['packets_sent'] for b in d['multi_board']['per_board']) == sum(b['packets_received'] for b in d['multi_board']['per_board']) == d['multi_board']['link_packets'] > 0,
+        len(d['multi_board']['per_board']) == $n and d['multi_board']['assign'] == '$rule',
+        d['board']['cycles'] == d['multi_board']['frame_cycles'] >= max(b['busy_cycles'] for b in d['multi_board']['per_board']),
+        sum(b['cells'] for b in d['multi_board']['per_board']) == 64])")
+    lines=$(wc -l <"$tmp/m.json")
+    if [ "$crc" != "$ref_crc" ]; then bad "$name" "crc32 $crc, one board $ref_crc"
+    elif [ "$rays" != "$ref_rays" ]; then bad "$name" "rays $rays, one board $ref_rays"
+    elif [ "$check" != "True True True True True" ]; then bad "$name" "conservation, packets, boards, frame time, cells: $check"
+    elif [ "$lines" -ne 1 ] || [ "$(ls "$tmp/img$n$rule"_*.exr | wc -l)" -ne 2 ]; then bad "$name" "board 0 alone prints ($lines lines) and writes the images"
+    else ok "$name"; fi
+done
+
+# compare: the same model image on 2 boards, so the same difference to cref.
+"$cube5" compare "${scene[@]:0:1}" --size 40x40 --cells 4 --json >"$tmp/c1.json" 2>"$tmp/err"
+if timeout 120 "${mpirun[@]}" -np 2 "$cube5" compare "${scene[@]:0:1}" --size 40x40 --cells 4 --boards 2 --json \
+    >"$tmp/c2.json" 2>>"$tmp/err" &&
+    [ "$(field "$tmp/c1.json" "d['rmse'], d['max_abs_err']")" = "$(field "$tmp/c2.json" "d['rmse'], d['max_abs_err']")" ] &&
+    [ "$(field "$tmp/c2.json" "len(d['multi_board']['per_board']), d['fetches'] == sum(b['fetches'] for b in d['multi_board']['per_board'])")" = "2 True" ]; then
+    ok mpi_compare_2_ranks_same_difference
+else
+    bad mpi_compare_2_ranks_same_difference "$(tail -5 "$tmp/err")"
+fi
+
+# schedule: each board follows its own Cell Tree's schedule (the command itself fails when the
+# image under the schedule differs from Max Work's); the fetches add up over the boards.
+if timeout 120 "${mpirun[@]}" -np 3 "$cube5" schedule "${scene[@]:0:1}" --size 24x24 --cells 2 --frames 3 --boards 3 \
+    --json >"$tmp/s.json" 2>"$tmp/err"; then
+    check=$(field "$tmp/s.json" "all(len(r['multi_board']['per_board']) == 3 and
+        r['fetches_maxwork'] == sum(b['fetches_maxwork'] for b in r['multi_board']['per_board']) and
+        r['fetches_celltree'] == sum(b['fetches_celltree'] for b in r['multi_board']['per_board']) and
+        r['multi_board']['lower_bound_sum'] is not None and r['multi_board']['celltree']['frame_cycles'] > 0
+        for r in d['frames']) and d['frames'][2]['followed'].startswith('celltree')")
+    if [ "$check" = True ]; then ok mpi_schedule_3_ranks_per_board_trees
+    else bad mpi_schedule_3_ranks_per_board_trees "per-board figures: $check" "$(head -c 600 "$tmp/s.json")"; fi
+else
+    bad mpi_schedule_3_ranks_per_board_trees "$(tail -5 "$tmp/err")"
+fi
+
+# The text report: a line per board.
+if timeout 120 "${mpirun[@]}" -np 2 "$cube5" render "${scene[@]}" --boards 2 >"$tmp/t.txt" 2>"$tmp/err" &&
+    grep -q '^  boards   2 (kd assignment)' "$tmp/t.txt" && [ "$(grep -cE '^  [01] +[0-9]+ ' "$tmp/t.txt")" -eq 2 ]; then
+    ok mpi_text_report_per_board
+else
+    bad mpi_text_report_per_board "$(cat "$tmp/t.txt" "$tmp/err")"
+fi
+
+# A rank killed mid-frame (its second exchange): mpirun ends the others and fails, in seconds.
+t0=$(date +%s)
+C5_MPI_TEST_KILL=1:1 timeout 60 "${mpirun[@]}" -np 3 -x C5_MPI_TEST_KILL "$cube5" render "${scene[@]}" --boards 3 \
+    >/dev/null 2>"$tmp/err"
+status=$? t=$(($(date +%s) - t0))
+if [ "$status" -eq 0 ] || [ "$status" -eq 124 ]; then bad mpi_killed_rank_ends_the_job "exit $status after ${t}s" "$(tail -5 "$tmp/err")"
+elif [ "$t" -gt 20 ]; then bad mpi_killed_rank_ends_the_job "took ${t}s"
+elif ! grep -qE 'rank 1 .*(signal 9|Killed)' "$tmp/err"; then bad mpi_killed_rank_ends_the_job "no message naming rank 1 and its signal" "$(cat "$tmp/err")"
+else ok mpi_killed_rank_ends_the_job; fi
+
+# A board whose model fails mid-frame (an error at its second exchange) ends every board:
+# its message, MPI_Abort, a non-zero exit, in seconds.
+t0=$(date +%s)
+C5_MPI_TEST_FAIL=2:1 timeout 60 "${mpirun[@]}" -np 3 -x C5_MPI_TEST_FAIL "$cube5" render "${scene[@]}" --boards 3 \
+    >/dev/null 2>"$tmp/err"
+status=$? t=$(($(date +%s) - t0))
+if [ "$status" -eq 0 ] || [ "$status" -eq 124 ]; then bad mpi_failed_board_ends_the_job "exit $status after ${t}s" "$(tail -5 "$tmp/err")"
+elif [ "$t" -gt 20 ]; then bad mpi_failed_board_ends_the_job "took ${t}s"
+elif ! grep -q '^cube5: error: board 2: a failure on purpose' "$tmp/err"; then bad mpi_failed_board_ends_the_job "no message from board 2" "$(cat "$tmp/err")"
+else ok mpi_failed_board_ends_the_job; fi
+
+# Ranks and --boards must agree; --boards needs mpirun; options checked.
+timeout 60 "${mpirun[@]}" -np 2 "$cube5" render "${scene[@]}" --boards 3 >/dev/null 2>"$tmp/err"
+status=$?
+if [ "$status" -eq 2 ] && grep -q 'run cube5 as 3 MPI ranks' "$tmp/err"; then ok mpi_ranks_and_boards_disagree
+else bad mpi_ranks_and_boards_disagree "exit $status" "$(cat "$tmp/err")"; fi
+err=$("$cube5" render "${scene[@]}" --boards 2 2>&1 >/dev/null)
+judge mpi_boards_without_mpirun 2 $? "$err" "mpirun -np 2 cube5" && ok mpi_boards_without_mpirun
+for args in "--boards 0" "--boards 65" "--assign diagonal" "--link-bw 0" "--link-latency -1"; do
+    # shellcheck disable=SC2086
+    err=$("$cube5" render "${scene[@]}" $args 2>&1 >/dev/null)
+    judge "mpi_bad_option ${args// /_}" 2 $? "$err" "${args%% *}" && ok "mpi_bad_option ${args// /_}"
+done
+err=$("$cube5" render brain_mirrors --size 40x40 --boards 2 2>&1 >/dev/null)
+judge mpi_boards_only_with_rtl 2 $? "$err" "only with --model rtl" && ok mpi_boards_only_with_rtl
+
+# A build without MPI: one board works (the same image), more say how to get MPI.
+nompi="$build/cube5-nompi"
+if [ -x "$nompi" ]; then
+    "$nompi" render "${scene[@]}" --boards 1 --json >"$tmp/n.json" 2>"$tmp/err"
+    if [ "$(field "$tmp/n.json" "d['frames'][0]['crc32']" 2>/dev/null)" = "$ref_crc" ]; then ok nompi_one_board
+    else bad nompi_one_board "$(cat "$tmp/err")"; fi
+    err=$("$nompi" render "${scene[@]}" --boards 2 2>&1 >/dev/null)
+    judge nompi_boards_say_how_to_get_mpi 2 $? "$err" "built without MPI.*libopenmpi-dev openmpi-bin.*mpirun -np 2" &&
+        ok nompi_boards_say_how_to_get_mpi
+else
+    bad nompi_build "no $nompi: make $nompi"
+fi
+summary
