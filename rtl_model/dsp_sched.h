@@ -15,6 +15,14 @@
 /* The report's local search (docs/cell-tree.md, "Bounds": about 10-40 s a 27-cell tree). */
 #define C5_DSP_LOCAL_WINDOW 45
 #define C5_DSP_LOCAL_STATES 50000
+/* Then the local walk (c5_sched_local_walk) from the shorter of the two: windows of 20..40
+ * loads, 20,000 states each, 500 steps from a fixed seed (docs/cell-tree.md, "Bounds": the
+ * walk shortens default 1/27 and lobster_tunnel 1/27 where the local search stops). */
+#define C5_DSP_WALK_MIN 20
+#define C5_DSP_WALK_MAX 40
+#define C5_DSP_WALK_STATES 20000
+#define C5_DSP_WALK_STEPS 500
+#define C5_DSP_WALK_SEED 1
 
 typedef struct {
     c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
@@ -31,7 +39,9 @@ typedef struct {
     int beam_width;     /* beam of the best known schedule; 0: 200 */
     int local_window;   /* the local search on the beam's schedule (c5_sched_local_search):
                            windows of 2/3 of this many loads, then of this many, each solved
-                           within C5_DSP_LOCAL_STATES states; 0: C5_DSP_LOCAL_WINDOW; < 0: off */
+                           within C5_DSP_LOCAL_STATES states, then the local walk from the
+                           shorter result (C5_DSP_WALK_*); 0: C5_DSP_LOCAL_WINDOW; < 0: both
+                           off */
     /* An overflowed (frozen) tree: 0, no schedule (the next frame runs Max Work); 1, the
      * schedule of what it holds, the dependencies of the rays tagged before the RAM filled
      * (the next frame follows it, then Max Work). No other rules or bounds are computed for

@@ -259,6 +259,17 @@ int c5_sched_beam_ex(const c5_dep_tree *t, const c5_exact_opts *o, int width, in
  * c5_sched_feasible. Returns the loads saved (>= 0), or -1 with a message (infeasible start,
  * window < 2, a cell id >= C5_BOUND_MAX_CELLS, out of memory). */
 int c5_sched_local_search(const c5_dep_tree *t, int *sched, int *len, int window, long max_states, c5_err *err);
+/* Local walk (tree_local.c): `steps` windows of wmin..wmax loads at positions drawn from a
+ * generator seeded with `seed`, each solved exactly (within max_states states) with the
+ * cells renamed by a drawn permutation, and replaced when the answer is no longer than the
+ * window: equally long answers move the schedule along a plateau of schedules of one length,
+ * from which later windows find shorter ones that the local search, which takes only
+ * shorter windows from a fixed start, does not reach. Never longer than the start; every
+ * accepted schedule passes c5_sched_feasible; the same tree, start, knobs and seed give the
+ * same schedule. Returns the loads saved (>= 0), or -1 with a message (infeasible start,
+ * wmin < 2, wmax < wmin, steps < 0, a cell id >= C5_BOUND_MAX_CELLS, out of memory). */
+int c5_sched_local_walk(const c5_dep_tree *t, int *sched, int *len, int wmin, int wmax, int steps, long max_states,
+                        uint64_t seed, c5_err *err);
 
 /* ---- internal: tree_bound.c for tree_exact.c ---------------------------------------------- */
 

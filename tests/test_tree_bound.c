@@ -482,6 +482,52 @@ TEST(tree_bound_sandwich_random)
     CHECK(local_shorter > 100 && local_opt > 0); /* the local search shortens schedules, to the optimum somewhere */
 }
 
+/* The local walk on seeded random trees, from Max Work's schedule after the local search
+ * with windows of 4 loads has no window left to shorten (so no window of 2..4 loads is
+ * shorter on its own: a shorter window inside one of 4 would shorten that one): feasible,
+ * never longer, never below the optimum, the same schedule again for the same seed; and it
+ * shortens some of those schedules, which only its moves between equally long schedules
+ * can do. Bad knobs are refused with a message. */
+TEST(tree_local_walk_random)
+{
+    uint64_t rng = 0x3A1C;
+    int par[32], cel[32], sched[64], again[64];
+    c5_err err;
+    long walk_shorter = 0;
+    for (int trial = 0; trial < 400 && !c5t_failed_now(); trial++) {
+        int n = c5t_random_tree(&rng, 8 + (int)(c5_splitmix64(&rng) % 17), 2 + (int)(c5_splitmix64(&rng) % 7),
+                                2 + (int)(c5_splitmix64(&rng) % 9), par, cel);
+        c5_dep_tree t = {n, par, cel};
+        int opt = -1;
+        CHECK_INT(c5_sched_optimum(&t, 1000000, 64, &opt, NULL, &err), 1);
+        int len = maxwork_on_tree(&t, sched);
+        CHECK(c5_sched_local_search(&t, sched, &len, 4, 100000, &err) >= 0);
+        int start = len;
+        memcpy(again, sched, sizeof sched);
+        int saved = c5_sched_local_walk(&t, sched, &len, 2, 4, 60, 100000, (uint64_t)trial, &err);
+        CHECK_MSG(saved == start - len && saved >= 0 && c5_sched_feasible(&t, sched, len) == 1 && len >= opt,
+                  "trial %d local walk: %d -> %d (saved %d), optimum %d", trial, start, len, saved, opt);
+        walk_shorter += len < start;
+        int len2 = start;
+        CHECK_INT(c5_sched_local_walk(&t, again, &len2, 2, 4, 60, 100000, (uint64_t)trial, &err), saved);
+        CHECK_MSG(len2 == len && memcmp(again, sched, (size_t)len * sizeof *sched) == 0,
+                  "trial %d: the walk is not the same for the same seed", trial);
+    }
+    CHECK(walk_shorter > 0);
+    int p6[6] = {-1, 0, 1, -1, 3, 4}, c6[6] = {0, 1, 2, 1, 0, 1};
+    c5_dep_tree t = {6, p6, c6};
+    int s[6] = {0, 1, 2, 1, 0, 1}, len = 6, bad[2] = {0, 1}, blen = 2;
+    CHECK_INT(c5_sched_local_walk(&t, s, &len, 3, 2, 10, 1000, 1, &err), -1);
+    CHECK(strstr(err.msg, "windows of 3..2") != NULL);
+    CHECK_INT(c5_sched_local_walk(&t, s, &len, 1, 3, 10, 1000, 1, &err), -1);
+    CHECK(strstr(err.msg, "window 1") != NULL);
+    CHECK_INT(c5_sched_local_walk(&t, s, &len, 2, 3, -1, 1000, 1, &err), -1);
+    CHECK(strstr(err.msg, "-1 steps") != NULL);
+    CHECK_INT(c5_sched_local_walk(&t, bad, &blen, 2, 3, 10, 1000, 1, &err), -1);
+    CHECK(strstr(err.msg, "not feasible") != NULL);
+    CHECK_INT(len, 6);
+}
+
 /* Paths 0-1-2 and 1-0-1 (optimum 4: 1 0 1 2): the local search takes a window as a whole
  * problem, refuses bad input with a message, and the A* refuses overlapping groups. */
 TEST(tree_local_search_by_hand)
