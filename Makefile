@@ -270,8 +270,8 @@ coverage:
 accuracy: $(BUILD)/cube5
 	bash scripts/accuracy.sh $(BUILD)
 
-# Synthesis estimate of fpga/rtl for an iCE40 (yosys, nextpnr) into docs/fpga-report.md,
-# a few minutes; work files in $(BUILD)/fpga. (`make test` simulates fpga/ in $(BUILD)/ghdl.)
+# Synthesis estimate of fpga/rtl for an iCE40 (yosys, nextpnr) and an ECP5 (yosys) into
+# docs/fpga-report.md, about 40 minutes on a loaded 2-core VM; work files in $(BUILD)/fpga. (`make test` simulates fpga/ in $(BUILD)/ghdl.)
 fpga-report: $(LAYOUTS_VHD)
 	bash scripts/fpga-report.sh $(BUILD)
 

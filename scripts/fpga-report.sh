@@ -8,6 +8,8 @@
 #   2. yosys synth_ice40: LUT4s, carries, flip-flops, block RAMs.
 #   3. nextpnr-ice40 on an HX8K (ct256), --freq 100 (the paper's clock), a fixed --seed:
 #      the ray queue at the largest capacity of PNR_CAPACITIES that fits, for Fmax.
+#   4. yosys synth_ecp5 (Lattice ECP5, a larger family with hard multipliers and block
+#      RAM) of every block in fpga/rtl and the 256-entry queue: resource counts only.
 # The 256-entry sorter does not fit any iCE40 (it is synthesised, not placed); the codec
 # has no registers (nothing to time). The report says so.
 # Usage: fpga-report.sh [BUILD] [REPORT]  (default build/, docs/fpga-report.md)
@@ -26,7 +28,18 @@ FREQ=100                 # MHz: the paper's ray processor clock
 BOARD_CAPACITY=256
 PNR_CAPACITIES=(32 16)   # tried largest first; the first that places is reported
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
-     fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd)
+     fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
+     fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/gradient.vhd fpga/rtl/classify.vhd
+     fpga/rtl/composite.vhd fpga/rtl/shade.vhd fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd)
+# The datapath blocks and the Cell Tree tagging unit (tests/fpga_test.sh replays their
+# golden vectors): ECP5 counts only.
+DATAPATH=(interp gradient classify shade composite traverse cell_tree)
+# The ECP5 device the counts are set against: the family's largest, LFE5U-85F. Its
+# capacity is the data sheet's (Lattice FPGA-DS-02012, table 1.1), not a tool output.
+ECP5_DEVICE=LFE5U-85F
+ECP5_LUT4=83640
+ECP5_EBR=208          # DP16KD, 18 Kb each
+ECP5_MULT=156         # MULT18X18D
 
 # The synthesis tools are not in `make test`'s profile (scripts/deps/): installed here when missing.
 bash scripts/setup-deps.sh ghdl ghdl-mcode yosys nextpnr-ice40 fpga-icestorm
@@ -59,6 +72,24 @@ synth() {
 # cells NAME PATTERN: the sum of the yosys cell counts whose type matches PATTERN (an ERE).
 cells() {
     awk -v pat="^($2)\$" '$1 ~ pat && $2 ~ /^[0-9]+$/ { n += $2 } END { print n + 0 }' "$out/$1.stat"
+}
+
+# ecp5 NAME TOP [GENERIC...]: BUILD/fpga/NAME.ecp5.stat from yosys synth_ecp5 of the Verilog
+# ghdl writes (BUILD/fpga/NAME.v, made here when the iCE40 step did not).
+ecp5() {
+    local name=$1 top=$2
+    shift 2
+    if [ ! -f "$out/$name.v" ]; then
+        if ! ghdl --synth --std=08 --workdir="$work" "$@" --out=verilog "$top" >"$out/$name.v" \
+            2>"$out/$name.ghdl.log"; then
+            cat "$out/$name.ghdl.log" >&2
+            exit 1
+        fi
+    fi
+    say "synthesising $name for ECP5"
+    yosys -q -l "$out/$name.ecp5.log" \
+        -p "read_verilog $out/$name.v; synth_ecp5 -top $top; tee -q -o $out/$name.ecp5.stat stat" \
+        >/dev/null
 }
 
 # pnr NAME: place and route NAME.json; 0 if it placed (timing met or not).
@@ -94,6 +125,12 @@ for cap in "${PNR_CAPACITIES[@]}"; do
     fi
     why=$(grep -m 1 -E "^ERROR" "$out/ray_queue_$cap.pnr.log" || true)
     tried+=("CAPACITY=$cap needs $(util "ray_queue_$cap" ICESTORM_LC) logic cells; nextpnr-ice40 stopped: \`${why:-no error line}\`")
+done
+
+ecp5 ray_packet_codec ray_packet_codec
+ecp5 "ray_queue_$BOARD_CAPACITY" ray_queue "-gCAPACITY=$BOARD_CAPACITY"
+for b in "${DATAPATH[@]}"; do
+    ecp5 "$b" "$b"
 done
 
 # ---- the report -------------------------------------------------------------------------
@@ -191,6 +228,70 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
             -e "s/^/- CAPACITY=$cap: /"
     done
     echo
+    echo "## A larger family: Lattice ECP5 (yosys \`synth_ecp5\`)"
+    echo
+    echo "Resource counts of every block in \`fpga/rtl/\` and of the board's 256-entry queue after"
+    echo "yosys's ECP5 technology mapping. ECP5 is the family the counts are given for because"
+    echo "its logic cell is the same 4-input LUT as the iCE40's, so the two tables count the same"
+    echo "unit, and it adds what the board's datapath needs and the iCE40 HX lacks: 18x18 hard"
+    echo "multipliers and 18 Kb block RAMs. (\`synth_xilinx\` would count 6-input LUTs, not"
+    echo "comparable cell for cell, for devices only the vendor's tools place.) The counts are"
+    echo "set against the family's largest device, the $ECP5_DEVICE (data sheet: $ECP5_LUT4 LUT4s,"
+    echo "$ECP5_EBR DP16KD block RAMs, $ECP5_MULT MULT18X18D multipliers)."
+    echo
+    echo "| design | LUT4 | CCU2C (2-bit carry) | flip-flops | MULT18X18D | DP16KD | distributed RAM (TRELLIS_DPR16X4) | LUT4 share of the $ECP5_DEVICE |"
+    echo "|---|---|---|---|---|---|---|---|"
+    for d in ray_packet_codec "ray_queue_$BOARD_CAPACITY" "${DATAPATH[@]}"; do
+        label=$d
+        [ "$d" = "ray_queue_$BOARD_CAPACITY" ] && label="ray_queue (CAPACITY=$BOARD_CAPACITY)"
+        l=$(cells "$d.ecp5" LUT4)
+        printf '| %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$l" "$(cells "$d.ecp5" CCU2C)" \
+            "$(cells "$d.ecp5" 'TRELLIS_FF')" "$(cells "$d.ecp5" MULT18X18D)" "$(cells "$d.ecp5" DP16KD)" \
+            "$(cells "$d.ecp5" TRELLIS_DPR16X4)" "$(awk -v a="$l" -v b="$ECP5_LUT4" 'BEGIN { printf "%.1f %%", 100 * a / b }')"
+    done
+    over=()
+    for d in ray_packet_codec "ray_queue_$BOARD_CAPACITY" "${DATAPATH[@]}"; do
+        if [ "$(cells "$d.ecp5" LUT4)" -gt "$ECP5_LUT4" ]; then
+            if [ "$d" = "ray_queue_$BOARD_CAPACITY" ]; then over+=("ray_queue (CAPACITY=$BOARD_CAPACITY)"); else over+=("$d"); fi
+        fi
+    done
+    if [ ${#over[@]} -gt 0 ]; then
+        echo
+        echo "More LUT4s than the $ECP5_DEVICE has (so not on any ECP5, before even routing):"
+        echo "$(IFS=,; echo "${over[*]}" | sed 's/,/, /g')."
+    fi
+    echo
+    echo "What these figures are:"
+    echo
+    echo "- Cells after \`synth_ecp5\` (generic optimisation, ABC's LUT mapping, the ECP5 cell"
+    echo "  library), before packing into slices and before place and route. A CCU2C is two bits"
+    echo "  of carry chain in one slice's two LUT4s, which \`LUT4\` does not count; PFUMX and"
+    echo "  L6MUX21 (the slice's muxes that join LUT4s into 5- and 6-input functions) are in"
+    echo "  the logs, not in the table, and cost no LUT4."
+    echo "- \`interp\`, \`gradient\`, \`classify\`, \`composite\` and \`traverse\` are one pipeline"
+    echo "  each at one transaction a cycle (\`fpga/rtl/dp_pkg.vhd\` states the latencies), so"
+    echo "  every multiplication and division of the C model's arithmetic is its own hardware;"
+    echo "  products wider than 18 bits take several MULT18X18D (and adders in LUT4s), as yosys"
+    echo "  splits them. \`shade\` is a multi-cycle unit (one shared iterative normaliser, the"
+    echo "  lights one after another) and \`cell_tree\` a state machine around its RAMs: their"
+    echo "  counts are those of one such unit, whatever its throughput."
+    echo "- \`classify\` holds its 256-entry table twice (the two neighbouring entries of a lookup"
+    echo "  are read in one cycle), \`shade\` its 1,025-entry power table, \`cell_tree\` the 96 KB"
+    echo "  node RAM and the 4,096-entry root table: their block RAMs (or, where yosys chose"
+    echo "  so, distributed RAM or flip-flops; the logs name each memory's mapping)."
+    echo
+    echo "What they are not:"
+    echo
+    echo "- Not a fit, a utilisation or a speed: no ECP5 place and route was run (Debian"
+    echo "  packages no nextpnr-ecp5), so there is no slice count after packing, no routing and"
+    echo "  no Fmax; the share of the $ECP5_DEVICE is LUT4s alone. The pipelines' register"
+    echo "  stages are placed for a plausible clock, not timed."
+    echo "- Not the board's datapath as a whole: each block is synthesised alone, with its ports"
+    echo "  as top-level pins; logic that a neighbour block would make constant or share is"
+    echo "  counted in full."
+    echo "- Not a minimum: the widths are the C model's exact intermediate widths (no operand"
+    echo "  narrowed by range analysis), which is what makes the VHDL bit-exact."
+    echo
     echo "## Commands"
     echo
     echo '```sh'
@@ -199,6 +300,7 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
     echo "yosys -p 'read_verilog $out/NAME.v; synth_ice40 -top TOP -json $out/NAME.json; stat'"
     echo "nextpnr-ice40 --$DEVICE --package $PACKAGE --json $out/NAME.json --freq $FREQ --seed $SEED \\"
     echo "    --timing-allow-fail --asc $out/NAME.asc"
+    echo "yosys -p 'read_verilog $out/NAME.v; synth_ecp5 -top TOP; stat'   # the ECP5 table"
     echo '```'
 } >"$report.tmp"
 mv "$report.tmp" "$report"

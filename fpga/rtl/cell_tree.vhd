@@ -14,15 +14,16 @@
 -- is all zero but its cell and five none children.
 --
 -- Memories: the node RAM (2^13 slots x 96 bits: the DSP's 96 KB) and the root table
--- (2^12 cells x 13 bits), each one synchronous port (block RAM). After rst the unit clears
--- the root table (2^12 cycles, in_ready 0): the empty tree of a new frame.
+-- (2^12 cells x 13 bits), each one port with a registered read (block RAM). After rst the
+-- unit clears the root table (2^12 cycles, in_ready 0): the empty tree of a new frame.
 --
--- A multi-cycle unit: one RAM access a cycle. A tag accepted in cycle 0 (in_valid and
--- in_ready) gives out_valid (one cycle) with node_out in cycle
+-- A multi-cycle unit: one RAM access a cycle, a read's data two cycles after its address
+-- is set (the address register, then the RAM's read register). A tag accepted in cycle 0
+-- (in_valid and in_ready) gives out_valid (one cycle) with node_out in cycle
 --   1                      frozen tree,
---   2                      node_in none (root), or node_in of the same cell,
---   2 + 2 (c + e)          a child found after reading c children and e extension slots,
---   2 + 2 (c + e) + 3      a child made (+ 1 when it takes an extension slot; 2 + 2 (c + e)
+--   3                      node_in none (root), or node_in of the same cell,
+--   3 + 3 (c + e)          a child found after reading c children and e extension slots,
+--   3 + 3 (c + e) + 3      a child made (+ 1 when it takes an extension slot; 3 + 3 (c + e)
 --                          + 2 when it does not fit and freezes the tree).
 -- The readback ports (rd_*) read the node RAM and the root table
 -- while the unit is idle: the testbench compares the final images through them.
@@ -73,9 +74,10 @@ architecture rtl of cell_tree is
   signal root_we : std_logic := '0';
   signal root_d, root_q : std_logic_vector(ID_BITS - 1 downto 0);
 
-  type state_t is (CLEAR, IDLE, ROOT_RD, NODE_RD, SCAN, CHILD_RD, SLOT_RD, ALLOC, ALLOC2,
-                   WRITE_BACK);
+  type state_t is (CLEAR, IDLE, RD_WAIT, ROOT_RD, NODE_RD, SCAN, CHILD_RD, SLOT_RD, ALLOC,
+                   ALLOC2, WRITE_BACK);
   signal st      : state_t := CLEAR;
+  signal then_st : state_t := IDLE;                   -- the state a read's data goes to
   signal clr     : natural range 0 to N_ROOTS - 1 := 0;
   signal n_used  : unsigned(ID_BITS downto 0) := (others => '0');
   signal over    : boolean := false;
@@ -124,15 +126,13 @@ begin
       if ram_we = '1' then
         ram(ram_a) <= ram_d;
       end if;
+      ram_q <= ram(ram_a);
       if root_we = '1' then
         roots(root_a) <= root_d;
       end if;
+      root_q <= roots(root_a);
     end if;
   end process memories;
-  -- synchronous reads: the address is the state machine's register, so the data is there
-  -- the cycle after the address is set (a block RAM's registered address port)
-  ram_q <= ram(ram_a);
-  root_q <= roots(root_a);
 
   fsm : process (clk)
     variable n : cell_tree_node_rec;
@@ -140,6 +140,14 @@ begin
     variable last : natural range 0 to N_KIDS;
     variable free : natural range 0 to N_KIDS;
     variable ext : cell_tree_node_rec;
+
+    -- a read issued this cycle (the address register set): its data in state s, two
+    -- cycles on (the RAM's read register, as a block RAM's output register)
+    procedure read_then(s : state_t) is
+    begin
+      then_st <= s;
+      st <= RD_WAIT;
+    end procedure read_then;
 
     procedure finish(r : id_t) is
     begin
@@ -174,12 +182,15 @@ begin
               finish(NONE);
             elsif unsigned(node_in) = NONE then
               root_a <= to_integer(unsigned(cell));
-              st <= ROOT_RD;
+              read_then(ROOT_RD);
             else
               ram_a <= to_integer(unsigned(node_in));
-              st <= NODE_RD;
+              read_then(NODE_RD);
             end if;
           end if;
+
+        when RD_WAIT =>  -- the address is in the RAM's port: the data comes next cycle
+          st <= then_st;
 
         when ROOT_RD =>
           if unsigned(root_q) /= NONE then
@@ -217,11 +228,11 @@ begin
           end if;
           if ki < last and k(ki mod N_KIDS) /= NONE then
             ram_a <= to_integer(k(ki mod N_KIDS));
-            st <= CHILD_RD;
+            read_then(CHILD_RD);
           elsif cur.chained = "1" then
             slot <= k(N_KIDS - 1);
             ram_a <= to_integer(k(N_KIDS - 1));
-            st <= SLOT_RD;
+            read_then(SLOT_RD);
           else
             st <= ALLOC;
           end if;

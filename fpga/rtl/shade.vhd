@@ -78,7 +78,7 @@ architecture rtl of shade is
   type regs_t is array (0 to SHADE_REGS - 1) of signed(31 downto 0);
   type pow_t  is array (0 to 2 ** POW_TABLE_BITS) of std_logic_vector(SIG_SPEC_POW_WIDTH - 1 downto 0);
 
-  signal regs : regs_t := (others => (others => '0'));
+  signal regs : regs_t;
   signal pow  : pow_t;
   signal pow_rd : std_logic_vector(SIG_SPEC_POW_WIDTH - 1 downto 0);
   signal pow_ra : natural range 0 to 2 ** POW_TABLE_BITS := 0;
@@ -138,19 +138,30 @@ architecture rtl of shade is
 begin
   in_ready <= '1' when st = IDLE else '0';
 
-  -- the configuration memories: the registers, the power table (synchronous read)
-  config : process (clk)
+  -- the registers (flip-flops: read at several addresses at once), one compare a
+  -- register: ghdl 2.0 --synth wrote an indexed write (regs(addr) <= ...) as a
+  -- combinational loop instead of flip-flops.
+  config_regs : process (clk)
   begin
     if rising_edge(clk) then
-      if reg_we = '1' then
-        regs(to_integer(unsigned(reg_addr))) <= signed(reg_data);
-      end if;
+      for i in regs'range loop  -- (reg_addr is wider than the 68 registers need)
+        if reg_we = '1' and unsigned(reg_addr) = i then
+          regs(i) <= signed(reg_data);
+        end if;
+      end loop;
+    end if;
+  end process config_regs;
+
+  -- the power table (block RAM: registered read)
+  config_pow : process (clk)
+  begin
+    if rising_edge(clk) then
       if pow_we = '1' then
         pow(to_integer(unsigned(pow_addr))) <= pow_data;
       end if;
       pow_rd <= pow(pow_ra);
     end if;
-  end process config;
+  end process config_pow;
 
   fsm : process (clk)
     variable m2   : signed(2 * SIG_GRADIENT_WIDTH + 1 downto 0);
