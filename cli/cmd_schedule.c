@@ -17,7 +17,7 @@
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
     "                      [--split paper|lookahead|rollout|bounded|window] [--exact-states N]\n"
-    "                      [--local-window N] [--tree-nodes N]\n"
+    "                      [--local-window N] [--local-walk N] [--tree-nodes N]\n"
     "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
     "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
     "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n"
@@ -46,9 +46,10 @@ static const char usage_text[] =
     "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
     "                    when it gives up: the best proven bound and the best schedule found\n"
     "  --local-window N  the best schedule found is shortened by windows of 2N/3, then N\n"
-    "                    loads solved exactly, then by the local walk (default 45; 0, or\n"
-    "                    3..1000; 0: neither, the beam search's and the window rule's, much\n"
-    "                    faster on 27-cell trees)\n"
+    "                    loads solved exactly (default 45; 0, or 3..1000; 0: not, the beam\n"
+    "                    search's and the window rule's, much faster on 27-cell trees)\n"
+    "  --local-walk N    then N steps of the local walk (default 0: none; 0..100000;\n"
+    "                    scripts/optimum-study.sh runs 500: minutes a 27-cell tree)\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
     "  --tree-group G|auto\n"
     "                    the Cell Tree over groups of GxGxG cells; the next frame works off each\n"
@@ -84,7 +85,7 @@ static const char usage_text[] =
 typedef struct {
     const char *scene_arg;
     int cells[3], w, h, json, still;
-    long frames, exact_states, tree_nodes, local_window;
+    long frames, exact_states, tree_nodes, local_window, local_walk;
     int partial; /* --on-overflow partial */
     long group;  /* --tree-group G: the tree over groups of GxGxG cells; 0: auto (c5_dsp_next_group) */
     c5_split_rule rule;
@@ -114,7 +115,7 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
         if (bo)
             continue;
         if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
-            !strcmp(o, "--exact-states") || !strcmp(o, "--local-window") || !strcmp(o, "--tree-nodes") ||
+            !strcmp(o, "--exact-states") || !strcmp(o, "--local-window") || !strcmp(o, "--local-walk") || !strcmp(o, "--tree-nodes") ||
             !strcmp(o, "--volume") || !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group") || !strcmp(o, "--orbit") ||
             !strcmp(o, "--jumps") || !strcmp(o, "--dolly") || !strcmp(o, "--stale-check")) {
             if (i + 1 >= argc)
@@ -131,6 +132,8 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
             else if (!strcmp(o, "--exact-states") && c5_cli_int(o, v, 0, 100000000, &a->exact_states, err))
                 return -1;
             else if (!strcmp(o, "--local-window") && c5_cli_int(o, v, 0, 1000, &a->local_window, err))
+                return -1;
+            else if (!strcmp(o, "--local-walk") && c5_cli_int(o, v, 0, 100000, &a->local_walk, err))
                 return -1;
             else if (!strcmp(o, "--local-window") && a->local_window > 0 && a->local_window < 3)
                 return c5_fail(err, "--local-window: %ld is too small for a window (0, or 3..1000)", a->local_window);
@@ -448,6 +451,7 @@ static void print_json(const sched_args *a, const c5_scene *s, const frame_row *
     json_object_set_new(o, "tree_capacity_nodes", json_integer(a->tree_nodes));
     json_object_set_new(o, "exact_states", json_integer(a->exact_states));
     json_object_set_new(o, "local_window", json_integer(a->local_window));
+    json_object_set_new(o, "local_walk", json_integer(a->local_walk));
     json_object_set_new(o, "frames", arr);
     json_object_set_new(o, "scheduled_frames",
                         json_pack("{s:I, s:I, s:f}", "fetches_maxwork", (json_int_t)mw, "fetches_celltree",
@@ -628,7 +632,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->board_s_maxwork = mw.board_s;
     c5_dsp_sched_opts so = {.rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
                             .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]},
-                            .local_window = a->local_window >= 3 ? (int)a->local_window : -1};
+                            .local_window = a->local_window >= 3 ? (int)a->local_window : -1,
+                            .walk_steps = (int)a->local_walk};
     if (log && row->ct.fetches <= FETCH_LOG_MAX) {
         so.warm = log;
         so.warm_len = (int)row->ct.fetches;

@@ -86,8 +86,9 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
         /* The local walk from the shorter: it leaves the local search's fixed point by moves
          * between equally long schedules and finds shorter ones the windows alone do not. */
         int k = lens[1] < lens[0];
-        if (w >= 3 && c5_sched_local_walk(dt, starts[k], &lens[k], C5_DSP_WALK_MIN, C5_DSP_WALK_MAX,
-                                          C5_DSP_WALK_STEPS, C5_DSP_WALK_STATES, C5_DSP_WALK_SEED, err) < 0) {
+        if (w >= 3 && o->walk_steps > 0 &&
+            c5_sched_local_walk(dt, starts[k], &lens[k], C5_DSP_WALK_MIN, C5_DSP_WALK_MAX, o->walk_steps,
+                                C5_DSP_WALK_STATES, C5_DSP_WALK_SEED, err) < 0) {
             free(best);
             c5_schedule_free(&ws);
             return -1;

@@ -21,7 +21,7 @@
 #define C5_DSP_WALK_MIN 20
 #define C5_DSP_WALK_MAX 40
 #define C5_DSP_WALK_STATES 20000
-#define C5_DSP_WALK_STEPS 500
+#define C5_DSP_WALK_STEPS 500 /* the steps scripts/optimum-study.sh and sched-rules.sh ask for */
 #define C5_DSP_WALK_SEED 1
 
 typedef struct {
@@ -40,8 +40,10 @@ typedef struct {
     int local_window;   /* the local search on the beam's schedule (c5_sched_local_search):
                            windows of 2/3 of this many loads, then of this many, each solved
                            within C5_DSP_LOCAL_STATES states, then the local walk from the
-                           shorter result (C5_DSP_WALK_*); 0: C5_DSP_LOCAL_WINDOW; < 0: both
+                           shorter result (walk_steps); 0: C5_DSP_LOCAL_WINDOW; < 0: both
                            off */
+    int walk_steps;     /* steps of the local walk (C5_DSP_WALK_*; minutes on 27-cell trees);
+                           0: none */
     /* An overflowed (frozen) tree: 0, no schedule (the next frame runs Max Work); 1, the
      * schedule of what it holds, the dependencies of the rays tagged before the RAM filled
      * (the next frame follows it, then Max Work). No other rules or bounds are computed for

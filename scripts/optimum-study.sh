@@ -19,7 +19,7 @@ cube5="$build/cube5"
 printf '%-15s %5s %5s %6s %6s %8s %7s %8s\n' scene cells frame nodes bound optimum width% host_s
 for scene in $("$cube5" scenes | awk '{print $1}'); do
     for c in 2 3; do
-        "$cube5" schedule "$scene" --cells "$c" --size 256x256 --json "$@" |
+        "$cube5" schedule "$scene" --cells "$c" --size 256x256 --local-walk 500 --json "$@" |
             jq -r --arg s "$scene" --arg c "$((c * c * c))" '.frames | to_entries[] | .key as $f | .value |
                 [$s, $c, $f, .nodes, .lower_bound,
                  (if .optimum != null then .optimum else "<=\(.best_known)" end),

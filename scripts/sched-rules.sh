@@ -25,10 +25,11 @@ for k in "${cases[@]}"; do
   args=("$scene" --cells "$c" --still --frames 2 --size 256x256)
   [ -n "$vol" ] && args+=(--volume "$vol")
   for rule in paper rollout bounded window; do
-    states=0
-    [ "$rule" = window ] && states=200000 # the bounds once per case
-    echo "sched-rules: cube5 schedule ${args[*]} --split $rule --exact-states $states" >&2
-    "$CUBE5" schedule "${args[@]}" --split "$rule" --exact-states "$states" --json >"$RAW/${name}_c${c}_$rule.json"
+    states=0 walk=0
+    [ "$rule" = window ] && states=200000 walk=500 # the bounds and the best known once per case
+    echo "sched-rules: cube5 schedule ${args[*]} --split $rule --exact-states $states --local-walk $walk" >&2
+    "$CUBE5" schedule "${args[@]}" --split "$rule" --exact-states "$states" --local-walk "$walk" --json \
+        >"$RAW/${name}_c${c}_$rule.json"
   done
 done
 echo "sched-rules: cube5 schedule brain_mirrors --cells 3 --size 256x256 (camera path)" >&2

@@ -308,6 +308,7 @@ assert (f["switched_at_load"] == 0 and f["sched_switches"] == 1 and
     (f["switched_at_load"] is None and f["switch_reason"] is None and f["sched_switches"] == 0)
 assert (f["fetches_celltree"] == f["fetches_maxwork"]) if on else True' "$json" $chk; then ok schedule_stale_$chk; else bad schedule_stale_$chk "$json"; fi
 done
+expect schedule_local_walk_bad 2 "--local-walk: expected an integer in \[0, 100000\]" -- "$cube5" schedule default --local-walk -1
 expect schedule_unknown_option 2 "unknown option '--model'" -- "$cube5" schedule default --model rtl
 
 # cube5 cast (docs/caster.md): every mode and worker count writes the same bits; the JSON has
