@@ -198,7 +198,8 @@ fuzz: $(LAYOUTS_H) $(REGS_H)
 	bash fuzz/run.sh $(BUILD)
 
 # The model's blocks as a live reference for GHDL (fpga/ref/, VHPIDIRECT; docs/vectors.md).
-# Never sanitized: GHDL's process, which loads it, has no sanitizer runtime.
+# Never sanitized: GHDL's process, which loads it, has no sanitizer runtime. Built with the
+# rounding probe (rtl_model/round_probe.h) that the coverage of the vectors reads.
 REF_SO := $(BUILD)/libc5ref.so
 # REF_MODEL_SRC: the model sources the references call into and what they use (the link
 # fails on anything missing).
@@ -208,7 +209,7 @@ REF_MODEL_SRC := rtl_model/ray_queue.c rtl_model/cell_tree.c rtl_model/processor
 REF_SRC := $(wildcard fpga/ref/*.c) $(REF_MODEL_SRC)
 $(REF_SO): $(REF_SRC) $(wildcard fpga/ref/*.h rtl_model/*.h common/*.h) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -Wl,--no-undefined -o $@ $(REF_SRC) \
+	$(CC) $(CPPFLAGS) -DC5_ROUND_PROBE -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -Wl,--no-undefined -o $@ $(REF_SRC) \
 	  -lteem -lz -lm
 
 demo: $(BUILD)/cube5
@@ -263,8 +264,8 @@ golden: $(BUILD)/cube5
 	$(BUILD)/cube5 vectors --out vectors/golden $(GOLDEN_ARGS)
 
 # Functional coverage of the golden vectors against spec/coverage.toml (docs/vectors.md).
-coverage:
-	python3 scripts/vectors_coverage.py vectors/golden --all
+coverage: $(REF_SO)
+	python3 scripts/vectors_coverage.py vectors/golden --ref $(REF_SO) --all
 
 # The sweeps behind docs/accuracy.md into docs/accuracy/ (scripts/accuracy.sh, about 2 minutes).
 accuracy: $(BUILD)/cube5

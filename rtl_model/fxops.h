@@ -6,6 +6,8 @@
 
 #include <stdint.h>
 
+#include "round_probe.h"
+
 /* x * 2^s for any sign (a left shift of a negative value is undefined in C). */
 static inline int64_t c5_shl(int64_t x, int s) { return x * ((int64_t)1 << s); }
 static inline __int128 c5_shl128(__int128 x, int s) { return x * ((__int128)1 << s); }
@@ -19,6 +21,7 @@ static inline int64_t c5_rshift_he(int64_t x, int s)
     int64_t q = x >> s; /* floor */
     int64_t r = x & (((int64_t)1 << s) - 1);
     int64_t half = (int64_t)1 << (s - 1);
+    C5_ROUND_NOTE(r == 0, (r > half) - (r < half), q & 1);
     return q + ((r + half - 1 + (q & 1)) >> s);
 }
 
@@ -28,6 +31,7 @@ static inline int64_t c5_rshift128_he(__int128 x, int s)
     __int128 q = x >> s;
     __int128 r = x - c5_shl128(q, s);
     __int128 half = (__int128)1 << (s - 1);
+    C5_ROUND_NOTE(r == 0, (r > half) - (r < half), q & 1);
     if (r > half || (r == half && (q & 1)))
         q++;
     return (int64_t)q;
@@ -45,6 +49,7 @@ static inline int64_t c5_div_he64(int64_t n, int64_t d)
         r += d;
     }
     int64_t twice = 2 * r;
+    C5_ROUND_NOTE(r == 0, (twice > d) - (twice < d), q & 1);
     if (twice > d || (twice == d && (q & 1)))
         q++;
     return q;
@@ -67,6 +72,7 @@ static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
         r -= d;
     }
     int64_t twice = 2 * r;
+    C5_ROUND_NOTE(r == 0, (twice > d) - (twice < d), q & 1);
     if (twice > d || (twice == d && (q & 1)))
         q++;
     return q;
@@ -91,6 +97,7 @@ static inline int64_t c5_div_he(__int128 n, __int128 d)
         r += d;
     }
     __int128 twice = 2 * r;
+    C5_ROUND_NOTE(r == 0, (twice > d) - (twice < d), q & 1);
     if (twice > d || (twice == d && (q & 1)))
         q++;
     return (int64_t)q;
@@ -122,10 +129,12 @@ static inline int64_t c5_clamp64(int64_t v, int64_t lo, int64_t hi, uint64_t *sa
 {
     if (v < lo) {
         (*sat)++;
+        C5_SAT_NOTE(C5_EV_SAT_LO);
         return lo;
     }
     if (v > hi) {
         (*sat)++;
+        C5_SAT_NOTE(C5_EV_SAT_HI);
         return hi;
     }
     return v;

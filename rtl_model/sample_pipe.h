@@ -141,13 +141,18 @@ static inline int64_t c5_dot8(const int64_t wt[8], const int32_t v[8])
 /* The blends on precomputed weights (the model computes them once for both). */
 static inline int64_t c5_interp_blend_w(const int64_t wt[8], const int32_t v[8])
 {
+    C5_ROUND_AT(C5_RS_INTERP_VALUE);
     return c5_rshift_he(c5_dot8(wt, v), 45 - 8);
 }
 
 static inline void c5_grad_blend_w(const int64_t wt[8], const int32_t d[3][8], const int64_t gs[3], int64_t grad[3])
 {
-    for (int a = 0; a < 3; a++)
-        grad[a] = c5_rshift_he(c5_rshift_he(c5_dot8(wt, d[a]), 45 - 8) * gs[a], 15);
+    for (int a = 0; a < 3; a++) {
+        C5_ROUND_AT(C5_RS_GRAD_BLEND);
+        int64_t blend = c5_rshift_he(c5_dot8(wt, d[a]), 45 - 8);
+        C5_ROUND_AT(C5_RS_GRAD_SCALE);
+        grad[a] = c5_rshift_he(blend * gs[a], 15);
+    }
 }
 
 /* Block "interp": the trilinear blend of the corners (voxels 0..255) with the fractions
@@ -191,6 +196,7 @@ static inline void c5_classify(const c5_frame_regs *r, int64_t value, int64_t rg
         i = 254;
         f = 256;
     }
+    C5_ROUND_AT(C5_RS_CLASSIFY_LERP);
     for (int ch = 0; ch < 4; ch++)
         rgba[ch] = c5_rshift_he((int64_t)r->tf[i][ch] * 256 + ((int64_t)r->tf[i + 1][ch] - r->tf[i][ch]) * f, 8);
 }
@@ -202,6 +208,7 @@ static inline int64_t c5_spec_pow(const c5_frame_regs *r, int64_t ndh)
         return r->pow_tab[1 << C5_POW_BITS];
     int i = (int)(ndh >> 4);
     int64_t f = ndh & 15;
+    C5_ROUND_AT(C5_RS_SHADE_POW);
     return c5_rshift_he((int64_t)r->pow_tab[i] * 16 + ((int64_t)r->pow_tab[i + 1] - r->pow_tab[i]) * f, 4);
 }
 
@@ -218,10 +225,12 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
         k = r->ka;
     } else {
         int64_t mg[3] = {-g[0], -g[1], -g[2]}, n[3], v[3] = {-d[0], -d[1], -d[2]};
+        C5_ROUND_AT(C5_RS_SHADE_NORMAL);
         c5_geom_normalize(mg, n);
         if (nsh_normal)
             for (int a = 0; a < 3; a++)
                 n[a] = c5_narrow(n[a], nsh_normal); /* a unit vector: stays in SQ1.14 */
+        C5_ROUND_AT(C5_RS_SHADE_FACING);
         if (c5_geom_dot14(n, v) < 0)
             for (int a = 0; a < 3; a++)
                 n[a] = -n[a]; /* two-sided: the normal faces the viewer */
@@ -231,27 +240,34 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
             int64_t L[3], h[3], H[3];
             if (l->kind == C5_LIGHT_POINT) {
                 int64_t to[3] = {l->pos[0] - gpos[0], l->pos[1] - gpos[1], l->pos[2] - gpos[2]};
+                C5_ROUND_AT(C5_RS_SHADE_LIGHT_DIR);
                 c5_geom_normalize(to, L);
             } else {
                 L[0] = l->dir[0], L[1] = l->dir[1], L[2] = l->dir[2];
             }
+            C5_ROUND_AT(C5_RS_SHADE_NDL);
             int64_t ndl = c5_geom_dot14(n, L);
             if (ndl <= 0)
                 continue;
             diff += l->intensity * ndl;
             for (int a = 0; a < 3; a++)
                 h[a] = L[a] + v[a];
+            C5_ROUND_AT(C5_RS_SHADE_HALF);
             if (c5_geom_normalize(h, H) == 0)
                 continue;
+            C5_ROUND_AT(C5_RS_SHADE_NDH);
             int64_t ndh = c5_geom_dot14(n, H);
             if (ndh > 0)
                 spec += l->intensity * c5_spec_pow(r, ndh);
         }
         /* light_term is UQ4.12, saturating (spec/layouts.toml): 8 lights of intensity
          * 15.9 would give ~2000. */
+        C5_ROUND_AT(C5_RS_SHADE_K);
         k = c5_clamp64(r->ka + c5_rshift_he(r->kd * diff, 26), 0, 65535, sat);
+        C5_ROUND_AT(C5_RS_SHADE_KS);
         ks = c5_clamp64(c5_rshift_he(r->ks * spec, 27), 0, 65535, sat);
     }
+    C5_ROUND_AT(C5_RS_SHADE_CHANNEL);
     for (int ch = 0; ch < 3; ch++)
         out[ch] = c5_clamp64(c5_rshift_he(rgba[ch] * k, 15) + ks, 0, 65535, sat);
 }
@@ -271,9 +287,11 @@ static inline int c5_composite(const c5_frame_regs *r, c5_bray *ray, int64_t alp
     int64_t t = C5_ONE15 - ray->opa; /* transmittance */
     if (c) {
         int64_t wta = ray->w * t * alpha; /* 45 fraction bits, < 2^46 */
+        C5_ROUND_AT(C5_RS_COMPOSITE_RGB);
         for (int ch = 0; ch < 3; ch++)
             ray->rgb[ch] = c5_clamp64(ray->rgb[ch] + c5_rshift128_he((__int128)wta * c[ch], 45), 0, C5_RGB_MAX, sat);
     }
+    C5_ROUND_AT(C5_RS_COMPOSITE_OPA);
     ray->opa += c5_rshift_he(t * alpha, 15);
     return ray->opa >= r->a_max;
 }

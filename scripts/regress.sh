@@ -45,7 +45,7 @@ tier() {
 
 tier golden-c - bash tests/vectors_test.sh "$build"
 tier golden-vhdl - bash tests/fpga_test.sh "$build"
-tier coverage - bash tests/coverage_test.sh
+tier coverage - bash tests/coverage_test.sh "$build"
 for s in $SEEDS; do
     d="$tmp/vec$s"
     if "$build/cube5" vectors --out "$d" --scene none --seed "$s" --count "$COUNT" >"$tmp/gen" 2>&1; then

@@ -2,13 +2,15 @@
 # Functional coverage of the golden vectors (spec/coverage.toml, scripts/vectors_coverage.py,
 # docs/vectors.md "Coverage"): every point is hit or a declared hole; a set that lost
 # vectors fails naming the point it no longer reaches; a declared hole that is hit fails
-# (the spec must be updated); bad input exits 2. Usage: coverage_test.sh
+# (the spec must be updated); the rounding probe names each event right; bad input exits 2.
+# Usage: coverage_test.sh [BUILD_DIR] (its libc5ref.so replays the vectors; default build)
 set -u
 cd "$(dirname "$0")/.."
+build=${1:-build}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 . "$(dirname "$0")/lib.sh"
-cov="python3 scripts/vectors_coverage.py"
+cov="python3 scripts/vectors_coverage.py --ref $build/libc5ref.so"
 
 if $cov vectors/golden >"$tmp/out" 2>&1 && grep -q ", 0 missed or hit holes$" "$tmp/out"; then
     ok golden_reaches_every_point_or_hole
@@ -49,16 +51,75 @@ else
     bad hit_hole_fails "$(head -n 5 "$tmp/out")"
 fi
 
-# Bad input: no vector set; a hole naming no point.
+# The probe's events on blends built to round a known way: corners 0 and v1 at frac_x
+# 2^-9 (64) blend to v1 * 2^-9: half an LSB of UQ8.8 for v1 = 1, a tie kept at 0 (even), one
+# and a half for v1 = 3, a tie rounded up to 2 (even); at 2^-10 (32), 1 rounds down, 3 up.
+cat >"$tmp/probe.py" <<'EOF'
+import sys
+sys.path.insert(0, 'scripts')
+from vectors_probe import EVENTS, Probe
+p = Probe(sys.argv[1])
+site = p.sites.index('interp.value')
+for fx, v1, value, event in [(64, 1, 0, 'tie_kept'), (64, 3, 2, 'tie_up'), (32, 1, 0, 'down'), (32, 3, 1, 'up'),
+                             (128, 1, 1, 'exact')]:
+    p.lib.c5ref_probe_reset()
+    got = (p.lib.c5ref_interp(fx, 0, 0, 0, v1, 0, 0, 0, 0, 0, 0), p.lib.c5ref_probe_seen(site))
+    assert got == (value, EVENTS[event]), (fx, v1, got, value, event)
+EOF
+if python3 "$tmp/probe.py" "$build/libc5ref.so" >"$tmp/out" 2>&1; then
+    ok probe_names_rounding_events
+else
+    bad probe_names_rounding_events "$(tail -n 3 "$tmp/out")"
+fi
+
+# A vector whose output the model does not give: its events would be another computation's.
+cp -r vectors/golden "$tmp/wrong"
+python3 -c '
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+cols = lines[0].split()
+cols[-1] = "%04x" % ((int(cols[-1], 16) + 1) % 65536)
+lines[0] = " ".join(cols)
+open(sys.argv[2], "w").write("\n".join(lines))' vectors/golden/interp.directed.hex "$tmp/wrong/interp.directed.hex"
+$cov "$tmp/wrong" >"$tmp/out" 2>&1
+st=$?
+if [ "$st" -eq 2 ] && grep -q "interp.directed.hex line 1: interp: the model replayed gives other outputs" "$tmp/out"; then
+    ok wrong_output_exits_2
+else
+    bad wrong_output_exits_2 "exit $st" "$(cat "$tmp/out")"
+fi
+
+# Every rounding site of the model is declared: the spec without one is refused.
+python3 -c '
+import re, sys
+s = open(sys.argv[1]).read()
+print(re.sub(r"\[\[site\]\]\nblock = \"interp\"\nsite = \"interp.value\"\n(?:[^\n]+\n)*", "", s))' spec/coverage.toml >"$tmp/nosite.toml"
+$cov vectors/golden --spec "$tmp/nosite.toml" >"$tmp/out" 2>&1
+st=$?
+if [ "$st" -eq 2 ] && grep -q "rounding site interp.value: the spec does not declare it" "$tmp/out"; then
+    ok undeclared_site_exits_2
+else
+    bad undeclared_site_exits_2 "exit $st" "$(cat "$tmp/out")"
+fi
+
+# Bad input: no vector set; a hole naming no point; no reference library.
 $cov "$tmp/none" >"$tmp/out" 2>&1
 st=$?
 if [ "$st" -eq 2 ] && grep -q "no vector set" "$tmp/out"; then ok no_set_exits_2; else bad no_set_exits_2 "exit $st" "$(cat "$tmp/out")"; fi
-printf '\n[[hole]]\nblock = "ray_queue"\npoint = "no_such"\nreason = "test"\n' >"$tmp/bad.toml"
+cp spec/coverage.toml "$tmp/bad.toml"
+printf '\n[[hole]]\nblock = "ray_queue"\npoint = "no_such"\nreason = "test"\n' >>"$tmp/bad.toml"
 $cov vectors/golden --spec "$tmp/bad.toml" >"$tmp/out" 2>&1
 st=$?
 if [ "$st" -eq 2 ] && grep -q "hole ray_queue.no_such is no point" "$tmp/out"; then
     ok unknown_hole_exits_2
 else
     bad unknown_hole_exits_2 "exit $st" "$(cat "$tmp/out")"
+fi
+python3 scripts/vectors_coverage.py vectors/golden --ref "$tmp/none.so" >"$tmp/out" 2>&1
+st=$?
+if [ "$st" -eq 2 ] && grep -q "none.so: .*make .*none.so builds it" "$tmp/out"; then
+    ok no_reference_exits_2
+else
+    bad no_reference_exits_2 "exit $st" "$(cat "$tmp/out")"
 fi
 summary

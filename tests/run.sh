@@ -29,7 +29,7 @@ run_suite bash tests/prefetch_test.sh "$build"
 run_suite bash tests/layouts_test.sh
 run_suite bash tests/regmap_test.sh
 run_suite bash tests/vectors_test.sh "$build"
-run_suite bash tests/coverage_test.sh
+run_suite bash tests/coverage_test.sh "$build"
 run_suite bash tests/fingerprint_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
 run_suite bash tests/vcd_test.sh "$build"

@@ -16,6 +16,8 @@
 int32_t c5ref_sh_setup(int32_t seed);
 int32_t c5ref_sh_reg(int32_t addr);
 int32_t c5ref_sh_pow(int32_t i);
+int32_t c5ref_sh_reg_set(int32_t addr, int32_t v);
+int32_t c5ref_sh_pow_set(int32_t i, int32_t v);
 int32_t c5ref_sh_dir(int32_t x, int32_t y, int32_t z, int32_t a);
 int32_t c5ref_sh_set(int32_t k, int32_t v);
 int32_t c5ref_sh_run(int32_t k);
@@ -76,6 +78,40 @@ int32_t c5ref_sh_reg(int32_t addr)
 }
 
 int32_t c5ref_sh_pow(int32_t i) { return i >= 0 && i <= 1 << C5_POW_BITS ? regs.pow_tab[i] : 0; }
+
+/* The registers and the power table written one by one, at the addresses c5ref_sh_reg and
+ * c5ref_sh_pow read (a vector set's images SHADE.SOURCE.regs.hex and .pow.hex, line by
+ * line): the coverage replays the golden shading vectors with them. -1 outside. */
+int32_t c5ref_sh_reg_set(int32_t addr, int32_t v)
+{
+    int64_t *head[4] = {&regs.ka, &regs.kd, &regs.ks, NULL};
+    if (addr == 3 && v >= 0 && v <= C5_MAX_LIGHTS) {
+        regs.n_lights = v;
+        return 0;
+    }
+    if (addr >= 0 && addr < 3) {
+        *head[addr] = v;
+        return 0;
+    }
+    int i = (addr - 4) / 8, k = (addr - 4) % 8;
+    if (addr < 4 || i >= C5_MAX_LIGHTS)
+        return -1;
+    c5_light_regs *l = &regs.lights[i];
+    int64_t *slot[8] = {NULL, &l->pos[0], &l->pos[1], &l->pos[2], &l->dir[0], &l->dir[1], &l->dir[2], &l->intensity};
+    if (k == 0)
+        l->kind = v; /* the image's code (vectors/gen/vec_shade.c) */
+    else
+        *slot[k] = v;
+    return 0;
+}
+
+int32_t c5ref_sh_pow_set(int32_t i, int32_t v)
+{
+    if (i < 0 || i > 1 << C5_POW_BITS)
+        return -1;
+    regs.pow_tab[i] = v;
+    return 0;
+}
 
 /* Component a of (x, y, z) made a unit vector (SQ1.14), as the model's rays are. */
 int32_t c5ref_sh_dir(int32_t x, int32_t y, int32_t z, int32_t a)
