@@ -5,7 +5,7 @@
 #   golden-vhdl   every VHDL testbench on every golden vector file (tests/fpga_test.sh)
 #   coverage      the golden set against spec/coverage.toml (tests/coverage_test.sh)
 #   random-vhdl   per seed S: `cube5 vectors --scene none --seed S` (fresh directed and
-#                 random cases) replayed by every VHDL testbench
+#                 random cases) replayed by every VHDL testbench, and the points it covers
 #   live          per seed S: every block's VHDL against the C model running beside it (VHPIDIRECT,
 #                 tests/live_test.sh), CYCLES cycles
 # Every run is reproducible from its seed alone: `scripts/regress.sh BUILD` with SEEDS="S"
@@ -22,6 +22,7 @@ CYCLES=${CYCLES:-5000}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 rows=()
+covs=()
 fails=0
 
 # tier NAME SEED CMD...: runs a sub-suite, keeps its verdict for the table.
@@ -50,6 +51,12 @@ for s in $SEEDS; do
     d="$tmp/vec$s"
     if "$build/cube5" vectors --out "$d" --scene none --seed "$s" --count "$COUNT" >"$tmp/gen" 2>&1; then
         tier random-vhdl "$s" env C5_VECTORS="$d" bash tests/fpga_test.sh "$build"
+        # What the seed's set reaches (reported, not judged: a set without scenes misses the
+        # points only scene traces reach, and hits some of the golden set's holes).
+        python3 scripts/vectors_coverage.py "$d" --ref "$build/libc5ref.so" --json >"$tmp/cov" 2>"$tmp/cov.err"
+        [ $? -le 1 ] && covs+=("$(python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))
+print("seed %s: %d of %d points hit" % (sys.argv[2], d["hit"], len(d["points"])))' "$tmp/cov" "$s")") ||
+            covs+=("seed $s: coverage failed: $(tail -n 1 "$tmp/cov.err")")
     else
         fails=$((fails + 1))
         echo "FAIL tier random-vhdl, seed $s: cube5 vectors failed"
@@ -64,5 +71,8 @@ echo
 echo "| tier         | seed | passed | failed |  time |"
 echo "|--------------|------|--------|--------|-------|"
 printf '%s\n' "${rows[@]}"
+echo
+echo "coverage of the random sets (scripts/vectors_coverage.py):"
+printf '  %s\n' "${covs[@]}"
 echo "regress: $((${#rows[@]} - fails)) runs passed, $fails failed (seeds: $SEEDS)"
 [ "$fails" -eq 0 ]

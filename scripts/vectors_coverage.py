@@ -211,6 +211,16 @@ def main():
         for r in report:
             if r['doc']:
                 print(f'| {r["block"]} | {r["point"]} | {r["doc"]} | {r["hits"]} |')
+        cols = [e for e in EVENTS if any(e in st['events'] for st in sites.values())]
+        print('\n| block | site | what rounds or clamps | ' + ' | '.join(cols) + ' |\n|---|---|---|' +
+              '---:|' * len(cols))
+        by_point = {(r['block'], r['point']): r for r in report}
+        for name, st in sites.items():
+            cells = []
+            for e in cols:
+                r = by_point.get((st['block'], f'rnd.{name.split(".", 1)[1]}.{e}'))
+                cells.append('' if r is None else 'hole' if r['status'] == 'hole' else str(r['hits']))
+            print(f'| {st["block"]} | {name.split(".", 1)[1]} | {st["doc"]} | ' + ' | '.join(cells) + ' |')
         print('\n| block | holes | why |\n|---|---|---|')
         groups = {}
         for r in report:

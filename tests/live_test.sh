@@ -64,7 +64,8 @@ for s in $seeds; do
         if run "$l" "$s" "$tmp/a" && grep -q "PASS $tb: seed $s, $n " "$tmp/a" && ! grep -q " 0 full," "$tmp/a"; then
             ok "${tb}_seed_$s"
         else
-            bad "${tb}_seed_$s" "$(grep -E 'PASS|FAIL|error' "$tmp/a" | head -n 5)"
+            bad "${tb}_seed_$s" "$(grep -E 'PASS|FAIL|error' "$tmp/a" | head -n 5)" \
+                "$(grep -q " 0 full," "$tmp/a" && echo "the queue never filled in $n cycles: its full and refused-insert paths went unchecked (give more cycles)")"
         fi
         [ "$s" = "$first" ] && [ "$tb" = tb_ray_queue_live ] && cp "$tmp/a" "$tmp/first"
     done
