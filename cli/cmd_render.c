@@ -4,18 +4,21 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "board.h"
 #include "boards_cli.h"
 #include "cli.h"
 #include "cref.h"
+#include "frame_vcd.h"
 #include "progress.h"
 
 static const char usage_text[] =
     "usage: cube5 render [SCENE|FILE.json] [-o OUT] [--threads N] [--frames N]\n"
     "                    [--size WxH] [--volume [I=]FILE] [--json] [--progress]\n"
     "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
-    "                    [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n\n"
+    "                    [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n"
+    "                    [--vcd FILE [--vcd-cycles N] [--vcd-from C]]\n\n"
     "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file\n"
     "with cref, the double-precision reference renderer, or with the bit-accurate board model.\n\n"
     "  -o OUT            write the image: .png (8-bit, clamped) or .exr (float); with\n"
@@ -31,7 +34,15 @@ static const char usage_text[] =
     "                    or the fewest that keep a cell within 256 voxels a side)\n"
     "  --queue-key K     rtl only: morton (default) or fifo order of the ray queue\n"
     "  --host-bw MB/S    rtl only: host/disk -> RDRAM bandwidth of a cell fetch (default 132)\n"
-    "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n" C5_BOARDS_HELP
+    "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n"
+    "  --vcd FILE        rtl only, one frame, one board: the waveform of the frame's\n"
+    "                    cycle-level parts, scopes ray_queue (the eDRAM sorter, ports of\n"
+    "                    fpga/rtl/ray_queue.vhd) and ray_bus (packets between processor and\n"
+    "                    DSP), on the testbenches' 10 ns clock, to load beside GHDL's --vcd\n"
+    "                    in GTKWave (docs/vectors.md); an existing FILE is refused\n"
+    "  --vcd-cycles N    the sorter's cycles in FILE (default 1000000); a longer frame is\n"
+    "                    cut there (said on stderr and in FILE's header)\n"
+    "  --vcd-from C      FILE starts at the sorter's cycle C (default 0)\n" C5_BOARDS_HELP
     "  --json            print one JSON object instead of the text summary; each frame\n"
     "                    has \"crc32\", a CRC-32 of its float RGB pixels, and with rtl\n"
     "                    \"board\", the model's counters\n" C5_PROGRESS_HELP;
@@ -49,7 +60,12 @@ typedef struct {
     double host_mbs, host_ms; /* --host-bw, --host-latency; 0: the model's defaults */
     int have_host;
     c5_boards_args bd;       /* --boards and the link */
+    const char *vcd;         /* --vcd FILE */
+    long vcd_cycles, vcd_from;
+    int have_vcd_window;     /* --vcd-cycles or --vcd-from given */
 } render_args;
+
+#define VCD_CYCLES_DEFAULT 1000000
 
 static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
 {
@@ -58,6 +74,7 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
     a->cells[0] = a->cells[1] = a->cells[2] = 0; /* the automatic split */
     a->key = C5_KEY_MORTON;
     a->host_ms = -1;
+    a->vcd_cycles = VCD_CYCLES_DEFAULT;
     int have_scene = 0;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -68,7 +85,8 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
             continue;
         if (!strcmp(o, "-o") || !strcmp(o, "--threads") || !strcmp(o, "--frames") || !strcmp(o, "--size") ||
             !strcmp(o, "--volume") || !strcmp(o, "--model") || !strcmp(o, "--cells") || !strcmp(o, "--queue-key") ||
-            !strcmp(o, "--host-bw") || !strcmp(o, "--host-latency")) {
+            !strcmp(o, "--host-bw") || !strcmp(o, "--host-latency") || !strcmp(o, "--vcd") ||
+            !strcmp(o, "--vcd-cycles") || !strcmp(o, "--vcd-from")) {
             if (!has_val)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -80,6 +98,18 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
                 return -1;
             else if (!strcmp(o, "--size") && c5_cli_size(o, v, &a->w, &a->h, err))
                 return -1;
+            else if (!strcmp(o, "--vcd")) {
+                if (!*v)
+                    return c5_fail(err, "--vcd: expected a file name");
+                a->vcd = v;
+            } else if (!strcmp(o, "--vcd-cycles") || !strcmp(o, "--vcd-from")) {
+                /* 10^9 cycles is 10 s of the board: far beyond a frame, and the times stay
+                 * within 64 bits in fs. */
+                if (c5_cli_int(o, v, !strcmp(o, "--vcd-cycles"), 1000000000L,
+                               !strcmp(o, "--vcd-cycles") ? &a->vcd_cycles : &a->vcd_from, err))
+                    return -1;
+                a->have_vcd_window = 1;
+            }
             else if (!strcmp(o, "--volume")) {
                 if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
                     return -1;
@@ -116,6 +146,12 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
         return c5_fail(err, "%s: only with --model rtl",
                        a->have_cells ? "--cells" : a->have_key ? "--queue-key" : a->have_host ? "--host-bw/--host-latency"
                        : "--boards/--assign/--link-bw/--link-latency");
+    if (a->have_vcd_window && !a->vcd)
+        return c5_fail(err, "--vcd-cycles/--vcd-from: only with --vcd FILE");
+    if (a->vcd && !a->rtl)
+        return c5_fail(err, "--vcd: only with --model rtl (the waveform is of the board model's parts)");
+    if (a->vcd && a->bd.given)
+        return c5_fail(err, "--vcd: one board only (the waveform is of one board's parts)");
     if (a->rtl && a->threads)
         return c5_fail(err, "--threads: only with --model cref (the board model runs on one thread)");
     return 0;
@@ -258,7 +294,8 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
 /* One frame through the chosen model: the image, the cref-shaped statistics and, for rtl,
  * the board's. */
 static int render_frame(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
-                        c5_cref_stats *st, c5_board_stats *board, c5_mb_stats *mb, c5_progress *prog, c5_err *err)
+                        c5_cref_stats *st, c5_board_stats *board, c5_mb_stats *mb, c5_progress *prog,
+                        const c5_taps *taps, c5_err *err)
 {
     if (!a->rtl) {
         c5_cref_opts opts = {.threads = (int)a->threads};
@@ -268,6 +305,7 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
     /* -1: not given (the model's default); 0 given: explicitly no latency. */
     opts.host_latency_s = a->host_ms < 0 ? 0 : a->host_ms == 0 ? -1 : a->host_ms * 1e-3;
     memcpy(opts.cells, a->cells, sizeof opts.cells);
+    opts.taps = taps;
     c5_progress_frame pf = {prog, f, f};
     opts.progress = c5_boards_leader(&a->bd) ? c5_progress_board : NULL;
     opts.progress_ctx = &pf;
@@ -306,11 +344,31 @@ int c5_cmd_render(int argc, char **argv)
     }
     if (a.out && c5_cli_check_scene_image_out(a.out, c5_scene_frames(&s), a.scene_arg, &s, &err) != 0)
         goto fail;
+    if (a.vcd && c5_scene_frames(&s) != 1) {
+        err = (c5_err){"--vcd: the waveform is of one frame; the scene has several (give --frames 1)"};
+        goto fail;
+    }
+    /* Before the frame is rendered: the open below refuses it too, atomically. */
+    if (a.vcd && access(a.vcd, F_OK) == 0) {
+        c5_fail(&err, "%s: exists; refusing to overwrite it (remove it, or give another path)", a.vcd);
+        goto fail;
+    }
     if (a.rtl ? c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0 : c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
-
     if (a.rtl && c5_boards_begin(&a.bd, &err) != 0)
         goto fail;
+    c5_frame_vcd *wave = NULL;
+    if (a.vcd) {
+        char about[1400];
+        snprintf(about, sizeof about,
+                 "%s, %dx%d, cells %dx%dx%d, queue key %s: the ray queue's cycles %ld to %ld of the frame "
+                 "(--vcd-from, --vcd-cycles; a longer frame is cut there) and the ray bus's packets among them",
+                 label, s.render.width, s.render.height, a.cells[0], a.cells[1], a.cells[2],
+                 c5_cli_queue_key_name(a.key), a.vcd_from, a.vcd_from + a.vcd_cycles - 1);
+        if (!(wave = c5_frame_vcd_open(a.vcd, (uint64_t)a.vcd_from, (uint64_t)a.vcd_cycles, about, &err)))
+            goto fail;
+    }
+
     int lead = c5_boards_leader(&a.bd);
     int frames = c5_scene_frames(&s);
     c5_mb_stats *mb = calloc(2, sizeof *mb), *mb_total = mb + 1; /* a frame's, the run's */
@@ -326,7 +384,8 @@ int c5_cmd_render(int argc, char **argv)
         c5_image img;
         c5_cref_stats st;
         c5_board_stats bst;
-        if (!mb || render_frame(&a, &s, &sv, f, &img, &st, &bst, mb, &prog, &err) != 0) {
+        if (!mb || render_frame(&a, &s, &sv, f, &img, &st, &bst, mb, &prog,
+                                wave ? c5_frame_vcd_taps(wave) : NULL, &err) != 0) {
             if (!mb)
                 err = (c5_err){"out of memory"};
             if (a.bd.mpi) /* the other boards wait in a collective: end them all */
@@ -362,6 +421,28 @@ int c5_cmd_render(int argc, char **argv)
                              a.out ? json_string_value(json_array_get(outputs, (size_t)f)) : "");
     }
     c5_progress_end(&prog);
+    c5_frame_vcd_stats ws = {0};
+    if (wave) {
+        c5_err werr;
+        if (c5_frame_vcd_close(wave, &ws, &werr) != 0 && rc == 0) {
+            err = werr;
+            rc = C5_EXIT_RUNTIME;
+        }
+        if (rc != 0) /* a frame that failed has no waveform: no partial file left behind */
+            remove(a.vcd);
+        if (rc == 0) {
+            uint64_t last = ws.written ? (uint64_t)a.vcd_from + ws.written - 1 : 0;
+            if (ws.written)
+                fprintf(stderr, "cube5: %s: the ray queue's cycles %ld to %llu of the frame's %llu", a.vcd,
+                        a.vcd_from, (unsigned long long)last, (unsigned long long)ws.cycles);
+            else
+                fprintf(stderr, "cube5: %s: none of the frame's %llu ray queue cycles (--vcd-from %ld)", a.vcd,
+                        (unsigned long long)ws.cycles, a.vcd_from);
+            fprintf(stderr, "%s; ray bus: %llu packets to the DSP, %llu from it in the frame\n",
+                    ws.cut ? " (cut: --vcd-cycles)" : "", (unsigned long long)ws.to_dsp,
+                    (unsigned long long)ws.from_dsp);
+        }
+    }
     if (rc == 0 && lead) {
         int threads = c5_cref_thread_count((int)a.threads);
         if (a.json) {
@@ -378,6 +459,13 @@ int c5_cmd_render(int argc, char **argv)
                 json_object_set_new(o, "board", c5_cli_board_json(a.bd.given ? &mb_total->sum : &board_total));
                 if (a.bd.given)
                     json_object_set_new(o, "multi_board", c5_cli_mb_json(mb_total));
+                if (a.vcd)
+                    json_object_set_new(o, "waveform",
+                                        json_pack("{s:s, s:I, s:I, s:I, s:b, s:I, s:I}", "file", a.vcd, "from",
+                                                  (json_int_t)a.vcd_from, "cycles_written", (json_int_t)ws.written,
+                                                  "cycles_frame", (json_int_t)ws.cycles, "cut", ws.cut,
+                                                  "bus_to_dsp", (json_int_t)ws.to_dsp, "bus_from_dsp",
+                                                  (json_int_t)ws.from_dsp));
             } else {
                 json_object_set_new(o, "threads", json_integer(threads));
             }

@@ -179,6 +179,20 @@ static int tree_unit(const board *b, int cell) { return group_of(b, cell, b->gro
  * tags it with its node before queueing it in SDRAM. */
 static void dsp_queue(board *b, const c5_bray *r, int arrival);
 
+/* A packet on the ray bus, seen by the bus tap (only packed when the tap is set). */
+static void bus_tap(const board *b, const c5_bray *r, const uint8_t *pk, int to_dsp)
+{
+    const c5_taps *t = b->o->taps;
+    if (!t || !t->bus)
+        return;
+    uint8_t own[C5_PACKET_BYTES];
+    if (!pk) {
+        c5_bray_pack(r, &b->cells, own);
+        pk = own;
+    }
+    t->bus(t->ctx, pk, to_dsp);
+}
+
 static void on_enqueue(void *ctx, const c5_bray *r)
 {
     board *b = ctx;
@@ -193,6 +207,7 @@ static void on_enqueue(void *ctx, const c5_bray *r)
             return;
         b->st->spills++;
     }
+    bus_tap(b, r, NULL, 1);
     dsp_queue(b, r, (int)r->cell != b->proc.active);
     b->st->bus_packets++;
 }
@@ -439,6 +454,7 @@ static void refill(board *b, sdram_queue *q)
         r.shadow = q->shadow[q->head];
         if (!edram_insert(b, &r))
             break;
+        bus_tap(b, &r, q->pk[q->head], 0);
         q->head++;
         b->queued--;
         b->st->bus_packets++;

@@ -69,6 +69,12 @@ typedef struct c5_taps {
     void *ctx;
     /* A packet as it is written to the eDRAM or SDRAM queue (32 bytes, little-endian). */
     void (*packet)(void *ctx, const uint8_t *packet);
+    /* A packet crossing the ray bus between the processor and the DSP (32 bytes): to_dsp 1,
+     * a ray the processor hands to the DSP (for another cell's SDRAM queue, a spill of the
+     * active cell's, or an eye ray of the set-up), as it leaves the processor: before the DSP
+     * tags it with its Cell Tree node; to_dsp 0, a packet of the active cell's SDRAM queue
+     * streaming into the sorter (called after the queue tap of the cycle that accepted it). */
+    void (*bus)(void *ctx, const uint8_t *packet, int to_dsp);
     /* One clock cycle of the active cell's eDRAM sorter. */
     void (*queue)(void *ctx, const c5_rq_in *in, const c5_rq_out *out);
     /* The DSP's Cell Tree rule on one packet: (node, cell) in, the packet's new node out. */
