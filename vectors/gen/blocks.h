@@ -53,6 +53,10 @@ void c5_vsample_end(c5_vscene *v, int slot, const c5_vblock *b, void (*write)(c5
                     json_t *config);
 extern const int c5_n_vblock_gens;
 
+/* The ray queue's fields, the ports of fpga/rtl/ray_queue.vhd: its vectors' columns and the
+ * queue scope of a frame's waveform (frame_vcd.h). */
+extern const c5_vblock c5_vblock_ray_queue;
+
 /* Renders scene `name` (loaded, at its final size) on the board model split into cells[3],
  * with every block's taps, and returns its end-to-end record: the CRC-32s of the frame
  * buffer (w x h x 3 little-endian uint64 sums), of the packet trace (every packet written

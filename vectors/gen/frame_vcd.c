@@ -5,21 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "blocks.h"
 #include "c5_layouts.h"
 #include "ray.h"
 #include "vcd.h"
-
-/* The ray_queue vectors' fields (vectors/gen/vec_queue.c), the ports of
- * fpga/rtl/ray_queue.vhd; tests/vcd_test.sh compares this scope with that block's waveform
- * signal by signal, so a renamed or reordered field there shows up. */
-static const c5_vfield queue_fields[] = {
-    {"insert_valid", 1, 0, "uint"}, {"insert_key", 32, 0, "uint"}, {"insert_payload", 32, 0, "uint"},
-    {"pop_ready", 1, 0, "uint"},    {"pop_valid", 1, 1, "uint"},   {"pop_key", 32, 1, "uint"},
-    {"pop_payload", 32, 1, "uint"}, {"insert_accepted", 1, 1, "uint"}, {"full", 1, 1, "uint"},
-    {"count", 9, 1, "uint"},        {"empty", 1, 1, "uint"},
-};
-static const c5_vblock queue_block = {"ray_queue", "the board's eDRAM sorter", queue_fields,
-                                      (int)(sizeof queue_fields / sizeof queue_fields[0])};
 
 /* valid, to_dsp, then the packet vectors' columns (vectors/gen/vec_packet.c): the generated
  * layout's fields and the 256-bit packet. */
@@ -212,7 +201,7 @@ c5_frame_vcd *c5_frame_vcd_open(const char *path, uint64_t from, uint64_t cycles
         c5_fail(err, "out of memory");
         return NULL;
     }
-    const c5_vblock *scopes[2] = {&queue_block, &bus_block};
+    const c5_vblock *scopes[2] = {&c5_vblock_ray_queue, &bus_block};
     w->v = c5_vcd_open_scopes(path, scopes, 2, "cube5 render --vcd (docs/vectors.md)", about, 1, 1);
     if (!w->v) {
         c5_fail(err, errno == EEXIST ? "%s: exists; refusing to overwrite it (remove it, or give another path)"

@@ -18,7 +18,7 @@ static const c5_vfield fields[] = {
     {"count", COUNT_BITS, 1, "uint"}, {"empty", 1, 1, "uint"},
 };
 
-static const c5_vblock block = {"ray_queue",
+const c5_vblock c5_vblock_ray_queue = {"ray_queue",
                                 "insertion-sorter ray queue, one clock cycle per vector from reset "
                                 "(capacity 256, 32-bit keys, 32-bit payload; docs/ray-queue.md)",
                                 fields, (int)(sizeof fields / sizeof fields[0])};
@@ -77,7 +77,7 @@ static int directed(c5_vset *s)
     c5_rq_cfg cfg = C5_RQ_CFG_DEFAULT;
     if (c5_rq_init(&t.q, &cfg) != 0)
         return c5_fail(s->err, "out of memory for the ray queue");
-    t.f = c5_vfile_open(s, &block, "directed", NULL, NULL);
+    t.f = c5_vfile_open(s, &c5_vblock_ray_queue, "directed", NULL, NULL);
     if (!t.f) {
         c5_rq_free(&t.q);
         return -1;
@@ -142,7 +142,7 @@ static int tap_begin(c5_vscene *v, c5_taps *t)
     tap_state *st = calloc(1, sizeof *st);
     if (!st)
         return -1;
-    st->f = c5_vfile_open(v->set, &block, v->scene, v->scene, NULL);
+    st->f = c5_vfile_open(v->set, &c5_vblock_ray_queue, v->scene, v->scene, NULL);
     if (!st->f) {
         free(st);
         return -1;
