@@ -324,19 +324,20 @@ TEST(vec_shade_recomputes_from_its_register_images)
 {
     const char *dir = generate(&c5_vgen_shade);
     CHECK(dir);
-    const char *src[] = {"directed", SCENE};
+    const char *src[] = {"directed", "bright", SCENE};
+    const int lights[] = {3, 1, 2};
     static c5_frame_regs r;
-    for (int fi = 0; fi < 2; fi++) {
+    for (int fi = 0; fi < 3; fi++) {
         memset(&r, 0, sizeof r);
         CHECK_MSG(load_shade_regs(dir, src[fi], &r) == 0, "no register images for %s", src[fi]);
-        CHECK(r.n_lights == (fi == 0 ? 3 : 2));
+        CHECK(r.n_lights == lights[fi]);
         char name[256];
         snprintf(name, sizeof name, "shade.%s.hex", src[fi]);
         table t;
         CHECK(load(dir, name, &t) == 0);
         CHECK_INT(t.n, 16);
         CHECK(t.rows > 0);
-        int zero = 0, sat3 = 0, flipped = 0;
+        int zero = 0, sat3 = 0, sat5 = 0, flipped = 0;
         for (long k = 0; k < t.rows; k++) {
             c5_sample smp = {0};
             int64_t rgba[4] = {AT(&t, k, 3), AT(&t, k, 4), AT(&t, k, 5), C5_ONE15}, gpos[3], d[3], out[3];
@@ -357,12 +358,15 @@ TEST(vec_shade_recomputes_from_its_register_images)
                 for (int c = 0; c < 3; c++)
                     CHECK_INT(AT(&t, k, 12 + c), he((__int128)rgba[c] * r.ka, 15));
             }
+            sat5 += sat == 5; /* light_term k and ks, then the three channels */
             sat3 += out[0] == 65535 && out[1] == 65535 && out[2] == 65535 && sat >= 3; /* every channel clamped */
             flipped += smp.grad[2] == 256 && d[2] < 0 && smp.grad[0] == 0 && smp.grad[1] == 0;
         }
         if (fi == 0)
             CHECK_MSG(zero >= 4 && sat3 >= 1 && flipped == 1, "directed shade: %d zero-gradient, %d saturated, %d flipped",
                       zero, sat3, flipped);
+        if (fi == 1)
+            CHECK_MSG(sat5 >= 1, "bright shade: no vector clamps all five (%d)", sat5);
         unload(&t);
     }
 }

@@ -87,7 +87,7 @@ static int64_t alpha_reaching(int64_t opa, int64_t a_max)
  * pairs, max_opacity 1 included (termination only at exact opacity 1); colour clamped at
  * its maximum per channel and in all three; full contribution of c at 16 - 2^-12; w = 0;
  * shadow rays (colour unchanged, opacity as usual, done); then random rays and samples,
- * a quarter of them shadow rays. */
+ * a quarter of them shadow rays; then a black shaded colour. */
 static int directed(c5_vset *s)
 {
     c5_vfile *f = c5_vfile_open(s, &block, "directed", NULL, NULL);
@@ -138,6 +138,10 @@ static int directed(c5_vset *s)
         run(&io);
         write_io(f, &io);
     }
+    /* Appended after the random cases, which keep their lines: a black shaded colour (a
+     * black transfer-function entry shaded without a specular term). */
+    vec(f, 20000, 5000, 3000, 16384, 0, 0, amax95); /* c 0: the colour stays, the opacity grows */
+    vec(f, one, 20000, 100, one, 0, 0, one);       /* c 0 at full alpha: done, colour unchanged */
     c5_vfile_close(f);
     return 0;
 }

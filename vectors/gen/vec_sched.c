@@ -58,7 +58,8 @@ static void build(c5_ctree *t, int n, const int *parent, const int *cell)
 }
 
 /* The paper's Figure 4 (as read in tests/test_tree_sched.c); the counterexample to its
- * completion claim (paths 0-1-2 and 1-0-1, docs/cell-tree.md); random trees. */
+ * completion claim (paths 0-1-2 and 1-0-1, docs/cell-tree.md); random trees; a tree with
+ * cell id 4095. */
 static int directed(c5_vset *s)
 {
     static const int fig4_parent[] = {-1, -1, 1, 1, 2, 3, 5, 0, 0, 7, 8, 0, 0, 9, 10, 11, 12};
@@ -83,6 +84,13 @@ static int directed(c5_vset *s)
             node = c5_ctree_tag(t, node, (int)(c5_splitmix64(&rng) % 8));
     }
     rc |= write_case(s, "random", NULL, t);
+    /* "max_cell": cell id 4095, the last of a 4,096-cell split, in a small tree: rays from
+     * cell 4095 to 0 and back, and from cell 1 through 4095 (loads of 4095 in two
+     * generations). */
+    static const int mc_parent[] = {-1, 0, 1, -1, 3, 4};
+    static const int mc_cell[] = {4095, 0, 4095, 1, 4095, 0};
+    build(t, 6, mc_parent, mc_cell);
+    rc |= write_case(s, "max_cell", NULL, t);
     free(t);
     return rc ? -1 : 0;
 }

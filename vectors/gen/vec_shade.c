@@ -136,6 +136,45 @@ static void vec(c5_vfile *f, const c5_frame_regs *r, const int64_t g[3], const i
     write_io(f, &io);
 }
 
+/* "bright": registers that saturate light_term: ka 1/4, kd 4, ks 4 and one directional
+ * light along +z of intensity 8 (each below the 16 the frame set-up allows, regs.c), the
+ * same power table. A normal facing both the light and the viewer gives k = 1/4 + 32 and
+ * ks = 32: both clamp at 16 - 2^-12, and every channel with a non-zero table colour then
+ * clamps too (the specular term alone fills it). The directed registers above cannot: their
+ * lights sum to intensity 6, so ks * spec stays at or below 6.0. */
+static int bright(c5_vset *s)
+{
+    c5_frame_regs *r = calloc(1, sizeof *r);
+    if (!r)
+        return c5_fail(s->err, "out of memory");
+    directed_regs(r); /* for its power table; the registers and lights are replaced */
+    memset(r->lights, 0, sizeof r->lights);
+    r->ka = 1024;
+    r->kd = 16384;
+    r->ks = 16384;
+    r->n_lights = 1;
+    r->lights[0] = (c5_light_regs){.kind = C5_LIGHT_DIRECTIONAL, .dir = {0, 0, 1 << 14}, .intensity = 32768};
+    json_t *cfg = write_config(s, "bright", NULL, r);
+    c5_vfile *f = c5_vfile_open(s, &block, "bright", NULL, NULL);
+    if (!f) {
+        json_decref(cfg);
+        free(r);
+        return -1;
+    }
+    const int64_t gz[3] = {0, 0, -256}, down[3] = {0, 0, -(1 << 14)}, p[3] = {20 << 15, 40 << 15, 10 << 15};
+    const int64_t white[3] = {C5_ONE15, C5_ONE15, C5_ONE15}, dim[3] = {1, 1, 1}, green0[3] = {C5_ONE15, 0, 8192};
+    const int64_t tilt[3] = {0, 181, -181}, zero_g[3] = {0, 0, 0};
+    vec(f, r, gz, white, p, down);     /* sat 5: k, ks and the three channels */
+    vec(f, r, gz, dim, p, down);       /* sat 5 with the least table colour, 2^-15: 2 LSB over ks */
+    vec(f, r, gz, green0, p, down);    /* sat 4: a black channel stays at ks, 16 - 2^-12 */
+    vec(f, r, tilt, white, p, down);   /* N.L = N.H = 1/sqrt 2: k clamps, ks (2.0) does not, the channels do */
+    vec(f, r, zero_g, white, p, down); /* zero gradient: ka only, no clamp */
+    c5_vfile_set(f, "config", cfg);
+    c5_vfile_close(f);
+    free(r);
+    return 0;
+}
+
 #define P(x, y, z) {(int64_t)(x) << 15, (int64_t)(y) << 15, (int64_t)(z) << 15}
 
 /* The zero-gradient path at its threshold |g|^2 < 1024 (2^-6 in SQ8.8 squared: |g| < 1/8)
@@ -143,7 +182,8 @@ static void vec(c5_vfile *f, const c5_frame_regs *r, const int64_t g[3], const i
  * flipped: the same result); N.H = 1 exactly (the power table's last entry) and just
  * below; every light behind (N.L < 0, and N.L = 0 exactly for the third light); a point
  * light at the sample (L = 0); saturation of every channel and of one; random cases
- * (gradients across SQ8.8, unit directions, positions in a 256^3 box). */
+ * (gradients across SQ8.8, unit directions, positions in a 256^3 box); then a black table
+ * colour, gradients of +-255.0 along the axes, a sample at the origin. "bright": sat 5. */
 static int directed(c5_vset *s)
 {
     c5_frame_regs *r = calloc(1, sizeof *r);
@@ -191,10 +231,26 @@ static int directed(c5_vset *s)
         }
         vec(f, r, g, rgb, gpos, d);
     }
+    /* Appended after the random cases, which keep their lines. A black table colour: */
+    const int64_t black[3] = {0, 0, 0}, origin[3] = {0, 0, 0};
+    vec(f, r, zero_g[0], black, p0, down); /* zero gradient (ka only): every shaded channel 0 */
+    vec(f, r, gz, black, p2, up);          /* every light behind (ka only): 0 */
+    vec(f, r, gz, black, p1, down);        /* facing the lights: the specular term alone */
+    /* The gradient block's extremes, +-255.0 an axis, seen along the axes (unit directions
+     * +-1 exactly, the other components 0), each with one black channel. */
+    static const int64_t gext[][3] = {{65280, 0, 0}, {-65280, 0, 0}, {0, 65280, 0},
+                                      {0, -65280, 0}, {0, 0, 65280},  {0, 0, -65280}};
+    static const int64_t axis_dir[][3] = {{-(1 << 14), 0, 0}, {1 << 14, 0, 0}, {0, -(1 << 14), 0},
+                                          {0, 1 << 14, 0},    {0, 0, -(1 << 14)}, {0, 0, 1 << 14}};
+    static const int64_t one_black[][3] = {{0, 20000, 30000}, {30000, 20000, 0}, {20000, 0, 30000},
+                                           {0, 0, 30000},     {30000, 0, 0},     {0, 30000, 0}};
+    for (int i = 0; i < 6; i++)
+        vec(f, r, gext[i], one_black[i], p1, axis_dir[i]); /* grad_* min/max, dir_* +-1, a black channel */
+    vec(f, r, gext[4], rgb1, origin, down); /* a sample at the grid's origin: gpos 0 on every axis */
     c5_vfile_set(f, "config", cfg);
     c5_vfile_close(f);
     free(r);
-    return 0;
+    return bright(s);
 }
 
 /* Scene taps: a uniform sample of the frame's shaded samples; the registers are the frame's. */

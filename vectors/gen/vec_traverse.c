@@ -15,6 +15,7 @@
 #include "fxops.h"
 #include "geom.h"
 #include "processor.h"
+#include "regs.h"
 #include "rng.h"
 
 #define POS_BITS 26    /* SQ10.15 */
@@ -114,7 +115,8 @@ static void at(int64_t p[3], double x, double y, double z)
  * leap (S = 2^-15 across a whole block: 2^18 steps), unbounded and cut; step vectors with
  * zero components, all negative, and the extreme codes of SQ3.15; then random steps in
  * random grids and cells (a tenth anywhere near the grid; lifetimes 0, small, any and
- * unbounded). */
+ * unbounded); then the largest steps the frame set-up makes, 1,023- and 1-voxel axes with a
+ * step to the largest SQ10.15 position, a step onto the grid's corner. */
 static int directed(c5_vset *s)
 {
     c5_vfile *f = c5_vfile_open(s, &block, "directed", NULL, NULL);
@@ -229,6 +231,43 @@ static int directed(c5_vset *s)
         int empty = in_grid && (c5_splitmix64(&rng) & 1);
         vec(f, &b, q, S, life, empty, NULL);
     }
+    /* Appended after the random cases, which keep their lines. The largest step component
+     * the frame set-up makes: step_k below 7.99 (regs.c refuses step / spacing >= 7.99) is
+     * at most round(7.99 2^20), times a unit component of +-1: |S| = 261816 (7.99 voxels). */
+    const int64_t kmax = c5_regs_fx(7.99, 20, 0, ((int64_t)16 << 20) - 1);
+    const int64_t smax = c5_rshift_he((int64_t)(1 << C5_DIR_F) * kmax, C5_DIR_F + 20 - C5_POS_F);
+    for (int a = 0; a < 3; a++)
+        for (int sg = -1; sg <= 1; sg += 2) {
+            int64_t S[3] = {0, 0, 0};
+            S[a] = sg * smax;
+            at(q, 20.5, 16.5, 10.5);
+            vec(f, &W, q, S, 100, 0, NULL); /* step_* min / max: a sample, pos' 7.99 voxels on */
+        }
+    {
+        const int64_t S[3] = {smax, 0, 0};
+        at(q, 20.5, 16.5, 10.5);
+        vec(f, &W, q, S, NONE, 1, NULL); /* a leap of one step of 7.99 voxels out of its block */
+    }
+    for (int a = 0; a < 3; a++) { /* a 1,023-voxel axis, the others 1 voxel */
+        /* 1,023 one-voxel cells along a (cell i is [floor(i 1023 / n), ...), cells.c), the
+         * last one [1022, 1023): a step from its middle lands on 1024 - 2^-15, the largest
+         * SQ10.15 position (pos_*_out max; cell_lo 1022, cell_hi 1023, dims 1023, and
+         * cell_hi / dims 1 on the other axes), then the leave on it (pos_* max) */
+        box E = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
+        E.lo[a] = 1022;
+        E.hi[a] = 1023;
+        E.dims[a] = 1023;
+        int64_t S[3] = {0, 0, 0};
+        q[0] = q[1] = q[2] = 1 << 14;
+        q[a] = ((int64_t)1022 << 15) + (1 << 14);
+        S[a] = ((int64_t)1 << 25) - 1 - q[a]; /* 1.5 - 2^-15 voxels */
+        vec(f, &E, q, S, 100, 0, p);
+        vec(f, &E, p, S, 99, 0, NULL);
+    }
+    const int64_t Scorner[3] = {-65536, -65536, -65536}; /* 2 voxels an axis (|S| = 3.46) */
+    at(q, 2, 2, 2);
+    vec(f, &W, q, Scorner, 100, 0, p);  /* pos' exactly 0 on every axis: the grid's corner */
+    vec(f, &W, p, Scorner, 99, 0, NULL); /* the sample there; pos' one step outside */
     c5_vfile_set(f, "config", config());
     c5_vfile_close(f);
     return 0;

@@ -38,8 +38,8 @@ static int finish(c5_vset *s, c5_vfile *f, const char *source, const c5_ctree *t
 }
 
 /* "directed": the paper's Figure 3 trace; a node with 14 children (two extension slots);
- * random chains with bounces. "overflow": chains until the 8,191 slots are full, then tags
- * on the frozen tree. */
+ * random chains with bounces; cell 4095. "overflow": chains until the 8,191 slots are full,
+ * then tags on the frozen tree (existing nodes among them). */
 static int directed(c5_vset *s)
 {
     c5_ctree *t = malloc(sizeof *t);
@@ -72,6 +72,14 @@ static int directed(c5_vset *s)
         for (int k = 0; k < len; k++)
             node = tag(t, f, node, (int)(c5_splitmix64(&rng) % 8));
     }
+    /* Appended after the random chains, which keep their lines: cell id 4095, the last of a
+     * 4,096-cell split (the 12-bit cell id's largest, the root table's last entry). */
+    uint32_t r4095 = tag(t, f, N, 4095); /* a new root for cell 4095 */
+    tag(t, f, N, 4095);                   /* found again */
+    uint32_t n4095_0 = tag(t, f, r4095, 0); /* its child for cell 0 */
+    tag(t, f, n4095_0, 4095);               /* and back: a child for cell 4095 */
+    tag(t, f, r1, 4095);                    /* cell 4095 as a child of cell 1's root */
+    tag(t, f, r4095, 4095);                 /* a node of cell 4095 bound for 4095: kept */
     finish(s, f, "directed", t);
 
     c5_ctree_init(t, 0);
@@ -79,11 +87,22 @@ static int directed(c5_vset *s)
         free(t);
         return -1;
     }
-    uint32_t node = N;
-    for (int i = 0; !t->overflow; i++) /* random chains of 100 tags: nearly every tag a new node */
-        node = tag(t, f, i % 100 == 0 ? N : node, (int)(c5_splitmix64(&rng) % 64));
+    uint32_t node = N, first_cell[2] = {0, 0}, first_node[2] = {N, N};
+    for (int i = 0; !t->overflow; i++) { /* random chains of 100 tags: nearly every tag a new node */
+        uint32_t in = i % 100 == 0 ? N : node;
+        int cell = (int)(c5_splitmix64(&rng) % 64);
+        node = tag(t, f, in, cell);
+        if (i < 2) {
+            first_cell[i] = (uint32_t)cell;
+            first_node[i] = node;
+        }
+    }
     tag(t, f, N, 5);
     tag(t, f, 0, 7);
+    /* Appended: the tree is frozen after the overflow (cell_tree.h), so tags for nodes that
+     * exist answer 8191 too: the first chain's root and its first child, asked again. */
+    tag(t, f, N, (int)first_cell[0]);
+    tag(t, f, first_node[0], (int)first_cell[1]);
     finish(s, f, "overflow", t);
     free(t);
     return 0;
