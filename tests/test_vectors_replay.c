@@ -87,6 +87,24 @@ static int files_of(const char *block, char names[][128], int max)
     return n;
 }
 
+/* Boolean key of a vector file's config in the manifest (0 when absent), or whether the
+ * string key equals want. */
+static int config_is(const char *file, const char *key, const char *want)
+{
+    json_error_t je;
+    json_t *m = json_load_file(GOLDEN "/manifest.json", 0, &je), *e;
+    size_t i;
+    int is = 0;
+    json_array_foreach(json_object_get(m, "files"), i, e) {
+        if (strcmp(json_string_value(json_object_get(e, "file")), file))
+            continue;
+        json_t *v = json_object_get(json_object_get(e, "config"), key);
+        is = want ? json_is_string(v) && !strcmp(json_string_value(v), want) : json_is_true(v);
+    }
+    json_decref(m);
+    return is;
+}
+
 /* "cell_tree.default.hex" + "ram_final" -> "cell_tree.default.ram_final.hex" */
 static void image_of(const char *file, const char *image, char *out)
 {
@@ -230,7 +248,10 @@ TEST(vectors_replay_sched)
         t.used = (uint32_t)ram.n;
         for (int c = 0; c < C5_MAX_CELLS; c++)
             t.root[c] = (uint16_t)col(&roots, c, 0);
-        c5_dsp_sched_opts o = {.rule = C5_SPLIT_MOST_LEAVES};
+        /* The tagging unit's overflow flag and the DSP's choice for such a tree, from the
+         * config: the RAM image alone cannot tell a full tree from a frozen one. */
+        t.overflow = config_is(names[k], "overflow", NULL);
+        c5_dsp_sched_opts o = {.rule = C5_SPLIT_MOST_LEAVES, .partial = config_is(names[k], "on_overflow", "partial")};
         c5_dsp_sched_result r;
         c5_err err;
         CHECK_MSG(c5_dsp_schedule(&t, &o, &r, &err) == 0, "%s", err.msg);

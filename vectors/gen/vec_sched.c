@@ -22,11 +22,12 @@ static const c5_vblock block = {"sched",
                                 "(ram_out: generation, ready)",
                                 fields, 2};
 
-/* Schedules t and writes the case's files. */
-static int write_case(c5_vset *s, const char *source, const char *scene, c5_ctree *t)
+/* Schedules t and writes the case's files. partial: an overflowed tree is scheduled as far as
+ * it holds (the DSP's --on-overflow partial), not left to Max Work. */
+static int write_case(c5_vset *s, const char *source, const char *scene, c5_ctree *t, int partial)
 {
     c5_vec_tree_image(s, block.name, source, scene, "in", t, 1);
-    c5_dsp_sched_opts o = {.rule = C5_SPLIT_MOST_LEAVES};
+    c5_dsp_sched_opts o = {.rule = C5_SPLIT_MOST_LEAVES, .partial = partial};
     c5_dsp_sched_result r;
     if (c5_dsp_schedule(t, &o, &r, s->err) != 0)
         return -1;
@@ -37,9 +38,9 @@ static int write_case(c5_vset *s, const char *source, const char *scene, c5_ctre
             c5_vfile_u(f, (uint64_t)r.next.cells[i]);
             c5_vfile_end(f);
         }
-        c5_vfile_set(f, "config", json_pack("{s:s, s:i, s:i, s:i, s:b}", "rule", "paper", "nodes", r.nodes,
+        c5_vfile_set(f, "config", json_pack("{s:s, s:i, s:i, s:i, s:b, s:s}", "rule", "paper", "nodes", r.nodes,
                                             "peels_completion", r.peels_completion, "peels_split", r.peels_split,
-                                            "overflow", r.overflow));
+                                            "overflow", r.overflow, "on_overflow", partial ? "partial" : "maxwork"));
         c5_vfile_close(f);
     }
     c5_dsp_sched_free(&r);
@@ -59,7 +60,7 @@ static void build(c5_ctree *t, int n, const int *parent, const int *cell)
 
 /* The paper's Figure 4 (as read in tests/test_tree_sched.c); the counterexample to its
  * completion claim (paths 0-1-2 and 1-0-1, docs/cell-tree.md); random trees; a tree with
- * cell id 4095. */
+ * cell id 4095; an overflowed tree. */
 static int directed(c5_vset *s)
 {
     static const int fig4_parent[] = {-1, -1, 1, 1, 2, 3, 5, 0, 0, 7, 8, 0, 0, 9, 10, 11, 12};
@@ -71,9 +72,9 @@ static int directed(c5_vset *s)
         return c5_fail(s->err, "out of memory for the Cell Tree");
     int rc = 0;
     build(t, 17, fig4_parent, fig4_cell);
-    rc |= write_case(s, "fig4", NULL, t);
+    rc |= write_case(s, "fig4", NULL, t, 0);
     build(t, 6, ce_parent, ce_cell);
-    rc |= write_case(s, "counterexample", NULL, t);
+    rc |= write_case(s, "counterexample", NULL, t, 0);
     /* Random: chains of packets over 8 cells, as rays bouncing between cells make them. */
     uint64_t rng = s->seed ^ 0x7363686564ull; /* "sched" */
     c5_ctree_init(t, 0);
@@ -83,14 +84,24 @@ static int directed(c5_vset *s)
         for (int k = 0; k < len; k++)
             node = c5_ctree_tag(t, node, (int)(c5_splitmix64(&rng) % 8));
     }
-    rc |= write_case(s, "random", NULL, t);
+    rc |= write_case(s, "random", NULL, t, 0);
     /* "max_cell": cell id 4095, the last of a 4,096-cell split, in a small tree: rays from
      * cell 4095 to 0 and back, and from cell 1 through 4095 (loads of 4095 in two
      * generations). */
     static const int mc_parent[] = {-1, 0, 1, -1, 3, 4};
     static const int mc_cell[] = {4095, 0, 4095, 1, 4095, 0};
     build(t, 6, mc_parent, mc_cell);
-    rc |= write_case(s, "max_cell", NULL, t);
+    rc |= write_case(s, "max_cell", NULL, t, 0);
+    /* "overflow": chains over 8 cells until the 8,191 slots are full, the tree frozen there,
+     * scheduled as far as it holds (on_overflow partial; the default leaves such a frame to
+     * Max Work and has no schedule to write). */
+    c5_ctree_init(t, 0);
+    while (!t->overflow) {
+        uint32_t node = C5_NODE_NONE;
+        for (int k = 0; k < 12 && !t->overflow; k++)
+            node = c5_ctree_tag(t, node, (int)(c5_splitmix64(&rng) % 8));
+    }
+    rc |= write_case(s, "overflow", NULL, t, 1);
     free(t);
     return rc ? -1 : 0;
 }
@@ -103,6 +114,6 @@ static int tap_begin(c5_vscene *v, c5_taps *t)
     return 0;
 }
 
-static void tap_end(c5_vscene *v) { write_case(v->set, v->scene, v->scene, v->tree); }
+static void tap_end(c5_vscene *v) { write_case(v->set, v->scene, v->scene, v->tree, 0); }
 
 const c5_vblock_gen c5_vgen_sched = {"sched", directed, tap_begin, tap_end};

@@ -247,6 +247,27 @@ static int directed(c5_vset *s)
     for (int i = 0; i < 6; i++)
         vec(f, r, gext[i], one_black[i], p1, axis_dir[i]); /* grad_* min/max, dir_* +-1, a black channel */
     vec(f, r, gext[4], rgb1, origin, down); /* a sample at the grid's origin: gpos 0 on every axis */
+    /* Rounding ties inside the shading (the rnd.* points of spec/coverage.toml), found by
+     * search under these registers: a component exactly half an LSB between two codes, with
+     * an even quotient (kept) and an odd one (rounded up to even). The normal -g / len(g)
+     * (this gradient has both); a point light's direction (L1 from these positions); the half
+     * vector (V one LSB off L0 = +z, so len(L0 + V) = 2 exactly); N.V, N.L and N.H. Each row:
+     * gradient, table colour, geom position, direction. */
+    static const int64_t ties[][4][3] = {
+        {{-4318, -49826, -42352}, {16384, 16384, 16384}, P(64, 32, 90), {0, 0, -16384}},     /* normal */
+        {{20000, 30000, -40000}, {16384, 16384, 16384}, {1872466, 1390327, 3069012}, {0, 0, -16384}}, /* L kept */
+        {{20000, 30000, -40000}, {16384, 16384, 16384}, {3457687, 2217008, 3455070}, {0, 0, -16384}}, /* L up */
+        {{20000, 30000, -40000}, {16384, 16384, 16384}, P(64, 32, 90), {1, -1, -16384}},     /* H kept */
+        {{20000, 30000, -40000}, {16384, 16384, 16384}, P(64, 32, 90), {1, 0, -16384}},      /* H up */
+        {{-455, 278, 119}, {2313, 20416, 15796}, {6523680, 1272128, 4782481}, {-9602, 12716, -3814}}, /* N.V kept */
+        {{-113, 531, -49}, {1886, 17897, 8763}, {4897265, 7710638, 2396550}, {2823, 14726, -6604}},   /* N.V up */
+        {{11861, 54834, 45344}, {10345, 15413, 23084}, {7299478, 2763761, 1306325}, {-4701, -9364, 12595}}, /* N.L kept */
+        {{10294, 52693, -15124}, {390, 12242, 24701}, {7718053, 4062811, 4735272}, {-15571, -4369, 2627}}, /* N.L up */
+        {{-36, 291, -382}, {10202, 31289, 26810}, {8050633, 7352196, 6224899}, {2966, 11695, -11084}}, /* N.H kept */
+        {{29399, 19837, -30229}, {17089, 17069, 5778}, {2257981, 1567581, 8160361}, {7507, 6357, 13102}}, /* N.H up */
+    };
+    for (int i = 0; i < (int)(sizeof ties / sizeof ties[0]); i++)
+        vec(f, r, ties[i][0], ties[i][1], ties[i][2], ties[i][3]);
     c5_vfile_set(f, "config", cfg);
     c5_vfile_close(f);
     free(r);
