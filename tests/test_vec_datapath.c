@@ -469,3 +469,31 @@ TEST(vec_traverse_recomputes)
         unload(&t);
     }
 }
+
+/* A value its field cannot carry fails the set, naming file, line, field and value, where
+ * the digits alone would keep its low bits: an unsigned 10-bit field at 1024, a signed
+ * 8-bit one at -129; the extremes that fit pass. */
+TEST(vec_value_that_does_not_fit_fails_the_set)
+{
+    static const c5_vfield fl[] = {{"u", 10, 0, "uint"}, {"s", 8, 0, "SQ3.4"}};
+    static const c5_vblock b = {"fit", "range check", fl, 2};
+    char dir[600];
+    const int64_t cases[][3] = {{1023, -128, 0}, {0, 127, 0}, {1024, 0, 1}, {0, -129, 1}, {0, 128, 1}};
+    for (int i = 0; i < 5; i++) {
+        c5_err err = {0};
+        c5_vset set;
+        snprintf(dir, sizeof dir, "%s/fit%d", c5t_tmpdir(), i); /* a failed set leaves no manifest */
+        CHECK(c5_vset_init(&set, dir, 1, 1, &err) == 0);
+        c5_vfile *f = c5_vfile_open(&set, &b, "directed", NULL, NULL);
+        CHECK(f != NULL);
+        c5_vfile_u(f, (uint64_t)cases[i][0]);
+        c5_vfile_s(f, cases[i][1]);
+        c5_vfile_end(f);
+        c5_vfile_close(f);
+        int rc = c5_vset_finish(&set, NULL);
+        CHECK_MSG((rc != 0) == (cases[i][2] != 0), "case %d: finish %d", i, rc);
+        if (cases[i][2])
+            CHECK_MSG(strstr(err.msg, "fit.directed.hex line 1: ") && strstr(err.msg, "does not fit its"), "%s",
+                      err.msg);
+    }
+}

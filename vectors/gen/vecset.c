@@ -204,8 +204,28 @@ static void put_digits(c5_vfile *f, const uint8_t *le)
     f->field++;
 }
 
+/* Whether v (two's complement for a signed format: sint, SQ) fits field k's width: a value
+ * that does not would be cut to its low bits, a vector the model never computed. */
+static int fits(const c5_vfield *fd, uint64_t v)
+{
+    unsigned w = fd->width;
+    if (w >= 64)
+        return 1;
+    if (!strcmp(fd->format, "sint") || !strncmp(fd->format, "SQ", 2)) {
+        int64_t x = (int64_t)v, lim = (int64_t)1 << (w - 1);
+        return x >= -lim && x < lim;
+    }
+    return v >> w == 0;
+}
+
 void c5_vfile_u(c5_vfile *f, uint64_t v)
 {
+    const c5_vfield *fd = &f->b->fields[f->field];
+    if (!fits(fd, v) && !f->set->failed) {
+        c5_fail(f->set->err, "%s line %ld: %s = %lld does not fit its %u bits (%s): the block's format cannot carry it",
+                f->name, f->count + 1, fd->name, (long long)v, fd->width, fd->format);
+        f->set->failed = 1;
+    }
     uint8_t le[32] = {0};
     for (int i = 0; i < 8; i++)
         le[i] = (uint8_t)(v >> (8 * i));

@@ -63,8 +63,9 @@ void c5_vset_abort(c5_vset *s);
  * scene's name; scene: the scene's name, NULL for directed vectors. NULL on an error
  * (reported through the set). */
 c5_vfile *c5_vfile_open(c5_vset *s, const c5_vblock *b, const char *source, const char *scene, const char *image);
-/* The next field of the current vector: a value of at most 64 bits (masked to the field's
- * width), or a wide one from little-endian bytes (byte 0 holds bits 7..0). */
+/* The next field of the current vector: a value of at most 64 bits (two's complement for a
+ * signed format; one its width cannot carry fails the set, naming file, line and field), or
+ * a wide one from little-endian bytes (byte 0 holds bits 7..0). */
 void c5_vfile_u(c5_vfile *f, uint64_t v);
 void c5_vfile_s(c5_vfile *f, int64_t v);
 void c5_vfile_bytes(c5_vfile *f, const uint8_t *le);
