@@ -116,6 +116,7 @@ package body c5ref_pkg is
     finish(0);
   end procedure;
 
+  -- The bodies VHDL requires of the foreign functions: never run under GHDL (see the header).
   impure function unbound(name : string) return integer is
   begin
     report name & ": libc5ref.so not bound" severity failure;
@@ -124,7 +125,8 @@ package body c5ref_pkg is
 
   impure function c5ref_rq_reset(capacity, key_bits : integer) return integer is
     begin return unbound("c5ref_rq_reset"); end;
-  impure function c5ref_rq_step(insert_valid, insert_key, insert_payload, pop_ready : integer) return integer is
+  impure function c5ref_rq_step(insert_valid, insert_key, insert_payload, pop_ready : integer)
+    return integer is
     begin return unbound("c5ref_rq_step"); end;
   impure function c5ref_rq_out(k : integer) return integer is
     begin return unbound("c5ref_rq_out"); end;

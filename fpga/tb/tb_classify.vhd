@@ -45,7 +45,7 @@ begin
     file f, t : text;
     variable l : line;
     variable lineno, errs, cycle, entries : natural := 0;
-    variable ok, more, compare : boolean;
+    variable ok, compare : boolean;
     variable e : expect_t;
     variable i_value : std_logic_vector(value'range);
     variable d : rgba4_t;
@@ -73,10 +73,8 @@ begin
       finish_run(TB, 0, 1);
     end if;
     loop
-      more := not endfile(f);
-      ok := false;
-      if more then
-        next_line(f, l, lineno, ok);
+      next_line(f, l, lineno, ok);
+      if ok then  -- a line, well formed or not: its inputs are driven
         read_col(l, true, "value", lineno, i_value, ok, errs);
         for k in 0 to 3 loop
           read_col(l, false, CH(k + 1 to k + 1), lineno, e.rgba(k), ok, errs);
@@ -95,7 +93,7 @@ begin
           check(due.lineno, CH(k + 1 to k + 1), due.rgba(k), rgba(k), errs);
         end loop;
       end if;
-      exit when not more and cycle >= lineno + LAT - 1;
+      exit when endfile(f) and cycle >= lineno + LAT - 1;
       edge(clk);
       cycle := cycle + 1;
     end loop;

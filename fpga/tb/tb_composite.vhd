@@ -51,7 +51,7 @@ begin
     file f : text;
     variable l : line;
     variable lineno, errs, cycle : natural := 0;
-    variable ok, more, compare : boolean;
+    variable ok, compare : boolean;
     variable e : expect_t;
     variable i_w : std_logic_vector(w'range);
     variable i_opa, i_amax : std_logic_vector(opa'range);
@@ -63,10 +63,8 @@ begin
     open_vectors(f, VECTORS, TB);
     reset(clk, rst);
     loop
-      more := not endfile(f);
-      ok := false;
-      if more then
-        next_line(f, l, lineno, ok);
+      next_line(f, l, lineno, ok);
+      if ok then  -- a line, well formed or not: its inputs are driven
         read_col(l, true,  "w", lineno, i_w, ok, errs);
         read_col(l, false, "opa", lineno, i_opa, ok, errs);
         for k in 0 to 2 loop
@@ -107,7 +105,7 @@ begin
         check(due.lineno, "done", due.done, (0 => done), errs);
         check(due.lineno, "sat", due.sat, sat, errs);
       end if;
-      exit when not more and cycle >= lineno + LAT - 1;
+      exit when endfile(f) and cycle >= lineno + LAT - 1;
       edge(clk);
       cycle := cycle + 1;
     end loop;

@@ -42,7 +42,7 @@ begin
     file f : text;
     variable l : line;
     variable lineno, errs, cycle : natural := 0;
-    variable ok, more, compare : boolean;
+    variable ok, compare : boolean;
     variable e : expect_t;
     variable i_frac : frac3_t;
     variable i_v : voxel8_t;
@@ -50,10 +50,8 @@ begin
     open_vectors(f, VECTORS, TB);
     reset(clk, rst);
     loop
-      more := not endfile(f);
-      ok := false;
-      if more then
-        next_line(f, l, lineno, ok);
+      next_line(f, l, lineno, ok);
+      if ok then  -- a line, well formed or not: its inputs are driven
         for a in 0 to 2 loop
           read_col(l, a = 0, "frac_" & AXIS(a + 1), lineno, i_frac(a), ok, errs);
         end loop;
@@ -74,7 +72,7 @@ begin
       if compare then
         check(due.lineno, "value", due.value, value, errs);
       end if;
-      exit when not more and cycle >= lineno + LAT - 1;
+      exit when endfile(f) and cycle >= lineno + LAT - 1;
       edge(clk);
       cycle := cycle + 1;
     end loop;

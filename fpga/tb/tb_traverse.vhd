@@ -52,7 +52,7 @@ begin
     file f : text;
     variable l : line;
     variable lineno, errs, cycle : natural := 0;
-    variable ok, more, compare : boolean;
+    variable ok, compare : boolean;
     variable e : expect_t;
     variable i_pos : pos3_t;
     variable i_step : step3_t;
@@ -63,10 +63,8 @@ begin
     open_vectors(f, VECTORS, TB);
     reset(clk, rst);
     loop
-      more := not endfile(f);
-      ok := false;
-      if more then
-        next_line(f, l, lineno, ok);
+      next_line(f, l, lineno, ok);
+      if ok then  -- a line, well formed or not: its inputs are driven
         for a in 0 to 2 loop
           read_col(l, a = 0, "pos_" & AXIS(a + 1), lineno, i_pos(a), ok, errs);
         end loop;
@@ -113,7 +111,7 @@ begin
         end loop;
         check(due.lineno, "lifetime_out", due.life, lifetime_out, errs);
       end if;
-      exit when not more and cycle >= lineno + LAT - 1;
+      exit when endfile(f) and cycle >= lineno + LAT - 1;
       edge(clk);
       cycle := cycle + 1;
     end loop;

@@ -19,8 +19,8 @@ package vec_io_pkg is
   -- Opens `path` for reading; a file that cannot be opened ends the run with FAIL.
   procedure open_vectors(file f : text; path : string; tb : string);
 
-  -- Reads the next line of f into l (the caller has seen that there is one): lineno counts
-  -- it, ok = true until a column of it is found malformed.
+  -- Reads the next line of f into l: ok = false at the end of the file (nothing read), else
+  -- lineno counts the line and ok = true until a column of it is found malformed.
   procedure next_line(file f : text; l : inout line; lineno : inout natural; ok : out boolean);
 
   -- Reads the next column of line `l` into v (v'length bits): one separating space unless
@@ -98,9 +98,11 @@ package body vec_io_pkg is
 
   procedure next_line(file f : text; l : inout line; lineno : inout natural; ok : out boolean) is
   begin
-    readline(f, l);
-    lineno := lineno + 1;
-    ok := true;
+    ok := not endfile(f);
+    if not endfile(f) then
+      readline(f, l);
+      lineno := lineno + 1;
+    end if;
   end procedure next_line;
 
   procedure read_col(l : inout line; first : boolean; name : string; lineno : positive;
