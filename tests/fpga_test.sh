@@ -25,7 +25,7 @@ RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl
      fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd
      fpga/rtl/classify.vhd fpga/rtl/gradient.vhd fpga/rtl/shade.vhd
      fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd)
-TB=(fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
+TB=(fpga/tb/tb_pkg.vhd fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
     fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd fpga/tb/tb_classify.vhd
     fpga/tb/tb_gradient.vhd fpga/tb/tb_shade.vhd fpga/tb/tb_traverse.vhd
     fpga/tb/tb_cell_tree.vhd)

@@ -41,7 +41,7 @@ cp "$build/libc5ref.so" "$work/" # the foreign attribute names ./libc5ref.so
 src=("$build/gen/c5_layouts_pkg.vhd" fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd
      fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd fpga/rtl/dp_pkg.vhd
      fpga/rtl/interp.vhd fpga/rtl/gradient.vhd fpga/rtl/classify.vhd fpga/rtl/composite.vhd
-     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd fpga/rtl/shade.vhd fpga/tb/c5ref_pkg.vhd)
+     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd fpga/rtl/shade.vhd fpga/tb/tb_pkg.vhd fpga/tb/c5ref_pkg.vhd)
 for l in "${live[@]}"; do src+=("fpga/tb/${l%%|*}.vhd"); done
 if ! ghdl -a --std=08 --workdir="$work" "${src[@]}" 2>"$tmp/err"; then
     bad analyse_live "$(head -n 10 "$tmp/err")"

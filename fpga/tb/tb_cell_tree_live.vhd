@@ -1,26 +1,30 @@
--- The Cell Tree tagging unit against the C model running beside it (docs/vectors.md, "The
--- model inside the simulator"): from an empty tree of CAPACITY slots (small, so that the
--- RAM overflows and freezes within the run), TAGS packets drawn from SEED alone go into
--- fpga/rtl/cell_tree.vhd and into the model's c5_ctree_tag (c5ref_ct_*): a quarter with no
--- node yet, the others tagged with a node the tree has answered before; cells mostly from
--- 16 (many children a node: extension slots), some from 64 or all 4,096. Per tag node_out,
--- used and frozen are compared; at the end every used RAM slot and every root through the
--- readback ports. The first difference ends the run: "FAIL tb_cell_tree_live: seed S tag N:
--- PORT: model X, VHDL Y".
+-- tb_cell_tree_live: cell_tree (fpga/rtl/cell_tree.vhd) against the C model running beside it
+-- (c5ref_ct_*, the model's c5_ctree_tag; docs/vectors.md, "The model inside the simulator").
+--
+-- Drives:  from an empty tree of CAPACITY slots (small, so that the RAM overflows and freezes
+--          within the run), TAGS packets drawn from SEED alone, one at a time with in_valid
+--          while in_ready = 1: a quarter with no node yet, the others tagged with a node the
+--          tree has answered before; cells mostly from 16 (many children a node: extension
+--          slots), some from 64 or all 4,096. At the end rd_slot and rd_cell.
+-- Checks:  per tag node_out, used and frozen = the model's; at the end every used RAM slot
+--          and every root through the readback ports. The first difference ends the run:
+--          "FAIL tb_cell_tree_live: seed S tag N: PORT: model X, VHDL Y".
+-- Latency: variable (cell_tree.vhd has the formula); out_valid within 2^14 cycles.
+-- Usage:   ghdl -r --std=08 tb_cell_tree_live -gSEED=1 -gTAGS=3000 (./libc5ref.so beside)
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
-use ieee.math_real.all;
-use std.env.all;
 use work.c5_layouts_pkg.all;
 use work.c5ref_pkg.all;
+use work.tb_pkg.all;
 
 entity tb_cell_tree_live is
   generic (SEED : positive := 1; TAGS : positive := 3000; CAPACITY : positive := 400);
 end entity tb_cell_tree_live;
 
 architecture sim of tb_cell_tree_live is
-  constant HALF : time := 5 ns;
+  constant TB : string := "tb_cell_tree_live";
+  constant AT : string := live_at(TB, SEED, "tag");
   constant ID_BITS : positive := RAY_PACKET_CELL_TREE_NODE_WIDTH;
   constant NONE : natural := 2 ** ID_BITS - 1;
   constant CELLS : positive := 2 ** RAY_PACKET_CELL_ID_WIDTH;
@@ -38,70 +42,41 @@ begin
               rd_node => rd_node, rd_root => rd_root);
 
   run : process
-    variable s1 : positive := SEED;
-    variable s2 : positive := 20261127;
-    variable r : real;
+    variable rnd : random_t;
     type ids_t is array (0 to 2 ** ID_BITS - 1) of natural;
     variable known : ids_t;
     variable nknown, ni, ci, model, rc, waited : natural := 0;
     variable seen : boolean;
-
-    impure function pick(n : positive) return natural is
-    begin
-      uniform(s1, s2, r);
-      return integer(floor(r * real(n))) mod n;
-    end function;
-
-    procedure tick is
-    begin
-      wait for HALF;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
-    end procedure;
   begin
+    rnd.seed(SEED);
     rc := c5ref_ct_reset(CAPACITY);
-    rst <= '1';
-    tick;
-    rst <= '0';
+    reset(clk, rst);
     while in_ready /= '1' loop  -- the root table's clearing
-      tick;
+      tick(clk);
     end loop;
     for n in 0 to TAGS - 1 loop
       ni := NONE;
-      if nknown > 0 and pick(4) /= 0 then
-        ni := known(pick(nknown));
+      if nknown > 0 and rnd.pick(4) /= 0 then
+        ni := known(rnd.pick(nknown));
       end if;
-      case pick(10) is
-        when 0 => ci := pick(CELLS);
-        when 1 | 2 => ci := pick(64);
-        when others => ci := pick(16);
+      case rnd.pick(10) is
+        when 0 => ci := rnd.pick(CELLS);
+        when 1 | 2 => ci := rnd.pick(64);
+        when others => ci := rnd.pick(16);
       end case;
       model := c5ref_ct_tag(ni, ci);
       node_in <= std_logic_vector(to_unsigned(ni, ID_BITS));
       cell <= std_logic_vector(to_unsigned(ci, cell'length));
       in_valid <= '1';
       wait for HALF;
-      live_expect("tb_cell_tree_live", SEED, "tag", n, "in_ready", 1, live_bit(in_ready));
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      live_expect(AT, n, "in_ready", 1, live_bit(in_ready));
+      edge(clk);
       in_valid <= '0';
-      waited := 0;
-      loop
-        wait for HALF;
-        exit when out_valid = '1';
-        waited := waited + 1;
-        if waited > 2 ** 14 then
-          live_expect("tb_cell_tree_live", SEED, "tag", n, "out_valid within 2^14 cycles", 1, 0);
-        end if;
-        clk <= '1';
-        wait for HALF;
-        clk <= '0';
-      end loop;
-      live_expect("tb_cell_tree_live", SEED, "tag", n, "node_out", model, to_integer(unsigned(node_out)));
-      live_expect("tb_cell_tree_live", SEED, "tag", n, "used", c5ref_ct_state(0), to_integer(unsigned(used)));
-      live_expect("tb_cell_tree_live", SEED, "tag", n, "frozen", c5ref_ct_state(1), live_bit(frozen));
+      await_out(clk, out_valid, 2 ** 14, waited);
+      live_expect(AT, n, "out_valid within 2^14 cycles", 1, live_bit(out_valid));
+      live_expect(AT, n, "node_out", model, to_integer(unsigned(node_out)));
+      live_expect(AT, n, "used", c5ref_ct_state(0), to_integer(unsigned(used)));
+      live_expect(AT, n, "frozen", c5ref_ct_state(1), live_bit(frozen));
       if model /= NONE then
         seen := false;
         for k in 0 to nknown - 1 loop
@@ -112,28 +87,25 @@ begin
           nknown := nknown + 1;
         end if;
       end if;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      edge(clk);
     end loop;
-    tick;  -- the last write-back
+    tick(clk);  -- the last write-back
     for slot in 0 to c5ref_ct_state(0) - 1 loop
       rd_slot <= std_logic_vector(to_unsigned(slot, ID_BITS));
-      tick;
-      tick;
+      tick(clk);
+      tick(clk);
       for w in 0 to 2 loop
-        live_expect("tb_cell_tree_live", SEED, "slot", slot, "rd_node word " & integer'image(w),
+        live_expect(live_at(TB, SEED, "slot"), slot, "rd_node word " & integer'image(w),
                     c5ref_ct_slot_word(slot, w), to_integer(signed(rd_node(32 * w + 31 downto 32 * w))));
       end loop;
     end loop;
     for c in 0 to CELLS - 1 loop
       rd_cell <= std_logic_vector(to_unsigned(c, rd_cell'length));
-      tick;
-      tick;
-      live_expect("tb_cell_tree_live", SEED, "cell", c, "rd_root", c5ref_ct_root(c), to_integer(unsigned(rd_root)));
+      tick(clk);
+      tick(clk);
+      live_expect(live_at(TB, SEED, "cell"), c, "rd_root", c5ref_ct_root(c), to_integer(unsigned(rd_root)));
     end loop;
-    report "PASS tb_cell_tree_live: seed " & integer'image(SEED) & ", " & integer'image(TAGS) & " tags, " &
-      integer'image(c5ref_ct_state(0)) & " slots, frozen " & integer'image(c5ref_ct_state(1)) severity note;
-    finish(0);
+    live_pass(TB, SEED, integer'image(TAGS) & " tags, " & integer'image(c5ref_ct_state(0)) & " slots, frozen " &
+              integer'image(c5ref_ct_state(1)));
   end process run;
 end architecture sim;

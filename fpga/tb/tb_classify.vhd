@@ -1,21 +1,20 @@
--- File-driven testbench of classify against classify.*.hex, one vector a clock cycle,
--- after the table image (classify.SOURCE.tf.hex: line i = entry i, r g b a) is written
--- through the table port, one entry a cycle.
+-- tb_classify: classify (fpga/rtl/classify.vhd) against the golden vectors classify.*.hex and
+-- the table image classify.SOURCE.tf.hex (line i = entry i: r g b a).
 --
--- Columns: value (UQ8.8) in; r g b a (UQ1.15) out; widths from the DUT's ports. After
--- one reset edge and the table, vector n is driven in cycle n with in_valid = 1; in cycle
--- n + CLASSIFY_LATENCY out_valid must be 1 and r g b a equal the file's (a malformed line
--- is one error and a cycle with in_valid = 0, whose out_valid must be 0). A table that is
--- malformed or not exactly 2^8 lines is a failure. Usage:
---   ghdl -r --std=08 tb_classify -gVECTORS=path/classify.x.hex -gTABLE=path/classify.x.tf.hex
+-- Drives:  after the reset edge, the table through the table port, one entry a cycle; then
+--          one vector a cycle with in_valid = 1: value (UQ8.8); widths from the DUT's ports.
+-- Checks:  LAT cycles later, out_valid = 1 and r g b a (UQ1.15); a malformed line is one
+--          error and a cycle with in_valid = 0, whose out_valid must be 0. A table that is
+--          malformed or not exactly 2^8 lines is a failure.
+-- Latency: LAT = CLASSIFY_LATENCY (dp_pkg).
+-- Usage:   ghdl -r --std=08 tb_classify -gVECTORS=path/classify.x.hex -gTABLE=path/classify.x.tf.hex
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 use std.textio.all;
-
-library work;
 use work.c5_layouts_pkg.all;
 use work.dp_pkg.all;
+use work.tb_pkg.all;
 use work.vec_io_pkg.all;
 
 entity tb_classify is
@@ -23,10 +22,8 @@ entity tb_classify is
 end entity tb_classify;
 
 architecture sim of tb_classify is
-  constant TB   : string := "tb_classify";
-  constant LAT  : positive := CLASSIFY_LATENCY;
-  constant HALF : time := 5 ns;
-  constant CH   : string := "rgba";
+  constant TB  : string := "tb_classify";
+  constant LAT : positive := CLASSIFY_LATENCY;
   signal clk, rst, in_valid, out_valid, tf_we : std_logic := '0';
   signal tf_addr : std_logic_vector(VOXEL_BITS - 1 downto 0) := (others => '0');
   signal tf_data, rgba : rgba4_t := (others => (others => '0'));
@@ -37,40 +34,28 @@ architecture sim of tb_classify is
     lineno : positive;
     rgba   : rgba4_t;
   end record;
-  type ring_t is array (0 to LAT) of expect_t;
+  signal due : expect_t;  -- what the vector driven LAT cycles before expects
 begin
   dut : entity work.classify
     port map (clk => clk, rst => rst, tf_we => tf_we, tf_addr => tf_addr, tf_data => tf_data,
               in_valid => in_valid, value => value, out_valid => out_valid, rgba => rgba);
 
   run : process
+    constant CH : string := "rgba";
     file f, t : text;
     variable l : line;
     variable lineno, errs, cycle, entries : natural := 0;
-    variable ok, more : boolean;
+    variable ok, compare : boolean;
+    variable e : expect_t;
     variable i_value : std_logic_vector(value'range);
     variable d : rgba4_t;
-    variable e : expect_t;
-    variable ring : ring_t;
-
-    procedure tick is
-    begin
-      wait for HALF;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
-    end procedure tick;
   begin
     open_vectors(f, VECTORS, TB);
     open_vectors(t, TABLE, TB);
-    rst <= '1';
-    tick;
-    rst <= '0';
+    reset(clk, rst);
     -- the table, one entry a cycle
     while not endfile(t) loop
-      readline(t, l);
-      entries := entries + 1;
-      ok := true;
+      next_line(t, l, entries, ok);
       for k in 0 to 3 loop
         read_col(l, k = 0, "table " & CH(k + 1), entries, d(k), ok, errs);
       end loop;
@@ -79,7 +64,7 @@ begin
       tf_we <= '1';
       tf_addr <= std_logic_vector(to_unsigned(entries - 1, VOXEL_BITS));
       tf_data <= d;
-      tick;
+      tick(clk);
     end loop;
     tf_we <= '0';
     if errs /= 0 or entries /= 2 ** VOXEL_BITS then
@@ -88,37 +73,28 @@ begin
       finish_run(TB, 0, 1);
     end if;
     loop
-      more := not endfile(f);
-      e.valid := false;
-      if more then
-        readline(f, l);
-        lineno := lineno + 1;
-        ok := true;
+      next_line(f, l, lineno, ok);
+      if ok then  -- a line, well formed or not: its inputs are driven
         read_col(l, true, "value", lineno, i_value, ok, errs);
         for k in 0 to 3 loop
           read_col(l, false, CH(k + 1 to k + 1), lineno, e.rgba(k), ok, errs);
         end loop;
         end_of_line(l, lineno, ok, errs);
-        e.valid := ok;
         e.lineno := lineno;
         value <= i_value;
       end if;
-      in_valid <= '1' when e.valid else '0';
-      ring(cycle mod (LAT + 1)) := e;
+      e.valid := ok;
+      in_valid <= '1' when ok else '0';
+      due <= transport e after LAT * PERIOD;
       wait for HALF;  -- clock low: this cycle's outputs are stable
-      if cycle >= LAT then
-        e := ring((cycle - LAT) mod (LAT + 1));
-        check(e.lineno, "out_valid", bits(e.valid), (0 => out_valid), errs);
-        if e.valid then
-          for k in 0 to 3 loop
-            check(e.lineno, CH(k + 1 to k + 1), e.rgba(k), rgba(k), errs);
-          end loop;
-        end if;
+      check_valid(cycle >= LAT, due.lineno, due.valid, out_valid, errs, compare);
+      if compare then
+        for k in 0 to 3 loop
+          check(due.lineno, CH(k + 1 to k + 1), due.rgba(k), rgba(k), errs);
+        end loop;
       end if;
-      exit when not more and cycle >= lineno + LAT - 1;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      exit when endfile(f) and cycle >= lineno + LAT - 1;
+      edge(clk);
       cycle := cycle + 1;
     end loop;
     finish_run(TB, lineno, errs);

@@ -1,18 +1,18 @@
--- File-driven testbench of composite against composite.*.hex, one vector a clock cycle.
+-- tb_composite: composite (fpga/rtl/composite.vhd) against the golden vectors composite.*.hex.
 --
--- Columns: w opa rgb_r rgb_g rgb_b alpha c_r c_g c_b shadow a_max in; rgb_r_out rgb_g_out
--- rgb_b_out opa_out done sat out; widths from the DUT's ports. After one reset edge,
--- vector n is driven in cycle n with in_valid = 1; in cycle n + COMPOSITE_LATENCY
--- out_valid must be 1 and every output equal the file's (a malformed line is one error and
--- a cycle with in_valid = 0, whose out_valid must be 0). Usage:
---   ghdl -r --std=08 tb_composite -gVECTORS=path/composite.x.hex
+-- Drives:  one vector a cycle with in_valid = 1, after the reset edge: w opa rgb_r rgb_g rgb_b
+--          alpha c_r c_g c_b shadow a_max; widths from the DUT's ports.
+-- Checks:  LAT cycles later, out_valid = 1 and rgb_r_out rgb_g_out rgb_b_out opa_out done sat;
+--          a malformed line is one error and a cycle with in_valid = 0, whose out_valid must
+--          be 0.
+-- Latency: LAT = COMPOSITE_LATENCY (dp_pkg).
+-- Usage:   ghdl -r --std=08 tb_composite -gVECTORS=path/composite.x.hex
 library ieee;
 use ieee.std_logic_1164.all;
 use std.textio.all;
-
-library work;
 use work.c5_layouts_pkg.all;
 use work.dp_pkg.all;
+use work.tb_pkg.all;
 use work.vec_io_pkg.all;
 
 entity tb_composite is
@@ -20,10 +20,8 @@ entity tb_composite is
 end entity tb_composite;
 
 architecture sim of tb_composite is
-  constant TB   : string := "tb_composite";
-  constant LAT  : positive := COMPOSITE_LATENCY;
-  constant HALF : time := 5 ns;
-  constant CH   : string := "rgb";
+  constant TB  : string := "tb_composite";
+  constant LAT : positive := COMPOSITE_LATENCY;
   signal clk, rst, in_valid, out_valid, shadow, done : std_logic := '0';
   signal w     : std_logic_vector(RAY_PACKET_CONTRIBUTION_WIDTH - 1 downto 0) := (others => '0');
   signal opa, a_max, opa_out : std_logic_vector(SIG_MAX_OPACITY_WIDTH - 1 downto 0) := (others => '0');
@@ -40,7 +38,7 @@ architecture sim of tb_composite is
     done   : std_logic_vector(0 downto 0);
     sat    : std_logic_vector(sat'range);
   end record;
-  type ring_t is array (0 to LAT) of expect_t;
+  signal due : expect_t;  -- what the vector driven LAT cycles before expects
 begin
   dut : entity work.composite
     port map (clk => clk, rst => rst, in_valid => in_valid, w => w, opa => opa, rgb => rgb,
@@ -49,33 +47,24 @@ begin
               sat => sat);
 
   run : process
+    constant CH : string := "rgb";
     file f : text;
     variable l : line;
     variable lineno, errs, cycle : natural := 0;
-    variable ok, more : boolean;
+    variable ok, compare : boolean;
+    variable e : expect_t;
     variable i_w : std_logic_vector(w'range);
     variable i_opa, i_amax : std_logic_vector(opa'range);
     variable i_alpha : std_logic_vector(alpha'range);
     variable i_rgb : rgb3_t;
     variable i_c : shaded3_t;
     variable i_shadow : std_logic_vector(0 downto 0);
-    variable e : expect_t;
-    variable ring : ring_t;
   begin
     open_vectors(f, VECTORS, TB);
-    rst <= '1';
-    wait for HALF;
-    clk <= '1';
-    wait for HALF;
-    clk <= '0';
-    rst <= '0';
+    reset(clk, rst);
     loop
-      more := not endfile(f);
-      e.valid := false;
-      if more then
-        readline(f, l);
-        lineno := lineno + 1;
-        ok := true;
+      next_line(f, l, lineno, ok);
+      if ok then  -- a line, well formed or not: its inputs are driven
         read_col(l, true,  "w", lineno, i_w, ok, errs);
         read_col(l, false, "opa", lineno, i_opa, ok, errs);
         for k in 0 to 2 loop
@@ -94,7 +83,6 @@ begin
         read_col(l, false, "done", lineno, e.done, ok, errs);
         read_col(l, false, "sat", lineno, e.sat, ok, errs);
         end_of_line(l, lineno, ok, errs);
-        e.valid := ok;
         e.lineno := lineno;
         w <= i_w;
         opa <= i_opa;
@@ -104,25 +92,21 @@ begin
         shadow <= i_shadow(0);
         a_max <= i_amax;
       end if;
-      in_valid <= '1' when e.valid else '0';
-      ring(cycle mod (LAT + 1)) := e;
+      e.valid := ok;
+      in_valid <= '1' when ok else '0';
+      due <= transport e after LAT * PERIOD;
       wait for HALF;  -- clock low: this cycle's outputs are stable
-      if cycle >= LAT then
-        e := ring((cycle - LAT) mod (LAT + 1));
-        check(e.lineno, "out_valid", bits(e.valid), (0 => out_valid), errs);
-        if e.valid then
-          for k in 0 to 2 loop
-            check(e.lineno, "rgb_" & CH(k + 1) & "_out", e.rgb(k), rgb_out(k), errs);
-          end loop;
-          check(e.lineno, "opa_out", e.opa, opa_out, errs);
-          check(e.lineno, "done", e.done, (0 => done), errs);
-          check(e.lineno, "sat", e.sat, sat, errs);
-        end if;
+      check_valid(cycle >= LAT, due.lineno, due.valid, out_valid, errs, compare);
+      if compare then
+        for k in 0 to 2 loop
+          check(due.lineno, "rgb_" & CH(k + 1) & "_out", due.rgb(k), rgb_out(k), errs);
+        end loop;
+        check(due.lineno, "opa_out", due.opa, opa_out, errs);
+        check(due.lineno, "done", due.done, (0 => done), errs);
+        check(due.lineno, "sat", due.sat, sat, errs);
       end if;
-      exit when not more and cycle >= lineno + LAT - 1;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      exit when endfile(f) and cycle >= lineno + LAT - 1;
+      edge(clk);
       cycle := cycle + 1;
     end loop;
     finish_run(TB, lineno, errs);

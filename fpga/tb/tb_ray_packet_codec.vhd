@@ -1,17 +1,19 @@
--- File-driven testbench of ray_packet_codec: for every line of a packet.*.hex vector file,
--- pack(fields) must equal the packet column and unpack(packet) must equal the fields.
+-- tb_ray_packet_codec: ray_packet_codec (fpga/rtl/ray_packet_codec.vhd, combinational)
+-- against the golden vectors packet.*.hex.
 --
--- Columns (the layout's fields MSB first, reserved ones left out, then the packet):
---   pos_x pos_y pos_z dir_x dir_y dir_z dest_u dest_v lifetime contribution opacity
---   generation cell_tree_node cell_id red type green blue interaction packet
--- Their widths are the generated record members' (spec/layouts.toml); the packet column is
--- the 256-bit packet as one number, MSB first, bit i of the layout = bit i of the number.
--- Usage: ghdl -r --std=08 tb_ray_packet_codec -gVECTORS=path/packet.x.hex
+-- Drives:  each line's fields into fields_in and its packet into packet_in: pos_x pos_y
+--          pos_z dir_x dir_y dir_z dest_u dest_v lifetime contribution opacity generation
+--          cell_tree_node cell_id red type green blue interaction (the layout's fields MSB
+--          first, reserved ones left out; widths of the generated record members,
+--          spec/layouts.toml), then packet (the 256-bit packet as one number, MSB first,
+--          bit i of the layout = bit i of the number).
+-- Checks:  1 ns later, pack(fields) = packet and unpack(packet) = every field; a malformed
+--          line is one error and is skipped.
+-- Latency: none (combinational).
+-- Usage:   ghdl -r --std=08 tb_ray_packet_codec -gVECTORS=path/packet.x.hex
 library ieee;
 use ieee.std_logic_1164.all;
 use std.textio.all;
-
-library work;
 use work.c5_layouts_pkg.all;
 use work.vec_io_pkg.all;
 
@@ -20,6 +22,7 @@ entity tb_ray_packet_codec is
 end entity tb_ray_packet_codec;
 
 architecture sim of tb_ray_packet_codec is
+  constant TB : string := "tb_ray_packet_codec";
   signal fields_in, fields_out : ray_packet_rec;
   signal packet_in, packet_out : RAY_PACKET_T;
 begin
@@ -30,17 +33,14 @@ begin
   run : process
     file f : text;
     variable l : line;
-    variable lineno : natural := 0;
-    variable errs : natural := 0;
+    variable lineno, errs : natural := 0;
     variable ok : boolean;     -- the line is well formed
     variable r : ray_packet_rec;  -- the fields column by column
     variable p : RAY_PACKET_T;    -- the packet column
   begin
-    open_vectors(f, VECTORS, "tb_ray_packet_codec");
+    open_vectors(f, VECTORS, TB);
     while not endfile(f) loop
-      readline(f, l);
-      lineno := lineno + 1;
-      ok := true;
+      next_line(f, l, lineno, ok);
       read_col(l, true,  "pos_x", lineno, r.pos_x, ok, errs);
       read_col(l, false, "pos_y", lineno, r.pos_y, ok, errs);
       read_col(l, false, "pos_z", lineno, r.pos_z, ok, errs);
@@ -91,7 +91,7 @@ begin
       check(lineno, "blue", r.blue, fields_out.blue, errs);
       check(lineno, "interaction", r.interaction, fields_out.interaction, errs);
     end loop;
-    finish_run("tb_ray_packet_codec", lineno, errs);
+    finish_run(TB, lineno, errs);
     wait;
   end process run;
 end architecture sim;

@@ -1,23 +1,28 @@
--- The ray packet codec against the C model running beside it (docs/vectors.md, "The model
--- inside the simulator"): every iteration draws a 256-bit packet from SEED alone (random
--- words, all zeros, all ones, a single one), unpacks it in fpga/rtl/ray_packet_codec.vhd and
--- in the model (c5ref_pk_run, the C side generated from the same spec/layouts.toml), compares
--- every field, then packs the DUT's fields again and compares the packet with the model's
--- (reserved bits packed as 0 on both sides). The first difference ends the run:
--- "FAIL tb_ray_packet_codec_live: seed S packet N: FIELD: model X, VHDL Y" (exit status 1).
+-- tb_ray_packet_codec_live: ray_packet_codec (fpga/rtl/ray_packet_codec.vhd, combinational)
+-- against the C model's codec running beside it (c5ref_pk_*, generated from the same
+-- spec/layouts.toml; docs/vectors.md, "The model inside the simulator").
+--
+-- Drives:  PACKETS 256-bit packets drawn from SEED alone (random words, all zeros, all ones,
+--          a single one) into packet_in and the model; then the DUT's fields into fields_in.
+-- Checks:  1 ns after each, every unpacked field, then the packed packet (reserved bits
+--          packed as 0 on both sides) = the model's; the first difference ends the run:
+--          "FAIL tb_ray_packet_codec_live: seed S packet N: FIELD: model X, VHDL Y".
+-- Latency: none (combinational).
+-- Usage:   ghdl -r --std=08 tb_ray_packet_codec_live -gSEED=1 -gPACKETS=2000 (./libc5ref.so beside)
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
-use ieee.math_real.all;
-use std.env.all;
 use work.c5_layouts_pkg.all;
 use work.c5ref_pkg.all;
+use work.tb_pkg.all;
 
 entity tb_ray_packet_codec_live is
   generic (SEED : positive := 1; PACKETS : positive := 2000);
 end entity tb_ray_packet_codec_live;
 
 architecture sim of tb_ray_packet_codec_live is
+  constant TB : string := "tb_ray_packet_codec_live";
+  constant AT : string := live_at(TB, SEED, "packet");
   signal fields_in, fields_out : ray_packet_rec;
   signal packet_in, packet_out : RAY_PACKET_T;
 begin
@@ -25,44 +30,31 @@ begin
     port map (fields_in => fields_in, packet_out => packet_out, packet_in => packet_in, fields_out => fields_out);
 
   run : process
-    variable s1 : positive := SEED;
-    variable s2 : positive := 20261127;
-    variable r : real;
+    variable rnd : random_t;
     variable pk : RAY_PACKET_T;
     variable rc : integer;
-
-    impure function half16 return std_logic_vector is
-    begin
-      uniform(s1, s2, r);
-      return std_logic_vector(to_unsigned(integer(floor(r * 65536.0)) mod 65536, 16));
-    end function;
-
-    procedure expect(n : natural; name : string; model, vhdl : integer) is
-    begin
-      live_expect("tb_ray_packet_codec_live", SEED, "packet", n, name, model, vhdl);
-    end procedure;
 
     -- field k of the model against a DUT field (signed fields as negative numbers)
     procedure field(n, k : natural; name : string; v : std_logic_vector; sgn : boolean) is
     begin
       if sgn then
-        expect(n, name, c5ref_pk_field(k), to_integer(signed(v)));
+        live_expect(AT, n, name, c5ref_pk_field(k), to_integer(signed(v)));
       else
-        expect(n, name, c5ref_pk_field(k), to_integer(unsigned(v)));
+        live_expect(AT, n, name, c5ref_pk_field(k), to_integer(unsigned(v)));
       end if;
     end procedure;
   begin
+    rnd.seed(SEED);
     for n in 0 to PACKETS - 1 loop
       case n mod 16 is
         when 0 => pk := (others => '0');
         when 1 => pk := (others => '1');
         when 2 =>
           pk := (others => '0');
-          uniform(s1, s2, r);
-          pk(integer(floor(r * 256.0)) mod 256) := '1';
+          pk(rnd.pick(256)) := '1';
         when others =>
           for w in 0 to 15 loop
-            pk(16 * w + 15 downto 16 * w) := half16;
+            pk(16 * w + 15 downto 16 * w) := std_logic_vector(to_unsigned(rnd.pick(65536), 16));
           end loop;
       end case;
       packet_in <= pk;
@@ -94,12 +86,10 @@ begin
       fields_in <= fields_out;
       wait for 1 ns;
       for i in 0 to 7 loop
-        expect(n, "packet word " & integer'image(i), c5ref_pk_word(i),
+        live_expect(AT, n, "packet word " & integer'image(i), c5ref_pk_word(i),
                to_integer(signed(packet_out(32 * i + 31 downto 32 * i))));
       end loop;
     end loop;
-    report "PASS tb_ray_packet_codec_live: seed " & integer'image(SEED) & ", " & integer'image(PACKETS) &
-      " packets" severity note;
-    finish(0);
+    live_pass(TB, SEED, integer'image(PACKETS) & " packets");
   end process run;
 end architecture sim;

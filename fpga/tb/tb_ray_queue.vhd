@@ -1,21 +1,20 @@
--- File-driven, cycle-by-cycle testbench of ray_queue against the C model's golden vectors
--- (ray_queue.*.hex): one line per clock cycle, starting right after a synchronous reset.
+-- tb_ray_queue: ray_queue (fpga/rtl/ray_queue.vhd) against the golden vectors
+-- ray_queue.*.hex, one line a clock cycle from the synchronous reset on.
 --
--- Columns: inputs  insert_valid(1) insert_key(KEY_BITS) insert_payload(PAYLOAD_BITS)
---                  pop_ready(1)
---          outputs pop_valid(1) pop_key(KEY_BITS) pop_payload(PAYLOAD_BITS)
---                  insert_accepted(1) full(1) count(clog2(CAPACITY + 1)) empty(1)
--- Each cycle: apply the inputs while the clock is low, let them settle, compare every
--- output bit of that cycle (outputs depend on the registers and this cycle's inputs), then
--- the rising edge. The generics must match the file's configuration (manifest.json); the
--- board's is the default. Usage:
---   ghdl -r --std=08 tb_ray_queue -gVECTORS=path/ray_queue.x.hex
+-- Drives:  each cycle while the clock is low: insert_valid(1) insert_key(KEY_BITS)
+--          insert_payload(PAYLOAD_BITS) pop_ready(1).
+-- Checks:  in the same cycle, once the inputs have settled (the outputs depend on the
+--          registers and this cycle's inputs): pop_valid(1) pop_key(KEY_BITS)
+--          pop_payload(PAYLOAD_BITS) insert_accepted(1) full(1) count(clog2(CAPACITY + 1))
+--          empty(1). A malformed line ends the run (every later cycle depends on it).
+-- Latency: none (outputs of the cycle); the generics must match the file's configuration
+--          (manifest.json), the board's is the default.
+-- Usage:   ghdl -r --std=08 tb_ray_queue -gVECTORS=path/ray_queue.x.hex
 library ieee;
 use ieee.std_logic_1164.all;
 use std.textio.all;
-
-library work;
 use work.rq_pkg.all;
+use work.tb_pkg.all;
 use work.vec_io_pkg.all;
 
 entity tb_ray_queue is
@@ -27,7 +26,7 @@ entity tb_ray_queue is
 end entity tb_ray_queue;
 
 architecture sim of tb_ray_queue is
-  constant HALF : time := 5 ns;
+  constant TB : string := "tb_ray_queue";
 
   signal clk, rst        : std_logic := '0';
   signal insert_valid    : std_logic := '0';
@@ -54,8 +53,7 @@ begin
   run : process
     file f : text;
     variable l : line;
-    variable lineno : natural := 0;
-    variable errs : natural := 0;
+    variable lineno, errs : natural := 0;
     variable ok : boolean;     -- the line is well formed
     -- one line: inputs, then the expected outputs
     variable i_valid, i_ready, e_valid, e_acc, e_full, e_empty : std_logic_vector(0 downto 0);
@@ -63,18 +61,10 @@ begin
     variable i_pay, e_pay : std_logic_vector(PAYLOAD_BITS - 1 downto 0);
     variable e_count : std_logic_vector(count'range);
   begin
-    open_vectors(f, VECTORS, "tb_ray_queue");
-    -- reset: one rising edge with rst = 1
-    rst <= '1';
-    wait for HALF;
-    clk <= '1';
-    wait for HALF;
-    clk <= '0';
-    rst <= '0';
+    open_vectors(f, VECTORS, TB);
+    reset(clk, rst);
     while not endfile(f) loop
-      readline(f, l);
-      lineno := lineno + 1;
-      ok := true;
+      next_line(f, l, lineno, ok);
       read_col(l, true,  "insert_valid", lineno, i_valid, ok, errs);
       read_col(l, false, "insert_key", lineno, i_key, ok, errs);
       read_col(l, false, "insert_payload", lineno, i_pay, ok, errs);
@@ -105,11 +95,9 @@ begin
       check(lineno, "count", e_count, count, errs);
       check(lineno, "empty", e_empty, (0 => empty), errs);
 
-      clk <= '1';     -- the edge that ends this cycle
-      wait for HALF;
-      clk <= '0';
+      edge(clk);
     end loop;
-    finish_run("tb_ray_queue", lineno, errs);
+    finish_run(TB, lineno, errs);
     wait;
   end process run;
 end architecture sim;

@@ -1,26 +1,29 @@
--- The ray queue against the C model running beside it (docs/vectors.md, "The model inside
--- the simulator"): seeded random stimulus drives fpga/rtl/ray_queue.vhd and, every cycle,
--- the model's sorter through VHPIDIRECT (c5ref_pkg); every output is compared in the cycle
--- it is produced. The stimulus comes from SEED alone (ieee.math_real.uniform), in phases
--- that fill the queue to full and past it (refused inserts, pop + insert while full),
--- drain it to empty (pops on an empty queue) and mix, with keys drawn from a small range
--- (equal keys in flight), the extremes and the whole 32 bits. The first mismatch ends the
--- run: "FAIL tb_ray_queue_live: seed S cycle N: PORT: model X, VHDL Y" (exit status 1);
--- otherwise "PASS tb_ray_queue_live: seed S, N cycles, ..." (status 0).
+-- tb_ray_queue_live: ray_queue (fpga/rtl/ray_queue.vhd) against the C model's sorter running
+-- beside it (c5ref_rq_*; docs/vectors.md, "The model inside the simulator").
+--
+-- Drives:  CYCLES cycles of stimulus from SEED alone, in phases that fill the queue to full
+--          and past it (refused inserts, pop + insert while full), drain it to empty (pops on
+--          an empty queue) and mix, with keys drawn from a small range (equal keys in
+--          flight), the extremes and the whole 32 bits.
+-- Checks:  every output in the cycle it is produced; the first difference ends the run:
+--          "FAIL tb_ray_queue_live: seed S cycle N: PORT: model X, VHDL Y"; otherwise
+--          "PASS tb_ray_queue_live: seed S, N cycles, F full, R refused inserts".
+-- Latency: none (outputs of the cycle).
+-- Usage:   ghdl -r --std=08 tb_ray_queue_live -gSEED=1 -gCYCLES=5000 (./libc5ref.so beside)
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
-use ieee.math_real.all;
-use std.env.all;
 use work.rq_pkg.all;
 use work.c5ref_pkg.all;
+use work.tb_pkg.all;
 
 entity tb_ray_queue_live is
   generic (SEED : positive := 1; CYCLES : positive := 5000; CAPACITY : positive := 256);
 end entity tb_ray_queue_live;
 
 architecture sim of tb_ray_queue_live is
-  constant HALF : time := 5 ns;
+  constant TB : string := "tb_ray_queue_live";
+  constant AT : string := live_at(TB, SEED, "cycle");
   signal clk, rst : std_logic := '0';
   signal insert_valid, pop_ready : std_logic := '0';
   signal insert_key, insert_payload : std_logic_vector(31 downto 0) := (others => '0');
@@ -38,38 +41,21 @@ begin
       insert_accepted => insert_accepted, full => full, count => count, empty => empty);
 
   run : process
-    variable s1 : positive := SEED;
-    variable s2 : positive := 20261127;
+    variable rnd : random_t;
     variable x : real;
     variable p_ins, p_pop : real;
     variable key : std_logic_vector(31 downto 0);
     variable ins, pop : std_logic;
     variable rc, nfull, nrefused : integer := 0;
 
-    impure function draw return real is
-      variable r : real;
-    begin
-      uniform(s1, s2, r);
-      return r;
-    end function;
-
     impure function half16 return std_logic_vector is
     begin
-      return std_logic_vector(to_unsigned(integer(floor(draw * 65536.0)) mod 65536, 16));
+      return std_logic_vector(to_unsigned(rnd.pick(65536), 16));
     end function;
-
-    procedure expect(cyc : natural; name : string; model, vhdl : integer) is
-    begin
-      live_expect("tb_ray_queue_live", SEED, "cycle", cyc, name, model, vhdl);
-    end procedure;
   begin
+    rnd.seed(SEED);
     assert c5ref_rq_reset(CAPACITY, 32) = 0 report "the model refused the configuration" severity failure;
-    rst <= '1';
-    wait for HALF;
-    clk <= '1';
-    wait for HALF;
-    clk <= '0';
-    rst <= '0';
+    reset(clk, rst);
     for cyc in 0 to CYCLES - 1 loop
       -- phases of 400 cycles: fill past full, drain past empty, mixed
       case (cyc / 400) mod 3 is
@@ -79,13 +65,13 @@ begin
       end case;
       ins := '0';
       pop := '0';
-      if draw < p_ins then
+      if rnd.draw < p_ins then
         ins := '1';
       end if;
-      if draw < p_pop then
+      if rnd.draw < p_pop then
         pop := '1';
       end if;
-      x := draw;
+      x := rnd.draw;
       if x < 0.5 then     -- a small range: equal keys
         key := (31 downto 4 => '0') & half16(3 downto 0);
       elsif x < 0.6 then
@@ -101,21 +87,18 @@ begin
       pop_ready <= pop;
       wait for HALF;  -- clock low: the outputs of this cycle settle
       rc := c5ref_rq_step(live_bit(ins), to_integer(signed(key)), cyc, live_bit(pop));
-      expect(cyc, "pop_valid", c5ref_rq_out(0), live_bit(pop_valid));
-      expect(cyc, "pop_key", c5ref_rq_out(1), to_integer(signed(pop_key)));
-      expect(cyc, "pop_payload", c5ref_rq_out(2), to_integer(signed(pop_payload)));
-      expect(cyc, "insert_accepted", c5ref_rq_out(3), live_bit(insert_accepted));
-      expect(cyc, "full", c5ref_rq_out(4), live_bit(full));
-      expect(cyc, "count", c5ref_rq_out(5), to_integer(unsigned(count)));
-      expect(cyc, "empty", c5ref_rq_out(6), live_bit(empty));
+      live_expect(AT, cyc, "pop_valid", c5ref_rq_out(0), live_bit(pop_valid));
+      live_expect(AT, cyc, "pop_key", c5ref_rq_out(1), to_integer(signed(pop_key)));
+      live_expect(AT, cyc, "pop_payload", c5ref_rq_out(2), to_integer(signed(pop_payload)));
+      live_expect(AT, cyc, "insert_accepted", c5ref_rq_out(3), live_bit(insert_accepted));
+      live_expect(AT, cyc, "full", c5ref_rq_out(4), live_bit(full));
+      live_expect(AT, cyc, "count", c5ref_rq_out(5), to_integer(unsigned(count)));
+      live_expect(AT, cyc, "empty", c5ref_rq_out(6), live_bit(empty));
       nfull := nfull + live_bit(full);
       nrefused := nrefused + live_bit(ins and full);
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      edge(clk);
     end loop;
-    report "PASS tb_ray_queue_live: seed " & integer'image(SEED) & ", " & integer'image(CYCLES) &
-      " cycles, " & integer'image(nfull) & " full, " & integer'image(nrefused) & " refused inserts" severity note;
-    finish(0);
+    live_pass(TB, SEED, integer'image(CYCLES) & " cycles, " & integer'image(nfull) & " full, " &
+              integer'image(nrefused) & " refused inserts");
   end process run;
 end architecture sim;

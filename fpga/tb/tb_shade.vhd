@@ -1,23 +1,25 @@
--- File-driven testbench of shade against shade.*.hex: after the register image
--- (shade.SOURCE.regs.hex, one 32-bit value a line) and the power table image
--- (shade.SOURCE.pow.hex, 2^10 + 1 lines) are written through the configuration ports,
--- one sample at a time: drive it with in_valid while in_ready = 1, wait for out_valid and
--- compare rgb_r rgb_g rgb_b and sat, and the latency: exactly SHADE_FLAT_CYCLES when
--- |g|^2 < 1/16, else within the bounds shade.vhd's formula gives for these registers (every
--- light skipped at N.L <= 0 .. every light reaching the table). A malformed line is one
--- error and is skipped; a missing out_valid ends the run.
+-- tb_shade: shade (fpga/rtl/shade.vhd) against the golden vectors shade.*.hex, the register
+-- image shade.SOURCE.regs.hex (one 32-bit value a line) and the power table image
+-- shade.SOURCE.pow.hex (2^10 + 1 lines).
 --
--- Columns: grad_x grad_y grad_z (SQ8.8) tf_r tf_g tf_b (UQ1.15) gpos_x gpos_y gpos_z
--- (SQ13.15) dir_x dir_y dir_z (SQ1.14) in; rgb_r rgb_g rgb_b (UQ4.12) sat out. Usage:
---   ghdl -r --std=08 tb_shade -gVECTORS=shade.x.hex -gREGS=shade.x.regs.hex -gPOW=shade.x.pow.hex
+-- Drives:  after the reset edge, the registers and the power table through the
+--          configuration ports, one a cycle; then one sample at a time with in_valid while
+--          in_ready = 1: grad_x grad_y grad_z (SQ8.8) tf_r tf_g tf_b (UQ1.15) gpos_x gpos_y
+--          gpos_z (SQ13.15) dir_x dir_y dir_z (SQ1.14).
+-- Checks:  when out_valid comes, rgb_r rgb_g rgb_b (UQ4.12) sat and the latency. A malformed
+--          line is one error and is skipped; no out_valid within the latency bound ends the
+--          run.
+-- Latency: exactly SHADE_FLAT_CYCLES when |g|^2 < 1/16, else within the bounds shade.vhd's
+--          formula gives for these registers (every light skipped at N.L <= 0 .. every light
+--          reaching the table); the latencies seen are reported.
+-- Usage:   ghdl -r --std=08 tb_shade -gVECTORS=shade.x.hex -gREGS=shade.x.regs.hex -gPOW=shade.x.pow.hex
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 use std.textio.all;
-
-library work;
 use work.c5_layouts_pkg.all;
 use work.dp_pkg.all;
+use work.tb_pkg.all;
 use work.vec_io_pkg.all;
 
 entity tb_shade is
@@ -27,9 +29,6 @@ end entity tb_shade;
 
 architecture sim of tb_shade is
   constant TB   : string := "tb_shade";
-  constant HALF : time := 5 ns;
-  constant AXIS : string := "xyz";
-  constant CH   : string := "rgb";
   signal clk, rst, in_valid, in_ready, out_valid, reg_we, pow_we : std_logic := '0';
   signal reg_addr : std_logic_vector(6 downto 0) := (others => '0');
   signal reg_data : std_logic_vector(31 downto 0) := (others => '0');
@@ -50,6 +49,8 @@ begin
               rgb => rgb, sat => sat);
 
   run : process
+    constant AXIS : string := "xyz";
+    constant CH   : string := "rgb";
     file f, rf, pf : text;
     variable l : line;
     variable lineno, errs, n : natural := 0;
@@ -67,14 +68,6 @@ begin
     variable m2 : signed(2 * SIG_GRADIENT_WIDTH + 1 downto 0);  -- |g|^2, 16 fraction bits
     variable lat, lat_min, lat_max, seen_min, seen_max : integer;
 
-    procedure tick is
-    begin
-      wait for HALF;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
-    end procedure tick;
-
     -- one configuration image: each line one column `name` of w'length bits
     procedure bad_image(path : string; lines, want : natural) is
     begin
@@ -86,15 +79,11 @@ begin
     open_vectors(f, VECTORS, TB);
     open_vectors(rf, REGS, TB);
     open_vectors(pf, POW, TB);
-    rst <= '1';
-    tick;
-    rst <= '0';
+    reset(clk, rst);
     -- the registers
     n := 0;
     while not endfile(rf) loop
-      readline(rf, l);
-      n := n + 1;
-      ok := true;
+      next_line(rf, l, n, ok);
       read_col(l, true, "register", n, rv, ok, errs);
       end_of_line(l, n, ok, errs);
       exit when not ok or n > SHADE_REGS;
@@ -102,7 +91,7 @@ begin
       reg_we <= '1';
       reg_addr <= std_logic_vector(to_unsigned(n - 1, reg_addr'length));
       reg_data <= rv;
-      tick;
+      tick(clk);
     end loop;
     reg_we <= '0';
     if errs /= 0 or n /= SHADE_REGS then
@@ -111,16 +100,14 @@ begin
     -- the power table
     n := 0;
     while not endfile(pf) loop
-      readline(pf, l);
-      n := n + 1;
-      ok := true;
+      next_line(pf, l, n, ok);
       read_col(l, true, "spec_pow", n, pv, ok, errs);
       end_of_line(l, n, ok, errs);
       exit when not ok or n > 2 ** POW_TABLE_BITS + 1;
       pow_we <= '1';
       pow_addr <= std_logic_vector(to_unsigned(n - 1, pow_addr'length));
       pow_data <= pv;
-      tick;
+      tick(clk);
     end loop;
     pow_we <= '0';
     if errs /= 0 or n /= 2 ** POW_TABLE_BITS + 1 then
@@ -141,9 +128,7 @@ begin
     seen_max := 0;
 
     while not endfile(f) loop
-      readline(f, l);
-      lineno := lineno + 1;
-      ok := true;
+      next_line(f, l, lineno, ok);
       for a in 0 to 2 loop
         read_col(l, a = 0, "grad_" & AXIS(a + 1), lineno, i_grad(a), ok, errs);
       end loop;
@@ -170,24 +155,14 @@ begin
       in_valid <= '1';
       wait for HALF;
       check(lineno, "in_ready", "1", (0 => in_ready), errs);
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      edge(clk);
       in_valid <= '0';
-      lat := 0;
-      loop
-        lat := lat + 1;
-        wait for HALF;
-        exit when out_valid = '1';
-        if lat > lat_max + 1 then
-          report "line " & integer'image(lineno) & ": no out_valid within " &
-            integer'image(lat) & " cycles" severity error;
-          finish_run(TB, lineno, errs + 1);
-        end if;
-        clk <= '1';
-        wait for HALF;
-        clk <= '0';
-      end loop;
+      await_out(clk, out_valid, lat_max + 1, lat);
+      if out_valid /= '1' then
+        report "line " & integer'image(lineno) & ": no out_valid within " &
+          integer'image(lat) & " cycles" severity error;
+        finish_run(TB, lineno, errs + 1);
+      end if;
       for a in 0 to 2 loop
         check(lineno, "rgb_" & CH(a + 1), e_rgb(a), rgb(a), errs);
       end loop;
@@ -207,9 +182,7 @@ begin
         seen_min := minimum(seen_min, lat);
         seen_max := maximum(seen_max, lat);
       end if;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      edge(clk);
     end loop;
     if seen_max > 0 then
       report TB & ": latency " & integer'image(seen_min) & " to " & integer'image(seen_max) &

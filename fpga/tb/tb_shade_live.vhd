@@ -1,27 +1,31 @@
--- Shading against the C model running beside it (docs/vectors.md, "The model inside the
--- simulator"): the model draws the registers and the specular power table from SEED
--- (c5ref_sh_setup: ka kd ks, 1 to 8 point or directional lights, (i / 1024)^p) and the
--- testbench writes them into fpga/rtl/shade.vhd; then SAMPLES samples drawn from SEED (
--- gradients from zero through the flat threshold to +-255, transfer-function colours at 0,
--- 1 or random, positions in the volume's first 256 voxels, unit directions) go one at a time
--- into the block (in_valid while in_ready, then out_valid) and into c5_shade; rgb and sat are
--- compared. The first difference ends the run: "FAIL tb_shade_live: seed S sample N: PORT:
--- model X, VHDL Y".
+-- tb_shade_live: shade (fpga/rtl/shade.vhd) against the C model running beside it (c5ref_sh_*,
+-- the model's c5_shade; docs/vectors.md, "The model inside the simulator").
+--
+-- Drives:  after the reset edge, the registers and the specular power table the model draws
+--          from SEED (c5ref_sh_setup: ka kd ks, 1 to 8 point or directional lights,
+--          (i / 1024)^p) through the configuration ports; then SAMPLES samples drawn from SEED
+--          (gradients from zero through the flat threshold to +-255, transfer-function
+--          colours at 0, 1 or random, positions in the volume's first 256 voxels, unit
+--          directions), one at a time with in_valid while in_ready = 1.
+-- Checks:  when out_valid comes, rgb and sat = the model's; the first difference ends the
+--          run: "FAIL tb_shade_live: seed S sample N: PORT: model X, VHDL Y".
+-- Latency: variable (shade.vhd has the formula); out_valid within 4096 cycles.
+-- Usage:   ghdl -r --std=08 tb_shade_live -gSEED=1 -gSAMPLES=1000 (./libc5ref.so beside)
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
-use ieee.math_real.all;
-use std.env.all;
 use work.c5_layouts_pkg.all;
 use work.dp_pkg.all;
 use work.c5ref_pkg.all;
+use work.tb_pkg.all;
 
 entity tb_shade_live is
   generic (SEED : positive := 1; SAMPLES : positive := 1000);
 end entity tb_shade_live;
 
 architecture sim of tb_shade_live is
-  constant HALF : time := 5 ns;
+  constant TB : string := "tb_shade_live";
+  constant AT : string := live_at(TB, SEED, "sample");
   signal clk, rst, in_valid, in_ready, out_valid, reg_we, pow_we : std_logic := '0';
   signal reg_addr : std_logic_vector(6 downto 0) := (others => '0');
   signal reg_data : std_logic_vector(31 downto 0) := (others => '0');
@@ -41,68 +45,51 @@ begin
               rgb => rgb, sat => sat);
 
   run : process
-    variable s1 : positive := SEED;
-    variable s2 : positive := 20261127;
-    variable r : real;
-    variable x, rc, waited : integer;
-    variable dv : integer_vector(0 to 2);
     constant ONE : integer := 2 ** SIG_TF_RGBA_FRAC;
     constant GMAX : integer := 65280;  -- 255.0 in SQ8.8
-
-    impure function pick(n : positive) return natural is
-    begin
-      uniform(s1, s2, r);
-      return integer(floor(r * real(n))) mod n;
-    end function;
-
-    procedure tick is
-    begin
-      wait for HALF;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
-    end procedure;
+    variable rnd : random_t;
+    variable x, rc, waited : integer;
+    variable dv : integer_vector(0 to 2);
   begin
+    rnd.seed(SEED);
     rc := c5ref_sh_setup(SEED);
-    rst <= '1';
-    tick;
-    rst <= '0';
+    reset(clk, rst);
     for a in 0 to SHADE_REGS - 1 loop
       reg_we <= '1';
       reg_addr <= std_logic_vector(to_unsigned(a, reg_addr'length));
       reg_data <= std_logic_vector(to_signed(c5ref_sh_reg(a), 32));
-      tick;
+      tick(clk);
     end loop;
     reg_we <= '0';
     for i in 0 to 2 ** POW_TABLE_BITS loop
       pow_we <= '1';
       pow_addr <= std_logic_vector(to_unsigned(i, POW_ADDR_BITS));
       pow_data <= std_logic_vector(to_unsigned(c5ref_sh_pow(i), SIG_SPEC_POW_WIDTH));
-      tick;
+      tick(clk);
     end loop;
     pow_we <= '0';
     for n in 0 to SAMPLES - 1 loop
       for a in 0 to 2 loop
-        case pick(6) is
+        case rnd.pick(6) is
           when 0 => x := 0;
-          when 1 => x := pick(64) - 32;          -- about the zero-gradient threshold
+          when 1 => x := rnd.pick(64) - 32;          -- about the zero-gradient threshold
           when 2 => x := GMAX;
           when 3 => x := -GMAX;
-          when others => x := pick(2 * GMAX + 1) - GMAX;
+          when others => x := rnd.pick(2 * GMAX + 1) - GMAX;
         end case;
         grad(a) <= std_logic_vector(to_signed(x, SIG_GRADIENT_WIDTH));
         rc := c5ref_sh_set(a, x);
-        case pick(4) is
+        case rnd.pick(4) is
           when 0 => x := 0;
           when 1 => x := ONE;
-          when others => x := pick(ONE + 1);
+          when others => x := rnd.pick(ONE + 1);
         end case;
         tf(a) <= std_logic_vector(to_unsigned(x, SIG_TF_RGBA_WIDTH));
         rc := c5ref_sh_set(3 + a, x);
-        x := pick(256 * 2 ** 15);
+        x := rnd.pick(256 * 2 ** 15);
         gpos(a) <= std_logic_vector(to_signed(x, SIG_GEOM_COORD_WIDTH));
         rc := c5ref_sh_set(6 + a, x);
-        dv(a) := pick(65536) - 32768;
+        dv(a) := rnd.pick(65536) - 32768;
       end loop;
       for a in 0 to 2 loop
         x := c5ref_sh_dir(dv(0), dv(1), dv(2), a);
@@ -112,34 +99,17 @@ begin
       rc := c5ref_sh_run(-1);
       in_valid <= '1';
       wait for HALF;
-      live_expect("tb_shade_live", SEED, "sample", n, "in_ready", 1, live_bit(in_ready));
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      live_expect(AT, n, "in_ready", 1, live_bit(in_ready));
+      edge(clk);
       in_valid <= '0';
-      waited := 0;
-      loop
-        wait for HALF;
-        exit when out_valid = '1';
-        waited := waited + 1;
-        if waited > 4096 then
-          live_expect("tb_shade_live", SEED, "sample", n, "out_valid within 4096 cycles", 1, 0);
-        end if;
-        clk <= '1';
-        wait for HALF;
-        clk <= '0';
-      end loop;
+      await_out(clk, out_valid, 4096, waited);
+      live_expect(AT, n, "out_valid within 4096 cycles", 1, live_bit(out_valid));
       for a in 0 to 2 loop
-        live_expect("tb_shade_live", SEED, "sample", n, "rgb(" & integer'image(a) & ")", c5ref_sh_run(a),
-                    to_integer(unsigned(rgb(a))));
+        live_expect(AT, n, "rgb(" & integer'image(a) & ")", c5ref_sh_run(a), to_integer(unsigned(rgb(a))));
       end loop;
-      live_expect("tb_shade_live", SEED, "sample", n, "sat", c5ref_sh_run(3), to_integer(unsigned(sat)));
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      live_expect(AT, n, "sat", c5ref_sh_run(3), to_integer(unsigned(sat)));
+      edge(clk);
     end loop;
-    report "PASS tb_shade_live: seed " & integer'image(SEED) & ", " & integer'image(SAMPLES) & " samples"
-      severity note;
-    finish(0);
+    live_pass(TB, SEED, integer'image(SAMPLES) & " samples");
   end process run;
 end architecture sim;

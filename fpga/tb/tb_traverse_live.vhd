@@ -1,27 +1,31 @@
--- The traversal step against the C model running beside it (docs/vectors.md, "The model
--- inside the simulator"): one step a cycle from SEED alone into fpga/rtl/traverse.vhd and
--- into the model's c5_trav_step (c5ref_tr_*): grids of 1 to 1023 voxels an axis, a cell box
--- inside, positions in the cell or up to two voxels around it (one in ten anywhere within 8
--- voxels of the grid), step vectors up to 8 voxels a component (a quarter of them below
--- 2^-8), lifetimes 0, short, unbounded (4095) or any, block_empty drawn inside the grid.
--- The model's outputs are held for TRAVERSE_LATENCY cycles and compared with the DUT's then.
--- The first difference ends the run: "FAIL tb_traverse_live: seed S step N: PORT: model X,
--- VHDL Y".
+-- tb_traverse_live: traverse (fpga/rtl/traverse.vhd) against the C model running beside it
+-- (c5ref_tr_*, the model's c5_trav_step; docs/vectors.md, "The model inside the simulator").
+--
+-- Drives:  one step a cycle from SEED alone, STEPS of them: grids of 1 to 1023 voxels an
+--          axis, a cell box inside, positions in the cell or up to two voxels around it (one
+--          in ten anywhere within 8 voxels of the grid), step vectors up to 8 voxels a
+--          component (a quarter of them below 2^-8), lifetimes 0, short, unbounded (4095) or
+--          any, block_empty drawn inside the grid.
+-- Checks:  LAT cycles later, out_valid = 1 and action leaped pos_out lifetime_out = the
+--          model's; the first difference ends the run: "FAIL tb_traverse_live: seed S step N:
+--          PORT: model X, VHDL Y".
+-- Latency: LAT = TRAVERSE_LATENCY (dp_pkg).
+-- Usage:   ghdl -r --std=08 tb_traverse_live -gSEED=1 -gSTEPS=5000 (./libc5ref.so beside)
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
-use ieee.math_real.all;
-use std.env.all;
 use work.c5_layouts_pkg.all;
 use work.dp_pkg.all;
 use work.c5ref_pkg.all;
+use work.tb_pkg.all;
 
 entity tb_traverse_live is
   generic (SEED : positive := 1; STEPS : positive := 5000);
 end entity tb_traverse_live;
 
 architecture sim of tb_traverse_live is
-  constant HALF : time := 5 ns;
+  constant TB  : string := "tb_traverse_live";
+  constant AT  : string := live_at(TB, SEED, "step");
   constant LAT : positive := TRAVERSE_LATENCY;
   signal clk, rst, in_valid, out_valid, block_empty : std_logic := '0';
   signal pos, pos_out : pos3_t := (others => (others => '0'));
@@ -30,6 +34,8 @@ architecture sim of tb_traverse_live is
   signal cell_lo, cell_hi, dims : grid3_t := (others => (others => '0'));
   signal action : std_logic_vector(1 downto 0);
   signal leaped : std_logic_vector(LEAPED_BITS - 1 downto 0);
+  -- the model's action, leaped, pos_out x3, lifetime_out, LAT cycles after their step
+  signal due : integer_vector(0 to 5);
 begin
   dut : entity work.traverse
     port map (clk => clk, rst => rst, in_valid => in_valid, pos => pos, step => step, lifetime => lifetime,
@@ -38,43 +44,28 @@ begin
               lifetime_out => lifetime_out);
 
   run : process
-    variable s1 : positive := SEED;
-    variable s2 : positive := 20261127;
-    variable r : real;
+    constant ONE : integer := 2 ** POS_FRAC;
+    constant SMAX : integer := 2 ** (SIG_STEP_VEC_WIDTH - 1);
+    variable rnd : random_t;
     variable dm, lo, hi, x, y, q, life, rc : integer;
     variable sv : integer_vector(0 to 2);
     variable in_grid : boolean;
-    type o_t is array (0 to 5) of integer;  -- action, leaped, pos_out x3, lifetime_out
-    type ring_t is array (0 to LAT) of o_t;
-    variable ring : ring_t;
-    variable e : o_t;
-    constant ONE : integer := 2 ** POS_FRAC;
-    constant SMAX : integer := 2 ** (SIG_STEP_VEC_WIDTH - 1);
-
-    impure function pick(n : positive) return natural is
-    begin
-      uniform(s1, s2, r);
-      return integer(floor(r * real(n))) mod n;
-    end function;
+    variable e : integer_vector(0 to 5);
 
     impure function between(a, b : integer) return integer is  -- a <= x < b
     begin
-      return a + pick(b - a);
+      return a + rnd.pick(b - a);
     end function;
   begin
-    rst <= '1';
-    wait for HALF;
-    clk <= '1';
-    wait for HALF;
-    clk <= '0';
-    rst <= '0';
+    rnd.seed(SEED);
+    reset(clk, rst);
     for n in 0 to STEPS + LAT - 1 loop
       if n < STEPS then
         in_grid := true;
         for a in 0 to 2 loop
-          dm := 1 + pick(2 ** GRID_BITS - 1);
-          x := pick(dm);
-          y := pick(dm);
+          dm := 1 + rnd.pick(2 ** GRID_BITS - 1);
+          x := rnd.pick(dm);
+          y := rnd.pick(dm);
           lo := minimum(x, y);
           hi := maximum(x, y) + 1;
           if n mod 10 = 9 then
@@ -104,51 +95,39 @@ begin
           step(a) <= std_logic_vector(to_signed(sv(a), SIG_STEP_VEC_WIDTH));
           rc := c5ref_tr_set(3 + a, sv(a));
         end loop;
-        case pick(8) is
+        case rnd.pick(8) is
           when 0 => life := 0;
-          when 1 | 2 => life := pick(16);
+          when 1 | 2 => life := rnd.pick(16);
           when 3 | 4 => life := LIFE_NONE;
-          when others => life := pick(LIFE_NONE);
+          when others => life := rnd.pick(LIFE_NONE);
         end case;
         lifetime <= std_logic_vector(to_unsigned(life, lifetime'length));
         rc := c5ref_tr_set(6, life);
         x := 0;
-        if in_grid and pick(2) = 1 then
+        if in_grid and rnd.pick(2) = 1 then
           x := 1;
         end if;
-        block_empty <= '0';
-        if x = 1 then
-          block_empty <= '1';
-        end if;
+        block_empty <= '1' when x = 1 else '0';
         rc := c5ref_tr_set(16, x);
         rc := c5ref_tr_run;
         for k in 0 to 5 loop
           e(k) := c5ref_tr_out(k);
         end loop;
-        ring(n mod (LAT + 1)) := e;
-        in_valid <= '1';
-      else
-        in_valid <= '0';
+        due <= transport e after LAT * PERIOD;
       end if;
+      in_valid <= '1' when n < STEPS else '0';
       wait for HALF;  -- clock low: this cycle's outputs are stable
       if n >= LAT then
-        e := ring((n - LAT) mod (LAT + 1));
-        live_expect("tb_traverse_live", SEED, "step", n - LAT, "out_valid", 1, live_bit(out_valid));
-        live_expect("tb_traverse_live", SEED, "step", n - LAT, "action", e(0), to_integer(unsigned(action)));
-        live_expect("tb_traverse_live", SEED, "step", n - LAT, "leaped", e(1), to_integer(unsigned(leaped)));
+        live_expect(AT, n - LAT, "out_valid", 1, live_bit(out_valid));
+        live_expect(AT, n - LAT, "action", due(0), to_integer(unsigned(action)));
+        live_expect(AT, n - LAT, "leaped", due(1), to_integer(unsigned(leaped)));
         for a in 0 to 2 loop
-          live_expect("tb_traverse_live", SEED, "step", n - LAT, "pos_out(" & integer'image(a) & ")", e(2 + a),
-                      to_integer(signed(pos_out(a))));
+          live_expect(AT, n - LAT, "pos_out(" & integer'image(a) & ")", due(2 + a), to_integer(signed(pos_out(a))));
         end loop;
-        live_expect("tb_traverse_live", SEED, "step", n - LAT, "lifetime_out", e(5),
-                    to_integer(unsigned(lifetime_out)));
+        live_expect(AT, n - LAT, "lifetime_out", due(5), to_integer(unsigned(lifetime_out)));
       end if;
-      clk <= '1';
-      wait for HALF;
-      clk <= '0';
+      edge(clk);
     end loop;
-    report "PASS tb_traverse_live: seed " & integer'image(SEED) & ", " & integer'image(STEPS) & " steps"
-      severity note;
-    finish(0);
+    live_pass(TB, SEED, integer'image(STEPS) & " steps");
   end process run;
 end architecture sim;

@@ -19,6 +19,10 @@ package vec_io_pkg is
   -- Opens `path` for reading; a file that cannot be opened ends the run with FAIL.
   procedure open_vectors(file f : text; path : string; tb : string);
 
+  -- Reads the next line of f into l: ok = false at the end of the file (nothing read), else
+  -- lineno counts the line and ok = true until a column of it is found malformed.
+  procedure next_line(file f : text; l : inout line; lineno : inout natural; ok : out boolean);
+
   -- Reads the next column of line `l` into v (v'length bits): one separating space unless
   -- `first`, then exactly ceil(v'length / 4) hex digits whose padding bits are 0. A
   -- malformed column is one error and clears `ok`; with `ok` false already, nothing is
@@ -34,6 +38,13 @@ package vec_io_pkg is
   -- Counts (and reports, the first MAX_REPORTS times) expected /= got.
   procedure check(lineno : positive; name : string; expected, got : std_logic_vector;
                   errs : inout natural);
+
+  -- A pipelined testbench's cycle, once its outputs have settled: from the cycle `full`
+  -- (LAT cycles after the first vector) on, out_valid must equal the `valid` of the vector
+  -- driven LAT cycles before (line lineno); `due` says whether that vector's outputs are
+  -- to be compared now.
+  procedure check_valid(full : boolean; lineno : positive; valid : boolean; out_valid : std_logic;
+                        errs : inout natural; due : out boolean);
 
   -- A boolean as a 1-bit vector, for check on single-bit ports: bits(b) = "1" or "0".
   function bits(b : boolean) return std_logic_vector;
@@ -84,6 +95,15 @@ package body vec_io_pkg is
       std.env.finish(1);
     end if;
   end procedure open_vectors;
+
+  procedure next_line(file f : text; l : inout line; lineno : inout natural; ok : out boolean) is
+  begin
+    ok := not endfile(f);
+    if not endfile(f) then
+      readline(f, l);
+      lineno := lineno + 1;
+    end if;
+  end procedure next_line;
 
   procedure read_col(l : inout line; first : boolean; name : string; lineno : positive;
                      v : out std_logic_vector; ok : inout boolean; errs : inout natural) is
@@ -149,6 +169,15 @@ package body vec_io_pkg is
       problem(lineno, name & ": expected " & lower_hex(expected) & " got " & lower_hex(got), errs);
     end if;
   end procedure check;
+
+  procedure check_valid(full : boolean; lineno : positive; valid : boolean; out_valid : std_logic;
+                        errs : inout natural; due : out boolean) is
+  begin
+    due := full and valid;
+    if full then
+      check(lineno, "out_valid", bits(valid), (0 => out_valid), errs);
+    end if;
+  end procedure check_valid;
 
   function bits(b : boolean) return std_logic_vector is
   begin
