@@ -614,6 +614,8 @@ def c_header(spec, layouts, signals):
     for s in signals:
         p = f"C5_SIG_{s['name'].upper()}"
         text += f"#define {p}_FMT {c_fmt(s['fmt'], s['name'])} /* {s['block']} */\n"
+        text += (f"#define {p}_WIDTH {s['fmt'].width()}\n#define {p}_FRAC {s['fmt'].f}\n"
+                 f"#define {p}_FORMAT \"{s['fmt'].text}\"\n")
         if s["rounding"] in C_RND:
             text += f"#define {p}_RND {C_RND[s['rounding']]}\n"
     text += "\n#endif\n"

@@ -33,14 +33,12 @@ package dp_pkg is
   constant POW_ADDR_BITS     : positive := POW_TABLE_BITS + 1;
   constant TRAVERSE_LATENCY  : positive := 3;
 
-  -- traverse: a position has the step vector's fraction (spec: the position advances by
-  -- exact addition) and is signed, one bit wider than a grid coordinate of GRID_BITS (a
-  -- step or a leap carries it up to 8 voxels outside the grid). GRID_BITS, POS_BITS and
-  -- LEAPED_BITS are the traverse vectors' column widths (vectors/gen/vec_traverse.c);
-  -- spec/layouts.toml declares none of them.
-  constant POS_FRAC    : positive := SIG_STEP_VEC_FRAC;
-  constant GRID_BITS   : positive := 10;
-  constant POS_BITS    : positive := GRID_BITS + 1 + POS_FRAC;    -- SQ10.15
+  -- traverse: positions in the grid's voxel coordinates (signal grid_pos, SQ13.15: the step
+  -- vector's fraction, signed, 13 integer bits for the model's 8,000-voxel grids) and voxel
+  -- indices and counts (grid_coord, 13 bits), declared in spec/layouts.toml.
+  constant POS_FRAC    : positive := SIG_GRID_POS_FRAC;
+  constant GRID_BITS   : positive := SIG_GRID_COORD_WIDTH;
+  constant POS_BITS    : positive := SIG_GRID_POS_WIDTH;
   constant BLOCK_BITS  : positive := 3;                           -- 8^3 space-leaping blocks
   constant LEAPED_BITS : positive := BLOCK_BITS + POS_FRAC + 1;   -- up to 8 voxels / 2^-15
   constant LIFE_NONE   : natural := 2 ** RAY_PACKET_LIFETIME_WIDTH - 1;  -- unbounded

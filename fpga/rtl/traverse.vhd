@@ -28,7 +28,7 @@ entity traverse is
   port (
     clk, rst     : in  std_logic;
     in_valid     : in  std_logic;
-    pos          : in  pos3_t;    -- SQ10.15, voxel coordinates
+    pos          : in  pos3_t;    -- grid_pos SQ13.15, voxel coordinates
     step         : in  step3_t;   -- step_vec SQ3.15
     lifetime     : in  std_logic_vector(RAY_PACKET_LIFETIME_WIDTH - 1 downto 0);
     cell_lo      : in  grid3_t;   -- the cell's voxel box [lo, hi)

@@ -1,7 +1,7 @@
 -- tb_traverse: traverse (fpga/rtl/traverse.vhd) against the golden vectors traverse.*.hex.
 --
 -- Drives:  one vector a cycle with in_valid = 1, after the reset edge: pos_x pos_y pos_z
---          (SQ10.15) step_x step_y step_z (SQ3.15) lifetime cell_lo_x..z cell_hi_x..z
+--          (SQ13.15) step_x step_y step_z (SQ3.15) lifetime cell_lo_x..z cell_hi_x..z
 --          dims_x..z block_empty; widths from the DUT's ports.
 -- Checks:  LAT cycles later, out_valid = 1 and action leaped pos_x_out pos_y_out pos_z_out
 --          lifetime_out; a malformed line is one error and a cycle with in_valid = 0, whose

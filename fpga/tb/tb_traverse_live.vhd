@@ -1,8 +1,8 @@
 -- tb_traverse_live: traverse (fpga/rtl/traverse.vhd) against the C model running beside it
 -- (c5ref_tr_*, the model's c5_trav_step; docs/vectors.md, "The model inside the simulator").
 --
--- Drives:  one step a cycle from SEED alone, STEPS of them: grids of 1 to 1023 voxels an
---          axis, a cell box inside, positions in the cell or up to two voxels around it (one
+-- Drives:  one step a cycle from SEED alone, STEPS of them: grids of 1 to GRID_MAX voxels an
+--          axis (half of them up to 511), a cell box inside, positions in the cell or up to two voxels around it (one
 --          in ten anywhere within 8 voxels of the grid), step vectors up to 8 voxels a
 --          component (a quarter of them below 2^-8), lifetimes 0, short, unbounded (4095) or
 --          any, block_empty drawn inside the grid.
@@ -45,6 +45,9 @@ begin
 
   run : process
     constant ONE : integer := 2 ** POS_FRAC;
+    -- The model's largest grid (C5_MODEL_MAX_GRID, rtl_model/model_limits.h): the grid_pos
+    -- format holds its positions and the 8 voxels around it, not those of a 13-bit grid.
+    constant GRID_MAX : positive := 8000;
     constant SMAX : integer := 2 ** (SIG_STEP_VEC_WIDTH - 1);
     variable rnd : random_t;
     variable dm, lo, hi, x, y, q, life, rc : integer;
@@ -63,7 +66,11 @@ begin
       if n < STEPS then
         in_grid := true;
         for a in 0 to 2 loop
-          dm := 1 + rnd.pick(2 ** GRID_BITS - 1);
+          if n mod 2 = 0 then
+            dm := 1 + rnd.pick(GRID_MAX);
+          else
+            dm := 1 + rnd.pick(511);
+          end if;
           x := rnd.pick(dm);
           y := rnd.pick(dm);
           lo := minimum(x, y);

@@ -14,22 +14,29 @@
 #include "blocks.h"
 #include "fxops.h"
 #include "geom.h"
+#include "model_limits.h"
 #include "processor.h"
 #include "regs.h"
 #include "rng.h"
 
-#define POS_BITS 26    /* SQ10.15 */
+/* Widths and formats from spec/layouts.toml (signals grid_pos, step_vec, grid_coord). */
+#define POS C5_SIG_GRID_POS_WIDTH, 0, C5_SIG_GRID_POS_FORMAT
+#define POS_OUT C5_SIG_GRID_POS_WIDTH, 1, C5_SIG_GRID_POS_FORMAT
+#define STEP C5_SIG_STEP_VEC_WIDTH, 0, C5_SIG_STEP_VEC_FORMAT
+#define GRID C5_SIG_GRID_COORD_WIDTH, 0, C5_SIG_GRID_COORD_FORMAT
 #define LEAPED_BITS 19 /* a leap crosses at most 8 voxels = 2^18 steps of 2^-15 */
 
 static const c5_vfield fields[] = {
-    {"pos_x", POS_BITS, 0, "SQ10.15"},     {"pos_y", POS_BITS, 0, "SQ10.15"},     {"pos_z", POS_BITS, 0, "SQ10.15"},
-    {"step_x", 19, 0, "SQ3.15"},           {"step_y", 19, 0, "SQ3.15"},           {"step_z", 19, 0, "SQ3.15"},
-    {"lifetime", 12, 0, "uint"},           {"cell_lo_x", 10, 0, "uint"},          {"cell_lo_y", 10, 0, "uint"},
-    {"cell_lo_z", 10, 0, "uint"},          {"cell_hi_x", 10, 0, "uint"},          {"cell_hi_y", 10, 0, "uint"},
-    {"cell_hi_z", 10, 0, "uint"},          {"dims_x", 10, 0, "uint"},             {"dims_y", 10, 0, "uint"},
-    {"dims_z", 10, 0, "uint"},             {"block_empty", 1, 0, "uint"},         {"action", 2, 1, "uint"},
-    {"leaped", LEAPED_BITS, 1, "uint"},    {"pos_x_out", POS_BITS, 1, "SQ10.15"}, {"pos_y_out", POS_BITS, 1, "SQ10.15"},
-    {"pos_z_out", POS_BITS, 1, "SQ10.15"}, {"lifetime_out", 12, 1, "uint"},
+    {"pos_x", POS},          {"pos_y", POS},           {"pos_z", POS},
+    {"step_x", STEP},        {"step_y", STEP},         {"step_z", STEP},
+    {"lifetime", 12, 0, "uint"},
+    {"cell_lo_x", GRID},     {"cell_lo_y", GRID},      {"cell_lo_z", GRID},
+    {"cell_hi_x", GRID},     {"cell_hi_y", GRID},      {"cell_hi_z", GRID},
+    {"dims_x", GRID},        {"dims_y", GRID},         {"dims_z", GRID},
+    {"block_empty", 1, 0, "uint"},
+    {"action", 2, 1, "uint"}, {"leaped", LEAPED_BITS, 1, "uint"},
+    {"pos_x_out", POS_OUT},  {"pos_y_out", POS_OUT},   {"pos_z_out", POS_OUT},
+    {"lifetime_out", 12, 1, "uint"},
 };
 
 static const c5_vblock block = {
@@ -248,19 +255,18 @@ static int directed(c5_vset *s)
         at(q, 20.5, 16.5, 10.5);
         vec(f, &W, q, S, NONE, 1, NULL); /* a leap of one step of 7.99 voxels out of its block */
     }
-    for (int a = 0; a < 3; a++) { /* a 1,023-voxel axis, the others 1 voxel */
-        /* 1,023 one-voxel cells along a (cell i is [floor(i 1023 / n), ...), cells.c), the
-         * last one [1022, 1023): a step from its middle lands on 1024 - 2^-15, the largest
-         * SQ10.15 position (pos_*_out max; cell_lo 1022, cell_hi 1023, dims 1023, and
-         * cell_hi / dims 1 on the other axes), then the leave on it (pos_* max) */
+    for (int a = 0; a < 3; a++) { /* the largest grid's axis, the others 1 voxel */
+        /* C5_MODEL_MAX_GRID one-voxel cells along a, the last one [7999, 8000): cell_lo,
+         * cell_hi and dims at their largest (cell_hi / dims 1 on the other axes); a step
+         * from its middle lands 1.5 - 2^-15 voxels on, outside the grid, then the leave there */
         box E = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
-        E.lo[a] = 1022;
-        E.hi[a] = 1023;
-        E.dims[a] = 1023;
+        E.lo[a] = C5_MODEL_MAX_GRID - 1;
+        E.hi[a] = C5_MODEL_MAX_GRID;
+        E.dims[a] = C5_MODEL_MAX_GRID;
         int64_t S[3] = {0, 0, 0};
         q[0] = q[1] = q[2] = 1 << 14;
-        q[a] = ((int64_t)1022 << 15) + (1 << 14);
-        S[a] = ((int64_t)1 << 25) - 1 - q[a]; /* 1.5 - 2^-15 voxels */
+        q[a] = ((int64_t)(C5_MODEL_MAX_GRID - 1) << 15) + (1 << 14);
+        S[a] = ((int64_t)3 << 14) - 1; /* 1.5 - 2^-15 voxels */
         vec(f, &E, q, S, 100, 0, p);
         vec(f, &E, p, S, 99, 0, NULL);
     }
