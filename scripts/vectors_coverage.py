@@ -142,7 +142,7 @@ def main():
         for e in st['events']:
             declared.setdefault(st['block'], []).append(
                 (f'rnd.{site_short}.{e}', f'v.ev.get({name!r}, 0) & {EVENTS[e]}', ''))
-    blocks = {}  # block -> (fields, [(file, {image kind: path})])
+    blocks = {}  # block -> (fields, [(file, {image kind: path}, config)])
     images = {e['file']: e['image'] for e in manifest['files'] if e['kind'] == 'image'}
     for e in manifest['files']:
         if e['kind'] == 'vectors':
