@@ -13,15 +13,18 @@ OPT      ?= -O2
 # overrides this for every object.
 MODEL_OPT ?= -O3
 SAN      ?=
+# The board model (rtl_model/README.md): the board, and a folder each for the ray processor's
+# blocks, the DSP's work, the memory system and the offline analysis of schedules.
+MODEL_DIRS := rtl_model rtl_model/proc rtl_model/dsp rtl_model/mem rtl_model/analysis
 # One version for the three programs, the libraries' SONAMEs and pkg-config files: VERSION.
 C5_VERSION := $(shell cat VERSION)
-CPPFLAGS += -D_DEFAULT_SOURCE -DC5_VERSION='"$(C5_VERSION)"' -Itests -Icommon -Icref -Icref/cast -Irtl_model -Ivectors/gen -Isweep -I$(BUILD)/gen
+CPPFLAGS += -D_DEFAULT_SOURCE -DC5_VERSION='"$(C5_VERSION)"' -Itests -Icommon -Icref -Icref/cast $(MODEL_DIRS:%=-I%) -Ivectors/gen -Isweep -I$(BUILD)/gen
 CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror -pthread $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror $(SAN)
 LDFLAGS  += -pthread $(SAN)
 LDLIBS   += $(shell pkg-config --libs OpenImageIO jansson 2>/dev/null) -lteem -lz -lm
 
-LIB_SRC  := $(wildcard common/*.c cref/*.c cref/cast/*.c rtl_model/*.c vectors/gen/*.c sweep/*.c)
+LIB_SRC  := $(wildcard common/*.c cref/*.c cref/cast/*.c $(MODEL_DIRS:%=%/*.c) vectors/gen/*.c sweep/*.c)
 # The host link (docs/host-protocol.md): the driver library on libusb and the emulated board
 # on umockdev, each its own library so that a driver user never links umockdev. The pkg-config
 # calls are deferred (=, +=) to when a rule runs: on a fresh machine the packages arrive with
@@ -199,15 +202,15 @@ fuzz: $(LAYOUTS_H) $(REGS_H)
 
 # The model's blocks as a live reference for GHDL (fpga/ref/, VHPIDIRECT; docs/vectors.md).
 # Never sanitized: GHDL's process, which loads it, has no sanitizer runtime. Built with the
-# rounding probe (rtl_model/round_probe.h) that the coverage of the vectors reads.
+# rounding probe (rtl_model/proc/round_probe.h) that the coverage of the vectors reads.
 REF_SO := $(BUILD)/libc5ref.so
 # REF_MODEL_SRC: the model sources the references call into and what they use (the link
 # fails on anything missing).
-REF_MODEL_SRC := rtl_model/ray_queue.c rtl_model/cell_tree.c rtl_model/processor.c rtl_model/fixed.c rtl_model/cells.c rtl_model/geom.c \
-  rtl_model/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/nrrd_precheck.c \
+REF_MODEL_SRC := rtl_model/proc/ray_queue.c rtl_model/dsp/cell_tree.c rtl_model/proc/processor.c rtl_model/proc/fixed.c rtl_model/mem/cells.c rtl_model/proc/geom.c \
+  rtl_model/proc/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/nrrd_precheck.c \
   common/generators.c common/tlp.c
 REF_SRC := $(wildcard fpga/ref/*.c) $(REF_MODEL_SRC)
-$(REF_SO): $(REF_SRC) $(wildcard fpga/ref/*.h rtl_model/*.h common/*.h) $(LAYOUTS_H) $(REGS_H)
+$(REF_SO): $(REF_SRC) $(wildcard fpga/ref/*.h $(MODEL_DIRS:%=%/*.h) common/*.h) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) -DC5_ROUND_PROBE -std=c11 -O2 -g -Wall -Wextra -Werror -fPIC -shared -Wl,--no-undefined -o $@ $(REF_SRC) \
 	  -lteem -lz -lm
@@ -295,8 +298,8 @@ DRV_SONAME := libc5drv.so.$(C5_SOVERSION)
 DRV_SO     := $(BUILD)/libc5drv.so.$(C5_VERSION)
 DRV_STATIC := $(BUILD)/pic/libc5drv.a
 DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/voxsrc.c common/tlp.c common/volume.c common/nrrd_precheck.c \
-  common/generators.c common/tf.c common/camera.c rtl_model/cells.c rtl_model/regs.c rtl_model/model_limits.c \
-  rtl_model/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c
+  common/generators.c common/tf.c common/camera.c rtl_model/mem/cells.c rtl_model/proc/regs.c rtl_model/model_limits.c \
+  rtl_model/proc/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c
 DRV_PIC_OBJ := $(patsubst %.c,$(BUILD)/pic/%.o,$(DRV_SRC) $(DRV_MODEL_SRC)) $(CREFL_SRC:cref/%.c=$(BUILD)/pic/cref-long/%.o)
 DRV_PUBLIC_H := host_driver/c5drv.h $(REGS_H)
 MAN_PAGES  := man/cube5.1 man/cube5ctl.1 man/cube5-board.1

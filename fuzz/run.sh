@@ -69,11 +69,11 @@ fi
 
 # ---- the project's code and the harnesses, instrumented --------------------------------------
 cflags=(-std=c11 -D_DEFAULT_SOURCE -DC5_VERSION="\"$(cat VERSION)\"" $SAN -fsanitize=fuzzer-no-link
-        -Wall -Wextra -Werror -I"$inc" -Icommon -Icref -Icref/cast -Irtl_model -Ivectors/gen -Isweep
+        -Wall -Wextra -Werror -I"$inc" -Icommon -Icref -Icref/cast -Irtl_model -Irtl_model/proc -Irtl_model/dsp -Irtl_model/mem -Irtl_model/analysis -Ivectors/gen -Isweep
         -Ihost_driver -Iboard_emu -I"$build/gen" -Ifuzz)
 mkdir -p "$out/obj"
 lib_objs=()
-for f in common/*.c cref/*.c rtl_model/*.c host_driver/core.c host_driver/frame.c host_driver/hostmem.c; do
+for f in common/*.c cref/*.c rtl_model/*.c rtl_model/*/*.c host_driver/core.c host_driver/frame.c host_driver/hostmem.c; do
     o="$out/obj/$(echo "${f%.c}" | tr / _).o"
     if [ ! -f "$o" ] || [ "$f" -nt "$o" ] || [ -n "$(find common cref rtl_model host_driver "$build/gen" -name '*.h' -newer "$o" | sed -n 1p)" ]; then
         $CC "${cflags[@]}" -c "$f" -o "$o"

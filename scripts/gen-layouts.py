@@ -28,7 +28,7 @@ PROG = "gen-layouts"
 ROUNDINGS = ("half-even", "half-up", "trunc", "exact")
 SATURATIONS = ("saturate", "error", "none")
 C_RND = {"half-even": "C5_RND_HALF_EVEN", "half-up": "C5_RND_HALF_UP", "trunc": "C5_RND_TRUNC"}
-FX_MAX_WIDTH = 62  # C5_FX_MAX_WIDTH in rtl_model/fixed.h
+FX_MAX_WIDTH = 62  # C5_FX_MAX_WIDTH in rtl_model/proc/fixed.h
 UINT_MAX_WIDTH = 32  # uint fields are uint32_t members
 # Lower-case words joined by single underscores: valid in C and, upper-cased, in VHDL
 # (which forbids double and trailing underscores).
@@ -61,7 +61,7 @@ SIGNAL_KEYS = ("name", "format", "rounding", "saturation", "block", "reason")
 
 
 class Fmt:
-    """A field's format: uint, or UQi.f / SQi.f as in rtl_model/fixed.h."""
+    """A field's format: uint, or UQi.f / SQi.f as in rtl_model/proc/fixed.h."""
 
     def __init__(self, text, kind, signed=False, i=0, f=0):
         self.text, self.kind, self.signed, self.i, self.f = text, kind, signed, i, f
@@ -738,7 +738,7 @@ def markdown(spec, decisions, layouts, signals):
            "field positions, a record type and pack/unpack functions per layout "
            "(`build/gen/c5_layouts_pkg.vhd`, used by `fpga/`).", "",
            "Conventions: bit i of a layout is bit i % 8 of byte i / 8 (byte 0 holds bits 7..0). "
-           "Formats are those of `rtl_model/fixed.h`: `uint` is a plain unsigned integer, `UQi.f` "
+           "Formats are those of `rtl_model/proc/fixed.h`: `uint` is a plain unsigned integer, `UQi.f` "
            "is unsigned with i integer and f fraction bits (i + f bits), `SQi.f` two's complement "
            "with a sign bit not counted in i (1 + i + f bits); a fixed-point field holds the raw "
            "integer value * 2^f. Rounding is how values are rounded into the field (`exact`: the "

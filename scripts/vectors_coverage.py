@@ -17,7 +17,7 @@ values the signal can take) replaces its format's extremes. Then, for every roun
 saturation site the spec declares ([[site]]), a point per event it lists
 (`rnd.SITE.EVENT`, EVENT one of vectors_probe.EVENTS): each vector of the block is replayed
 through the model's block function in the live-reference library (--ref, built with the probe
-of rtl_model/round_probe.h), which must give the vector's outputs, and the events its
+of rtl_model/proc/round_probe.h), which must give the vector's outputs, and the events its
 rounders and clamps met are counted; `v.ev` holds them ({site: bits}) for declared points.
 Every site the library has must be declared, and the reverse. A point the golden set cannot
 reach is declared a hole with its reason. Exit status: 0 when every point is hit or a declared hole; 1 when a point

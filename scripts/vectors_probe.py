@@ -1,13 +1,13 @@
 """The rounding and saturation events of each vector, from the model itself: every vector of
 a datapath block is replayed through the block's live reference in build/libc5ref.so (the
-model's own block function, built with the probe of rtl_model/round_probe.h), and the events
+model's own block function, built with the probe of rtl_model/proc/round_probe.h), and the events
 each site met are read back. The replay must give the vector's own outputs, or the events
 would belong to another computation: a mismatch is an error, never a silent miss.
 
 Used by vectors_coverage.py: Probe(lib).events(block, vals, images) -> {site: bits}."""
 import ctypes, os
 
-# C5_EV_* of rtl_model/round_probe.h: the names the coverage points take.
+# C5_EV_* of rtl_model/proc/round_probe.h: the names the coverage points take.
 EVENTS = {'exact': 1, 'down': 2, 'up': 4, 'tie_kept': 8, 'tie_up': 16, 'sat_lo': 32, 'sat_hi': 64}
 
 
@@ -61,7 +61,7 @@ class Probe:
         for i, name in enumerate(self.sites):
             bits = L.c5ref_probe_seen(i)
             if bits and i == 0:
-                raise ProbeError(f'{block}: a rounding without a site (rtl_model/round_probe.h)')
+                raise ProbeError(f'{block}: a rounding without a site (rtl_model/proc/round_probe.h)')
             if bits:
                 seen[name] = bits
         return seen

@@ -50,7 +50,7 @@ else
 fi
 # The header stands alone: it includes what it uses.
 if printf '#include "c5_layouts.h"\n' | ${CC:-cc} -std=c11 -Wall -Wextra -Werror -pedantic -fsyntax-only \
-    -Icommon -Irtl_model -I"$tmp/gen" -x c - 2>"$tmp/err"; then
+    -Icommon -Irtl_model -Irtl_model/proc -I"$tmp/gen" -x c - 2>"$tmp/err"; then
     ok header_self_contained
 else
     bad header_self_contained "$(head -n 5 "$tmp/err")"
@@ -83,7 +83,7 @@ spec() {
     elif [ "$want" -ne 0 ] && [ -e "$tmp/$name.h" ]; then
         bad "$name" "a header was written for a refused spec"
     elif [ "$want" -eq 0 ] && ! err=$(printf '#include "%s.h"\n' "$name" | ${CC:-cc} -std=c11 -Wall -Wextra \
-        -Werror -pedantic -fsyntax-only -Icommon -Irtl_model -I"$tmp" -x c - 2>&1); then
+        -Werror -pedantic -fsyntax-only -Icommon -Irtl_model -Irtl_model/proc -I"$tmp" -x c - 2>&1); then
         bad "$name" "its header does not compile" "$err"
     else
         ok "$name"

@@ -148,7 +148,7 @@ int stab_scene_grazing(stab_scene *sc)
 }
 
 /* The eye 1e-4 above the floor finds floor hits 1e-4 / sin(angle) ahead, many closer than the
- * spawned rays' 1/64 voxel: eye rays take any hit at t > 0 (rtl_model/processor.c
+ * spawned rays' 1/64 voxel: eye rays take any hit at t > 0 (rtl_model/proc/processor.c
  * c5_proc_new_ray), as cref does. */
 const double stab_grazing_heights[STAB_N_GRAZING] = {0.05, 1e-4, 0, -0.02};
 

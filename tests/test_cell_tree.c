@@ -1,4 +1,4 @@
-/* The Cell Tree in DSP RAM (rtl_model/cell_tree.h): construction by the paper's rule on
+/* The Cell Tree in DSP RAM (rtl_model/dsp/cell_tree.h): construction by the paper's rule on
  * hand-made ray traces (Figure 3), the node layout in the RAM bytes, child lists longer than
  * Figure 8's six (five a slot here), and what happens when the RAM is full. */
 #include <stdlib.h>

@@ -1,11 +1,12 @@
 /* The Cell Tree on the board: the tree a frame builds, the schedule the DSP makes from it,
- * and the board following that schedule (rtl_model/dsp_sched.h, docs/cell-tree.md). */
+ * and the board following that schedule (rtl_model/dsp/dsp_sched.h, docs/cell-tree.md). */
 #include <stdlib.h>
 #include <string.h>
 
 #include "board.h"
 #include "dsp_cost.h"
 #include "dsp_sched.h"
+#include "tree_analysis.h"
 #include "harness.h"
 #include "scene_load.h"
 

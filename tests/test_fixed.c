@@ -1,4 +1,4 @@
-/* Fixed-point layer (rtl_model/fixed.h): hand-computed values for every operation and
+/* Fixed-point layer (rtl_model/proc/fixed.h): hand-computed values for every operation and
  * rounding mode, the extremes of every format in FORMATS, and a seeded random cross-check
  * against exact reference arithmetic written here independently (rational rounding with
  * __int128 division, overflow detected by __builtin_mul_overflow, square roots by binary

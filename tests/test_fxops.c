@@ -1,4 +1,4 @@
-/* The datapath's inline primitives (rtl_model/fxops.h) against the fixed-point layer they
+/* The datapath's inline primitives (rtl_model/proc/fxops.h) against the fixed-point layer they
  * specialise: the same bits for random and extreme operands of the model's formats. */
 #include <stdint.h>
 

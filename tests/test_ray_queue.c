@@ -1,4 +1,4 @@
-/* The ray queue (rtl_model/ray_queue.c): hand-written cycle traces, edge capacities and key
+/* The ray queue (rtl_model/proc/ray_queue.c): hand-written cycle traces, edge capacities and key
  * widths, the systolic structure itself, and long random runs checked cycle by cycle
  * against a naive sorted-array priority queue (the oracle) under the latency rule of
  * ray_queue.h: each cycle, pop first (elements accepted in earlier cycles), then insert. */

@@ -1,5 +1,5 @@
-/* The ray queue's equivalent model (rtl_model/rq_heap.c) against the clock-level sorter
- * (rtl_model/ray_queue.c), side by side: every cycle's outputs, the occupancy and every
+/* The ray queue's equivalent model (rtl_model/proc/rq_heap.c) against the clock-level sorter
+ * (rtl_model/proc/ray_queue.c), side by side: every cycle's outputs, the occupancy and every
  * statistic, on random bursts and on adversarial traffic (a full queue, equal keys, pops and
  * inserts at capacity, keys too wide, idle inputs with garbage); then whole frames of every
  * built-in scene rendered with each, compared in the image, every board counter and cycle

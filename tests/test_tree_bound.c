@@ -1,4 +1,4 @@
-/* The projection bounds (rtl_model/tree_bound.c) and the exact solver's projection heuristic
+/* The projection bounds (rtl_model/analysis/tree_bound.c) and the exact solver's projection heuristic
  * (tree_exact.c): hand-made trees with the values worked out below, each projection's
  * optimum against a brute force on the projection built here, the bounds against the
  * brute-force optimum on thousands of random trees, the packing's branch and bound against
@@ -11,7 +11,7 @@
 #include "harness.h"
 #include "rng.h"
 #include "tree_fixtures.h"
-#include "tree_sched.h"
+#include "tree_analysis.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 

@@ -1,6 +1,6 @@
-/* The bounded rollout (C5_SPLIT_BOUNDED, rtl_model/tree_sched.c), the window rule
- * (C5_SPLIT_WINDOW, rtl_model/tree_window.c) and the DSP's operation count
- * (rtl_model/dsp_cost.h): feasible, never longer than the paper's rule, deterministic, within
+/* The bounded rollout (C5_SPLIT_BOUNDED, rtl_model/dsp/tree_sched.c), the window rule
+ * (C5_SPLIT_WINDOW, rtl_model/dsp/tree_window.c) and the DSP's operation count
+ * (rtl_model/dsp/dsp_cost.h): feasible, never longer than the paper's rule, deterministic, within
  * their budget, and the paper's schedule when the budget is too small. */
 #include <stdint.h>
 #include <stdlib.h>
@@ -143,7 +143,7 @@ TEST(tree_bounded_within_budget_big)
     check_within_budget_big(0xb16ull, C5_SPLIT_BOUNDED, pool, (const int[]){27, 64}, 2, 1);
 }
 
-/* The window rule (C5_SPLIT_WINDOW, rtl_model/tree_window.c): feasible, never longer than the
+/* The window rule (C5_SPLIT_WINDOW, rtl_model/dsp/tree_window.c): feasible, never longer than the
  * paper's rule, within its budget (but for the paper's rule, which always runs), the same
  * schedule and count for the same tree and budget. Budgets from nothing to the unbounded
  * run's cost. */

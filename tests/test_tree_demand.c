@@ -1,4 +1,4 @@
-/* The unbounded Cell Tree instrument (rtl_model/tree_demand.h): the DSP's rule on its own
+/* The unbounded Cell Tree instrument (rtl_model/analysis/tree_demand.h): the DSP's rule on its own
  * ids, node for node and slot for slot where the 96 KB tree fits, and still counting where
  * it overflows. */
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* The exact optimum (rtl_model/tree_exact.c, A*) against an independent formulation: the
+/* The exact optimum (rtl_model/analysis/tree_exact.c, A*) against an independent formulation: the
  * time-indexed integer program of tests/tree_ilp.c solved by GLPK, which shares no code with
  * the A*, its bounds or the feasibility test. An answer is confirmed when the program finds
  * a schedule of that length and proves that none is one shorter. */
@@ -9,7 +9,7 @@
 #include "rng.h"
 #include "tree_fixtures.h"
 #include "tree_ilp.h"
-#include "tree_sched.h"
+#include "tree_analysis.h"
 
 /* 1 iff the program confirms `claimed` as the optimum: a schedule of `claimed` loads exists
  * (the minimum over a horizon of `claimed` is exactly that) and none of claimed - 1 does. */

@@ -1,4 +1,4 @@
-/* Cell Tree scheduling (rtl_model/tree_sched.c, tree_exact.c): the paper's Figure 4 example
+/* Cell Tree scheduling (rtl_model/dsp/tree_sched.c, tree_exact.c): the paper's Figure 4 example
  * peel by peel, the feasibility test, the exact solver against a forward brute force, the
  * bounds and the three rules on thousands of random trees, a refutation of the paper's
  * completion claim, the proven narrower claim, budgets, refused trees, the empty tree. */
@@ -10,7 +10,7 @@
 #include "harness.h"
 #include "rng.h"
 #include "tree_fixtures.h"
-#include "tree_sched.h"
+#include "tree_analysis.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 

@@ -1,5 +1,5 @@
 /* The optimum of a Cell Tree schedule as an integer program solved by GLPK: a formulation
- * that shares no code with the A* of rtl_model/tree_exact.c (nor with its bounds or the
+ * that shares no code with the A* of rtl_model/analysis/tree_exact.c (nor with its bounds or the
  * feasibility test), so the tests can check one against the other (docs/cell-tree.md,
  * "Bounds (Section 3.4) and the exact optimum"). Test-only: the DSP never runs it. */
 #ifndef C5_TREE_ILP_H

@@ -1,4 +1,4 @@
-/* The datapath blocks of the C model (rtl_model/sample_pipe.h) as live references for GHDL
+/* The datapath blocks of the C model (rtl_model/proc/sample_pipe.h) as live references for GHDL
  * (fpga/tb/c5ref_pkg.vhd): each call runs the model's own block function on one
  * transaction, as vectors/gen does for the golden vectors. Integers cross as VHDL
  * `integer`; signals in their raw fixed-point integers. */

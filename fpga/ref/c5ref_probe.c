@@ -1,4 +1,4 @@
-/* The rounding and saturation probe of the model (rtl_model/round_probe.h), read through the
+/* The rounding and saturation probe of the model (rtl_model/proc/round_probe.h), read through the
  * library: libc5ref.so is built with -DC5_ROUND_PROBE, so every rounder and clamp of the
  * blocks it runs records its event at its site. scripts/vectors_coverage.py replays each
  * vector of a set through the block's reference and reads the events here. */

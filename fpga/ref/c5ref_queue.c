@@ -1,4 +1,4 @@
-/* The ray queue of the C model (rtl_model/ray_queue.c) as a live reference inside a VHDL
+/* The ray queue of the C model (rtl_model/proc/ray_queue.c) as a live reference inside a VHDL
  * simulator: foreign functions that GHDL calls through VHPIDIRECT (fpga/tb/c5ref_pkg.vhd),
  * built with the model's source into build/libc5ref.so (docs/vectors.md, "The model inside
  * the simulator"). Integers cross as VHDL `integer` (32-bit signed): keys and payloads are

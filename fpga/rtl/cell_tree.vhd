@@ -1,4 +1,4 @@
--- The Cell Tree tagging unit (rtl_model/cell_tree.c c5_ctree_tag; docs/cell-tree.md),
+-- The Cell Tree tagging unit (rtl_model/dsp/cell_tree.c c5_ctree_tag; docs/cell-tree.md),
 -- bit for bit: a ray packet on its way to the queue of `cell`, tagged with `node_in`
 -- (all ones = none), gets node_out:
 --   the tree is frozen (a node did not fit): none;

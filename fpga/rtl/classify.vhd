@@ -1,4 +1,4 @@
--- Block "classify": the transfer-function lookup of one sample (rtl_model/sample_pipe.h
+-- Block "classify": the transfer-function lookup of one sample (rtl_model/proc/sample_pipe.h
 -- c5_classify). value (sample_value UQ8.8) = i + f / 2^8; out: tf_rgba (4 x UQ1.15)
 --   rgba = round_he((tf[i] 2^8 + (tf[i + 1] - tf[i]) f) / 2^8),
 -- linear between entries i and i + 1, one rounding half to even; for value >= 255.0 the

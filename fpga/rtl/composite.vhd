@@ -1,5 +1,5 @@
 -- Block "composite": front-to-back compositing of one sample into the ray
--- (rtl_model/sample_pipe.h c5_composite; docs/rendering-spec.md 5). With T = 1 - opa:
+-- (rtl_model/proc/sample_pipe.h c5_composite; docs/rendering-spec.md 5). With T = 1 - opa:
 --   rgb'  = clamp(rgb + round_he(w T alpha c / 2^45), 0, 2^14 - 1) per channel, unless the
 --           ray is a shadow ray (colour unchanged: shadow rays only attenuate);
 --   opa'  = opa + round_he(T alpha / 2^15);  done = opa' >= a_max (early termination);

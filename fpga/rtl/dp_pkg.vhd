@@ -1,7 +1,7 @@
 -- The per-sample datapath's shared arithmetic and pipeline latencies (fpga/rtl/interp.vhd,
 -- gradient.vhd, classify.vhd, composite.vhd).
 --
--- The rounding and saturation are the C model's (rtl_model/fxops.h): the exact result
+-- The rounding and saturation are the C model's (rtl_model/proc/fxops.h): the exact result
 -- first, then one rounding half to even (c5_rshift_he: floor(x / 2^s), +1 when the dropped
 -- bits exceed one half, or equal it and the kept LSB is odd), then, where the model
 -- clamps, saturation (c5_clamp64). Every width comes from the generated package

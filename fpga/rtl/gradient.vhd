@@ -1,7 +1,7 @@
 -- Block "gradient": per axis A the trilinear blend of the 8 corners' central differences
 -- dA_k (v(c + e_A) - v(c - e_A), signed) with the interp weights, rounded half to even to
 -- SQ8.8, then times the gradient scale gs_A (grad_scale UQ1.15) and rounded half to even
--- again to SQ8.8 (rtl_model/sample_pipe.h c5_grad_blend):
+-- again to SQ8.8 (rtl_model/proc/sample_pipe.h c5_grad_blend):
 --   grad_A = round_he(round_he(sum_k wt_k dA_k / 2^37) gs_A / 2^15).
 -- Neither step saturates, as in the model: with gs <= 1 (min spacing / spacing) the
 -- result is within +-255.0, inside SQ8.8; the output is the result's low 17 bits.

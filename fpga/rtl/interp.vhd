@@ -1,7 +1,7 @@
 -- Block "interp": the trilinear blend of the 8 corner voxels with the fractions
 -- (voxel_frac UQ0.15), rounded once half to even to sample_value (UQ8.8):
 -- value = round_he(sum_k wt_k v_k / 2^(45 - 8)), wt_k the product of the three axis
--- factors (1 - frac or frac) with 45 fraction bits (rtl_model/sample_pipe.h
+-- factors (1 - frac or frac) with 45 fraction bits (rtl_model/proc/sample_pipe.h
 -- c5_interp_blend). The sum is exact (< 2^53), so the order of the additions is free.
 --
 -- Pipeline: INTERP_LATENCY = 2 (dp_pkg). Stage 1 registers the four x-y weight products;

@@ -1,5 +1,5 @@
 -- The ray queue: one cell's pipelined insertion sorter on its eDRAM, cycle-exact to the C
--- model rtl_model/ray_queue.c (docs/ray-queue.md). Same ports, same latency rule: every
+-- model rtl_model/proc/ray_queue.c (docs/ray-queue.md). Same ports, same latency rule: every
 -- output of cycle t comes from the registers at the start of t and the inputs of t.
 --
 --   pop_valid       = pop_ready and count > 0; pop_key / pop_payload are 0 otherwise

@@ -8,7 +8,7 @@ package rq_pkg is
   -- Bits to number 0 .. n-1 (at least 1, so a 1-entry queue still has an address port).
   function clog2(n : positive) return positive;
 
-  -- Does element a go before element b? The C model's goes_first (rtl_model/ray_queue.c):
+  -- Does element a go before element b? The C model's goes_first (rtl_model/proc/ray_queue.c):
   -- an empty slot goes after everything; a smaller key goes first; on equal keys a fresh a
   -- (inserted, never settled) loses and any other a wins, which keeps equal keys FIFO.
   function goes_first(a_valid, a_fresh : std_logic; a_key : std_logic_vector;

@@ -9,7 +9,7 @@
 --     insert itself, which takes the place of hi[0]) meets y = lo[i+1], the next stage's
 --     level-1 lo: held'[i] = the one that goes first, carry'[i+1] = the other.
 --
--- This is rtl_model/ray_queue.c written per stage, every stage every cycle; the C model
+-- This is rtl_model/proc/ray_queue.c written per stage, every stage every cycle; the C model
 -- skips stages where nothing moves, which changes no register (an empty carry meeting
 -- held[i] gives held'[i] = held[i] and an empty carry'[i+1]).
 --

@@ -1,4 +1,4 @@
--- Block "shade": Phong shading of one sample (rtl_model/sample_pipe.h c5_shade_w at the
+-- Block "shade": Phong shading of one sample (rtl_model/proc/sample_pipe.h c5_shade_w at the
 -- shipped widths; docs/rendering-spec.md 4.3), bit for bit:
 --   m2 = |g|^2 (16 fraction bits); below 1024 (|g| < 1/8): k = ka, ks = 0. Otherwise
 --   n = normalize(-g), turned to face the viewer (v = -dir) when n.v < 0; per light i

@@ -1,5 +1,5 @@
 -- Block "traverse": one step of the processor's traversal loop over the active cell
--- (rtl_model/processor.c trav_step, c5_trav_step), bit for bit:
+-- (rtl_model/proc/processor.c trav_step, c5_trav_step), bit for bit:
 --   leave  (action 2): lifetime 0, or pos outside the grid [0, dims) or the cell [lo, hi)
 --          (in voxels, pos >> 15): everything passes unchanged, leaped 0;
 --   leap   (action 1): pos's 8^3 block is empty: n = the smallest step count that carries

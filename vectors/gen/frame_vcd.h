@@ -1,5 +1,5 @@
 /* The waveform of a frame's cycle-level parts (`cube5 render --vcd FILE`, docs/vectors.md,
- * "Waveforms of a frame"): taps on the board model (rtl_model/taps.h) that write one VCD
+ * "Waveforms of a frame"): taps on the board model (rtl_model/proc/taps.h) that write one VCD
  * (vcd.h) with two scopes on the testbenches' 10 ns clock:
  *
  *   ray_queue  the board's eDRAM sorter, whose entries are the active cell's rays (the board

@@ -1,4 +1,4 @@
-/* Memory images of the DSP's Cell Tree (rtl_model/cell_tree.h) for the "cell_tree" and
+/* Memory images of the DSP's Cell Tree (rtl_model/dsp/cell_tree.h) for the "cell_tree" and
  * "sched" blocks: the RAM's node slots (one 96-bit node a line, line i = slot i) and the
  * root table (64 lines of 13 bits, line c = cell c's root). */
 #ifndef C5_VEC_TREE_IMAGE_H

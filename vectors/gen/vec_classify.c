@@ -22,7 +22,7 @@ static const c5_vblock block = {"classify",
                                 "transfer-function lookup: sample_value in, tf_rgba out, linear between entries "
                                 "floor(value) and floor(value) + 1, rounded once half to even, top clamp "
                                 "(value >= 255.0: entry 255); the table is the image named in config "
-                                "(rtl_model/sample_pipe.h c5_classify)",
+                                "(rtl_model/proc/sample_pipe.h c5_classify)",
                                 fields, (int)(sizeof fields / sizeof fields[0])};
 
 static const c5_vfield tf_fields[] = {

@@ -25,7 +25,7 @@ static const c5_vblock block = {
     "composite",
     "front-to-back compositing of a sample: the ray's w, opacity and colour, the sample's alpha and shaded "
     "colour, the shadow flag (colour ignored) and max_opacity in; colour (clamped), opacity, early "
-    "termination and the number of clamped channels out (rtl_model/sample_pipe.h c5_composite)",
+    "termination and the number of clamped channels out (rtl_model/proc/sample_pipe.h c5_composite)",
     fields, (int)(sizeof fields / sizeof fields[0])};
 
 static void write_io(c5_vfile *f, const void *p)

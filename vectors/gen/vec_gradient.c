@@ -26,7 +26,7 @@ static const c5_vblock block = {
     "gradient",
     "gradient of a sample: voxel_frac x, y, z, per axis the 8 corners' central differences dA0..dA7 "
     "(v(c + e_A) - v(c - e_A), corner k = kx + 2 ky + 4 kz) and the gradient scale gs in, the gradient "
-    "out: trilinear blend rounded to SQ8.8, times gs, rounded again (rtl_model/sample_pipe.h c5_grad_blend)",
+    "out: trilinear blend rounded to SQ8.8, times gs, rounded again (rtl_model/proc/sample_pipe.h c5_grad_blend)",
     fields, (int)(sizeof fields / sizeof fields[0])};
 
 typedef struct {

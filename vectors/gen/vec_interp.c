@@ -20,7 +20,7 @@ static const c5_vfield fields[] = {
 static const c5_vblock block = {"interp",
                                 "trilinear interpolation: voxel_frac x, y, z (weights of the upper corners) and "
                                 "the 8 corner voxels (corner k = kx + 2 ky + 4 kz) in, sample_value out "
-                                "(round half to even once; rtl_model/sample_pipe.h c5_interp_blend)",
+                                "(round half to even once; rtl_model/proc/sample_pipe.h c5_interp_blend)",
                                 fields, (int)(sizeof fields / sizeof fields[0])};
 
 typedef struct {

@@ -1,4 +1,4 @@
-/* Block "ray_queue": the 256-entry pipelined insertion sorter (rtl_model/ray_queue.h), one
+/* Block "ray_queue": the 256-entry pipelined insertion sorter (rtl_model/proc/ray_queue.h), one
  * vector per clock cycle, starting right after reset: the cycle's inputs, then the outputs
  * of that cycle. A testbench applies the inputs, compares the outputs, then clocks. */
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* Block "sched": the DSP's scheduler between frames (rtl_model/dsp_sched.h) with the paper's
+/* Block "sched": the DSP's scheduler between frames (rtl_model/dsp/dsp_sched.h) with the paper's
  * split rule. Input: the Cell Tree as the frame left it in the DSP RAM (images ram_in,
  * roots_in). Output: the schedule, one vector per load (its position and cell), and the RAM
  * with the generations and ready flags the scheduler writes back (image ram_out). */

@@ -27,7 +27,7 @@ static const c5_vblock block = {
     "shade",
     "Phong shading of a sample: gradient, table colour, geom position and ray direction in; shaded_rgb "
     "(clamped) and the number of clamps out (light_term k and ks, then the channels: 0 to 5); registers and power table are the images named in "
-    "config (rtl_model/sample_pipe.h c5_shade, docs/rendering-spec.md 4.3)",
+    "config (rtl_model/proc/sample_pipe.h c5_shade, docs/rendering-spec.md 4.3)",
     fields, (int)(sizeof fields / sizeof fields[0])};
 
 static const c5_vfield reg_field[] = {{"value", 32, 0, "sint"}};

@@ -43,7 +43,7 @@ static const c5_vblock block = {
     "traverse",
     "one step of the processor's traversal loop: position, step vector, lifetime, the cell's box, the grid "
     "and the empty flag of pos's 8^3 block in; the action (0 sample, 1 leap, 2 leave the cell), the samples "
-    "leaped, the new position and lifetime out (rtl_model/processor.h c5_trav_step)",
+    "leaped, the new position and lifetime out (rtl_model/proc/processor.h c5_trav_step)",
     fields, (int)(sizeof fields / sizeof fields[0])};
 
 typedef struct {

@@ -1,4 +1,4 @@
-/* Block "cell_tree": the DSP's Cell Tree construction (rtl_model/cell_tree.h). One vector
+/* Block "cell_tree": the DSP's Cell Tree construction (rtl_model/dsp/cell_tree.h). One vector
  * per packet the DSP tags: its node and destination cell in, its new node out, from an
  * empty tree; beside the trace the RAM image and root table after its last vector. */
 #include <stdlib.h>

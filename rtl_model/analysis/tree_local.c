@@ -27,7 +27,7 @@
  * equally short window schedules comes out, and the schedule moves without growing. A
  * window's answer is a schedule of its forest M whatever the names, so the proof above
  * holds for every step, and the length never grows. */
-#include "tree_sched.h"
+#include "tree_analysis.h"
 
 #include <stdlib.h>
 #include <string.h>

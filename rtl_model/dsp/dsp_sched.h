@@ -94,6 +94,11 @@ typedef struct {
  * overflowed tree is scheduled only with o->partial; otherwise r->next is empty, so the next
  * frame runs Max Work. */
 int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err);
+
+/* One rule as the DSP runs it (the window rule from o->warm when there is one), or under a
+ * cap of nodes examined (0: none) for the report; 0, 1 when over the cap, -1 on error. */
+int c5_dsp_run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, const c5_dsp_sched_opts *o,
+                    c5_schedule *out, c5_err *err);
 void c5_dsp_sched_free(c5_dsp_sched_result *r);
 
 /* The DSP's rule for the unit of the next frame's tree when a tree outgrows its RAM: the

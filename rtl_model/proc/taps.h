@@ -9,7 +9,7 @@
 
 #include "ray_queue.h"
 
-/* The per-sample datapath's transactions (rtl_model/sample_pipe.h, processor.c): each
+/* The per-sample datapath's transactions (rtl_model/proc/sample_pipe.h, processor.c): each
  * block's inputs and outputs in the raw integers of its declared formats. */
 
 /* A sample's gather from the RDRAM cell: the inputs of the interpolation and gradient

@@ -40,7 +40,7 @@
  * memoizes every downset it meets (exact values), up to a budget of stored downsets; a
  * projection over budget falls back to its sum of maxGen, which is always valid. */
 #include "bitset_index.h"
-#include "tree_sched.h"
+#include "tree_analysis.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -34,7 +34,7 @@
  * The open list prefers smaller f, then larger g (deeper states finish tight instances
  * fast), then the newest entry; every key is an integer, so the search is deterministic. */
 #include "bitset_index.h"
-#include "tree_sched.h"
+#include "tree_analysis.h"
 
 #include <stdlib.h>
 #include <string.h>

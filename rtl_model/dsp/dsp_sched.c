@@ -1,0 +1,84 @@
+/* The DSP's work between frames (dsp_sched.h). */
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "dsp_sched.h"
+#include "clock.h"
+#include "dsp_cost.h"
+#include "sched_report.h"
+
+void c5_dsp_sched_free(c5_dsp_sched_result *r)
+{
+    c5_schedule_free(&r->next);
+}
+
+int c5_dsp_next_group(int group, int overflowed, const int cells[3])
+{
+    int most = cells[0] > cells[1] ? cells[0] : cells[1];
+    most = most > cells[2] ? most : cells[2];
+    if (group < 1)
+        group = 1;
+    if (!overflowed || group >= most)
+        return group;
+    return 2 * group < most ? 2 * group : most;
+}
+
+int c5_dsp_run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, const c5_dsp_sched_opts *o,
+                    c5_schedule *out, c5_err *err)
+{
+    if (rule == C5_SPLIT_WINDOW)
+        return c5_sched_window_from(dt, c5_dsp_rule_budget(dt->n), o->warm, o->warm_len, out, err);
+    return c5_sched_celltree_capped(dt, rule, cap, out, err);
+}
+
+int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
+{
+    memset(r, 0, sizeof *r);
+    r->nodes = (int)t->nodes;
+    r->slots = (int)t->used;
+    r->overflow = t->overflow;
+    r->optimum = -1;
+    if (t->overflow && !o->partial)
+        return 0;
+    int report = !t->overflow; /* the other rules and the bounds: for a whole tree only */
+    double t0 = c5_now_s();
+    int n = r->nodes, rc = -1;
+    int *parent = malloc(sizeof *parent * (size_t)(n + 1)), *cell = malloc(sizeof *cell * (size_t)(n + 1));
+    int *gen = malloc(sizeof *gen * (size_t)(n + 1));
+    uint32_t *id = malloc(sizeof *id * (size_t)(n + 1));
+    int *len_of[6] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded, &r->len_window};
+    if (!parent || !cell || !gen || !id) {
+        c5_fail(err, "out of memory for the Cell Tree scheduler (%d nodes)", n);
+        goto done;
+    }
+    /* The DSP's own work, timed: read the tree, schedule by the chosen rule, write back. */
+    c5_ctree_export(t, parent, cell, id);
+    c5_dep_tree dt = {n, parent, cell};
+    c5_split_rule rule = o->rule ? o->rule : C5_SPLIT_MOST_LEAVES;
+    if (c5_tree_check(&dt, err) != 0 || c5_dsp_run_rule(&dt, rule, 0, o, &r->next, err) != 0 ||
+        c5_tree_generations(&dt, gen) < 0 || c5_ctree_annotate(t, id, gen, n, err) != 0)
+        goto done;
+    r->sched_wall_s = c5_now_s() - t0;
+    r->peels_completion = r->next.peels_completion;
+    r->peels_split = r->next.peels_split;
+    r->nodes_examined = r->next.nodes_examined;
+    r->max_gen = r->next.max_gen;
+    r->dsp_ops_export = (uint64_t)n * C5_OPS_NODE_READ;
+    r->dsp_ops_rule = r->next.dsp_ops;
+    r->dsp_ops_writeback = (uint64_t)n * C5_OPS_NODE_WRITE;
+    r->dsp_ops_schedule = r->dsp_ops_export + r->dsp_ops_rule + r->dsp_ops_writeback;
+    r->bounded_gave_up = r->next.gave_up;
+    r->bounded_fell_back = r->next.fell_back;
+    /* The report's: the other rules and the bounds (offline analysis, sched_report.c). */
+    *len_of[rule] = r->next.len;
+    rc = report ? c5_dsp_sched_report(&dt, rule, o, r, err) : 0;
+done:
+    free(parent);
+    free(cell);
+    free(gen);
+    free(id);
+    if (rc != 0)
+        c5_schedule_free(&r->next);
+    return rc;
+}
