@@ -204,7 +204,7 @@ static void put_digits(c5_vfile *f, const uint8_t *le)
     f->field++;
 }
 
-/* Whether v (two's complement for a signed format: sint, SQ) fits field k's width: a value
+/* Whether v (two's complement for a signed format: sint, SQ) fits the field's width: a value
  * that does not would be cut to its low bits, a vector the model never computed. */
 static int fits(const c5_vfield *fd, uint64_t v)
 {
