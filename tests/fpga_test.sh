@@ -5,7 +5,8 @@
 # each other block's testbench (tb_interp, ..., tb_cell_tree) on its BLOCK.SOURCE.hex files
 # (given the memory images BLOCK.SOURCE.IMAGE.hex it is configured with or compared
 # against), and checks that the testbenches can fail (one flipped bit in a copy of a file
-# must give FAIL naming the line and the column). Usage: fpga_test.sh [BUILD] (default
+# must give FAIL naming the line and the column; a DUT whose out_valid never rises must give
+# FAIL naming out_valid). Usage: fpga_test.sh [BUILD] (default
 # build/; needs BUILD/gen/c5_layouts_pkg.vhd, which `make test` builds). C5_VECTORS=DIR reads another
 # vector directory. GHDL missing is a failure, not a skip: scripts/setup-deps.sh installs it.
 set -u
@@ -222,6 +223,25 @@ elif grep -q "255 entries read" "$tmp/out" && grep -q "^FAIL tb_classify: " "$tm
     ok fails_on_short_table
 else
     bad fails_on_short_table "$(tail -n 5 "$tmp/out")"
+fi
+
+# A DUT whose out_valid never rises: the testbench's valid check (vec_io_pkg check_valid)
+# must fail it on the golden interp file, naming out_valid; the flipped-file checks above
+# never reach that check (their out_valid is right).
+mut="$tmp/mutant"
+mkdir -p "$mut"
+sed "s/      out_valid <= s1_valid;/      out_valid <= '0';  -- mutant/" fpga/rtl/interp.vhd >"$mut/interp.vhd"
+if ! grep -q "mutant" "$mut/interp.vhd"; then
+    bad fails_on_stuck_out_valid "fpga/rtl/interp.vhd has no 'out_valid <= s1_valid;' to break"
+elif ! ghdl -a --std=08 --workdir="$mut" "$pkg" fpga/rtl/dp_pkg.vhd "$mut/interp.vhd" fpga/tb/tb_pkg.vhd \
+        fpga/tb/vec_io_pkg.vhd fpga/tb/tb_interp.vhd 2>"$tmp/err" || ! (cd "$mut" && ghdl -e --std=08 tb_interp) 2>>"$tmp/err"; then
+    bad fails_on_stuck_out_valid "$(head -n 5 "$tmp/err")"
+elif f=$(abs "$vectors/interp.directed.hex") && (cd "$mut" && ghdl -r --std=08 tb_interp "-gVECTORS=$f") >"$tmp/out" 2>&1; then
+    bad fails_on_stuck_out_valid "tb_interp passed a DUT whose out_valid never rises"
+elif grep -qF "line 1: out_valid: expected 1 got 0" "$tmp/out" && grep -q "^FAIL tb_interp: " "$tmp/out"; then
+    ok fails_on_stuck_out_valid
+else
+    bad fails_on_stuck_out_valid "$(grep -E '^(PASS|FAIL)|out_valid' "$tmp/out" | head -n 5)"
 fi
 
 summary
