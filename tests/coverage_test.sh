@@ -12,6 +12,15 @@ trap 'rm -rf "$tmp"' EXIT
 . "$(dirname "$0")/lib.sh"
 cov="python3 scripts/vectors_coverage.py --ref $build/libc5ref.so"
 
+# refused NAME PATTERN CMD...: CMD exits 2 (bad input) and says PATTERN (grep).
+refused() {
+    local name=$1 pat=$2 st
+    shift 2
+    "$@" >"$tmp/out" 2>&1
+    st=$?
+    if [ "$st" -eq 2 ] && grep -q -- "$pat" "$tmp/out"; then ok "$name"; else bad "$name" "exit $st" "$(cat "$tmp/out")"; fi
+}
+
 if $cov vectors/golden >"$tmp/out" 2>&1 && grep -q ", 0 missed or hit holes$" "$tmp/out"; then
     ok golden_reaches_every_point_or_hole
 else
@@ -81,45 +90,22 @@ cols = lines[0].split()
 cols[-1] = "%04x" % ((int(cols[-1], 16) + 1) % 65536)
 lines[0] = " ".join(cols)
 open(sys.argv[2], "w").write("\n".join(lines))' vectors/golden/interp.directed.hex "$tmp/wrong/interp.directed.hex"
-$cov "$tmp/wrong" >"$tmp/out" 2>&1
-st=$?
-if [ "$st" -eq 2 ] && grep -q "interp.directed.hex line 1: interp: the model replayed gives other outputs" "$tmp/out"; then
-    ok wrong_output_exits_2
-else
-    bad wrong_output_exits_2 "exit $st" "$(cat "$tmp/out")"
-fi
+refused wrong_output_exits_2 "interp.directed.hex line 1: interp: the model replayed gives other outputs" \
+    $cov "$tmp/wrong"
 
 # Every rounding site of the model is declared: the spec without one is refused.
 python3 -c '
 import re, sys
 s = open(sys.argv[1]).read()
 print(re.sub(r"\[\[site\]\]\nblock = \"interp\"\nsite = \"interp.value\"\n(?:[^\n]+\n)*", "", s))' spec/coverage.toml >"$tmp/nosite.toml"
-$cov vectors/golden --spec "$tmp/nosite.toml" >"$tmp/out" 2>&1
-st=$?
-if [ "$st" -eq 2 ] && grep -q "rounding site interp.value: the spec does not declare it" "$tmp/out"; then
-    ok undeclared_site_exits_2
-else
-    bad undeclared_site_exits_2 "exit $st" "$(cat "$tmp/out")"
-fi
+refused undeclared_site_exits_2 "rounding site interp.value: the spec does not declare it" \
+    $cov vectors/golden --spec "$tmp/nosite.toml"
 
 # Bad input: no vector set; a hole naming no point; no reference library.
-$cov "$tmp/none" >"$tmp/out" 2>&1
-st=$?
-if [ "$st" -eq 2 ] && grep -q "no vector set" "$tmp/out"; then ok no_set_exits_2; else bad no_set_exits_2 "exit $st" "$(cat "$tmp/out")"; fi
+refused no_set_exits_2 "no vector set" $cov "$tmp/none"
 cp spec/coverage.toml "$tmp/bad.toml"
 printf '\n[[hole]]\nblock = "ray_queue"\npoint = "no_such"\nreason = "test"\n' >>"$tmp/bad.toml"
-$cov vectors/golden --spec "$tmp/bad.toml" >"$tmp/out" 2>&1
-st=$?
-if [ "$st" -eq 2 ] && grep -q "hole ray_queue.no_such is no point" "$tmp/out"; then
-    ok unknown_hole_exits_2
-else
-    bad unknown_hole_exits_2 "exit $st" "$(cat "$tmp/out")"
-fi
-python3 scripts/vectors_coverage.py vectors/golden --ref "$tmp/none.so" >"$tmp/out" 2>&1
-st=$?
-if [ "$st" -eq 2 ] && grep -q "none.so: .*make .*none.so builds it" "$tmp/out"; then
-    ok no_reference_exits_2
-else
-    bad no_reference_exits_2 "exit $st" "$(cat "$tmp/out")"
-fi
+refused unknown_hole_exits_2 "hole ray_queue.no_such is no point" $cov vectors/golden --spec "$tmp/bad.toml"
+refused no_reference_exits_2 "none.so: .*make .*none.so builds it" \
+    python3 scripts/vectors_coverage.py vectors/golden --ref "$tmp/none.so"
 summary
