@@ -331,35 +331,11 @@ static void dsp_text(const frame_row *rows, int frames)
 /* Why the board stopped following the schedule, in words. */
 static const char *switch_reason(const c5_board_stats *st, char *buf, size_t n)
 {
-    switch (st->switch_reason) {
-    case C5_SWITCH_START:
-        snprintf(buf, n, "queues after the set-up differ from the previous frame's (overlap %.0f%%)",
-                 100 * st->switch_value);
-        break;
-    case C5_SWITCH_ORPHANS:
-        snprintf(buf, n, "%.0f%% of the waiting rays are in cells the schedule no longer visits",
-                 100 * st->switch_value);
-        break;
-    case C5_SWITCH_NO_GAIN:
-        snprintf(buf, n, "on the previous tree the schedule makes %.0f%% of Max Work's loads", 100 * st->switch_value);
-        break;
-    case C5_SWITCH_LAG:
-        snprintf(buf, n, "the previous frame's schedule, replayed on the frame after it, makes %.0f%% of Max Work's loads",
-                 100 * st->switch_value);
-        break;
-    case C5_SWITCH_LEDGER:
-        snprintf(buf, n, "the replays expect %.0f loads saved, too few to risk the frame on the path's balance",
-                 st->switch_value);
-        break;
-    case C5_SWITCH_SURPRISE:
-        snprintf(buf, n, "unexpected loads and orphan cells reach %.0f%% of the expected saving", 100 * st->switch_value);
-        break;
-    case C5_SWITCH_SKIPS:
-        snprintf(buf, n, "%.0f%% of the scheduled cells passed were empty", 100 * st->switch_value);
-        break;
-    default:
+    if (st->switch_reason == C5_SWITCH_BUDGET)
+        snprintf(buf, n, "the next scheduled load would take the board %.0f loads past Max Work's shadow, its budget is %lld",
+                 st->switch_value + 1, (long long)st->ledger_budget);
+    else
         snprintf(buf, n, "none");
-    }
     return buf;
 }
 
@@ -390,7 +366,14 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     char why[160];
     json_object_set_new(o, "switch_reason", r->ct.sched_switches ? json_string(switch_reason(&r->ct, why, sizeof why)) : json_null());
     json_object_set_new(o, "start_overlap", r->ct.start_overlap >= 0 ? json_real(r->ct.start_overlap) : json_null());
-    json_object_set_new(o, "stale_ops", json_integer((json_int_t)r->ct.stale_ops));
+    json_object_set_new(o, "certificate",
+                        !r->ct.certified
+                            ? json_null()
+                            : json_pack("{s:I, s:I, s:I, s:I, s:b, s:I}", "budget", (json_int_t)r->ct.ledger_budget,
+                                        "lead_max", (json_int_t)r->ct.lead_max, "shadow_loads",
+                                        (json_int_t)r->ct.shadow_loads, "maxwork_fetches",
+                                        (json_int_t)r->ct.shadow_steps, "broken", r->ct.shadow_broken, "dsp_ops",
+                                        (json_int_t)r->ct.shadow_ops));
     const c5_stale_plan *p = &r->plan;
     json_object_set_new(o, "replay", p->valid ? json_pack("{s:i, s:i, s:I, s:i, s:I, s:I}", "maxwork_loads", p->maxwork_loads,
                                                           "schedule_loads", p->sched_loads, "rays", (json_int_t)p->rays, "lag_loads", p->lag_loads,

@@ -9,6 +9,7 @@
 
 #include "board.h"
 #include "model_limits.h"
+#include "mw_shadow.h"
 #include "camera.h"
 #include "cells.h"
 #include "geom.h"
@@ -46,12 +47,12 @@ typedef struct {
     int group[3], ngroup[3]; /* tree_group: cells a group holds per axis, groups per axis */
     int sgroup[3], nsgroup[3]; /* the same for schedule_group */
     int cur_group;           /* the scheduled group being worked off, -1: none */
-    uint32_t *rem;           /* [cells] entries of each cell in the schedule from sched_pos on */
-    c5_stale_thresholds th;  /* o->stale with the defaults put in (stale_thresholds) */
-    const c5_stale_plan *plan; /* o->plan when it replays this schedule, else NULL */
-    int switched;            /* the schedule was judged stale: Max Work for the rest */
-    uint64_t passed, skipped; /* schedule entries passed and found empty (the skip signal) */
-    int64_t surprise;        /* loads at entries the replay passes empty, less entries it loads found empty */
+    /* Following an external schedule of cells under the certificate (docs/cell-tree.md, "The
+     * certificate"): Max Work's shadow on the frame's tree, and the loads the frame may make
+     * beyond Max Work's. */
+    int certify;
+    c5_mw_shadow shadow;
+    int64_t budget;
     uint64_t queued;         /* rays in the SDRAM queues (progress) */
     uint32_t *free_slots;
     uint32_t n_free;
@@ -226,6 +227,8 @@ static void dsp_queue(board *b, const c5_bray *r, int arrival)
         b->o->node_rays[q.node]++;
         b->st->node_count_ops += C5_OPS_NODE_COUNT;
     }
+    if (b->certify && arrival)
+        c5_mw_shadow_tag(&b->shadow, r->node, q.node, (int)r->cell);
     q.shadow = c5_demand_tag(&b->demand, r->shadow, tree_unit(b, (int)r->cell));
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
@@ -265,7 +268,7 @@ static size_t queued_in(const board *b, int c) { return b->q[c].n - b->q[c].head
 
 /* The queues the set-up left against the previous frame's: the sum over cells of the
  * smaller count over the larger total (1: the same rays in the same cells; 0: no cell in
- * common). 3 operations a cell. */
+ * common). Reported, not acted on. */
 static double start_overlap(board *b)
 {
     const c5_board_opts *o = b->o;
@@ -277,111 +280,81 @@ static double start_overlap(board *b)
         now += q;
         before += p;
     }
-    b->st->stale_ops += 3 * (uint64_t)n;
     uint64_t most = now > before ? now : before;
     return most ? (double)both / (double)most : 1.0;
 }
 
-/* The thresholds with the defaults put in for 0 fields: a negative gain margin is none (0),
- * a negative lag gain never fires. */
-static c5_stale_thresholds stale_thresholds(const c5_stale_thresholds *t)
-{
-    c5_stale_thresholds r;
-    r.start_overlap = t->start_overlap > 0 ? t->start_overlap : C5_STALE_START_OVERLAP;
-    r.orphan_frac = t->orphan_frac > 0 ? t->orphan_frac : C5_STALE_ORPHAN_FRAC;
-    r.skip_frac = t->skip_frac > 0 ? t->skip_frac : C5_STALE_SKIP_FRAC;
-    r.skip_min = t->skip_min > 0 ? t->skip_min : C5_STALE_SKIP_MIN;
-    r.gain_margin = t->gain_margin > 0 ? t->gain_margin : t->gain_margin < 0 ? 0 : C5_STALE_GAIN_MARGIN;
-    r.lag_gain = t->lag_gain > 0 ? t->lag_gain : t->lag_gain < 0 ? -1e9 : C5_STALE_LAG_GAIN;
-    r.surprise = t->surprise > 0 ? t->surprise : C5_STALE_SURPRISE;
-    r.first_risk = t->first_risk ? t->first_risk : C5_STALE_FIRST_RISK;
-    return r;
-}
-
-/* The frame's risk when it follows: the promise's allowance over Max Work, max(2 %, one load),
+/* The allowance of a frame that follows a schedule: max(C5_LEDGER_ALLOWANCE_PCT %, one load)
  * of the previous frame's Max Work loads (the replay's; this frame's are not known yet). */
-static int64_t ledger_allowance(const c5_stale_plan *p)
+int64_t c5_ledger_allowance(const c5_stale_plan *p)
 {
-    int64_t two = (int64_t)ceil(1.02 * p->maxwork_loads);
-    return two > p->maxwork_loads + 1 ? two - p->maxwork_loads : 1;
+    int64_t mw = p && p->valid ? p->maxwork_loads : 0;
+    int64_t a = (int64_t)ceil(C5_LEDGER_ALLOWANCE_PCT / 100.0 * (double)mw);
+    return a > 1 ? a : 1;
 }
 
-/* The saving the replays expect of following: the schedule on the previous tree, and no more
- * than a one-frame-old schedule saved on it (when the previous frame had one). */
-static int64_t ledger_gain(const c5_stale_plan *p)
+/* The board takes Max Work's order from the shadow for the rest of the frame: its shadow
+ * broke (c5_mw_shadow.broken), and nothing bounds the frame any more. */
+static void certificate_lost(board *b)
 {
-    int64_t g = (int64_t)p->maxwork_loads - p->sched_loads;
-    if (p->lag_loads >= 0 && (int64_t)p->maxwork_loads - p->lag_loads < g)
-        g = (int64_t)p->maxwork_loads - p->lag_loads;
-    return g;
+    b->certify = 0;
+    b->st->shadow_broken = 1;
 }
 
-/* The saving a followed frame must expect (docs/cell-tree.md, "The ledger"): the path's
- * deficit, if any, plus the frame's allowance when at least one allowance is banked, else
- * first_risk allowances: the first frame risked on a path has no saving behind it. */
-static int64_t ledger_need(const c5_stale_plan *p, int first_risk)
+/* Max Work's choice on the board's queues: most queued rays, ties to the lowest id; -1: none. */
+static int busiest_cell(const board *b)
 {
-    int64_t a = ledger_allowance(p);
-    return (p->bank < 0 ? -p->bank : 0) + (p->bank >= a ? a : first_risk * a);
-}
-
-/* The stale-schedule signals, read between loads from the DSP's per-cell queue counters
- * (docs/cell-tree.md, "Stale schedules"): the reason to stop following the schedule, or
- * C5_SWITCH_NONE. At the first load: the queues the set-up left against the previous
- * frame's (their overlap, sum of min over the larger sum). At every load: the rays waiting
- * in cells that no entry left in the schedule visits (each such cell costs a load the
- * schedule did not plan; a schedule made from this frame's own tree leaves none), and the
- * entries found empty. */
-static c5_switch_reason stale_signal(board *b, double *value)
-{
-    const c5_stale_thresholds *t = &b->th;
-    int n = b->cells.count;
-    const c5_stale_plan *p = b->plan;
-    /* Identical start queues (a still view): the replay is the frame, any saving is real. */
-    if (b->st->fetches == 0 && b->passed == 0 && p &&
-        ((double)p->sched_loads > (1 - t->gain_margin) * (double)p->maxwork_loads - 1e-9 ||
-         p->sched_loads + (b->st->start_overlap >= 1.0 ? 1 : C5_STALE_GAIN_MIN_LOADS) > p->maxwork_loads)) {
-        *value = p->maxwork_loads ? (double)p->sched_loads / p->maxwork_loads : 1;
-        return C5_SWITCH_NO_GAIN;
-    }
-    if (b->st->fetches == 0 && b->passed == 0 && p && p->lag_loads >= 0 &&
-        (double)p->lag_loads > (1 - t->lag_gain) * (double)p->maxwork_loads + 1e-9) {
-        *value = p->maxwork_loads ? (double)p->lag_loads / p->maxwork_loads : 1;
-        return C5_SWITCH_LAG;
-    }
-    if (b->st->fetches == 0 && b->passed == 0 && p && t->first_risk > 0 && b->st->start_overlap < 1.0 &&
-        (*value = (double)ledger_gain(p)) < (double)ledger_need(p, t->first_risk))
-        return C5_SWITCH_LEDGER;
-    if (b->st->fetches == 0 && b->st->start_overlap >= 0 && b->st->start_overlap < t->start_overlap) {
-        *value = b->st->start_overlap;
-        return C5_SWITCH_START;
-    }
-    uint64_t orphan = 0, all = 0;
-    int64_t orphan_cells = 0;
-    for (int c = 0; c < n; c++) {
-        size_t q = queued_in(b, c);
-        all += q;
-        if (q && b->rem[c] == 0)
-            orphan += q, orphan_cells++;
-    }
-    b->st->stale_ops += 2 * (uint64_t)n;
-    if (p && p->maxwork_loads > p->sched_loads) {
-        double saving = p->maxwork_loads - p->sched_loads;
-        b->st->stale_ops += 4;
-        if ((double)(b->surprise + orphan_cells) >= t->surprise * saving) {
-            *value = (double)(b->surprise + orphan_cells) / saving;
-            return C5_SWITCH_SURPRISE;
+    int best = -1;
+    size_t best_n = 0;
+    for (int c = 0; c < b->cells.count; c++) {
+        size_t n = b->q[c].n - b->q[c].head;
+        if (n > best_n) {
+            best = c;
+            best_n = n;
         }
     }
-    if (all && (double)orphan > t->orphan_frac * (double)all) {
-        *value = (double)orphan / (double)all;
-        return C5_SWITCH_ORPHANS;
+    return best;
+}
+
+/* The next load under the certificate: the board's own choice (the schedule's next cell with
+ * rays, then Max Work on its queues) while the lead (the board's loads less the shadow's steps)
+ * stays within the budget, else the cell of the shadow's next step. A load of the shadow's
+ * cell lets it take at least one step, so the lead never grows past the budget, and the frame
+ * ends within budget + Max Work's fetches. */
+static int certified_next(board *b, int *pos)
+{
+    const c5_board_opts *o = b->o;
+    c5_mw_shadow *sh = &b->shadow;
+    int next = c5_mw_shadow_advance(sh);
+    int64_t lead = (int64_t)b->st->fetches - (int64_t)sh->steps;
+    if (sh->broken || (next < 0 && b->queued)) {
+        certificate_lost(b);
+        return -3;
     }
-    if (b->skipped >= (uint64_t)t->skip_min && (double)b->skipped > t->skip_frac * (double)b->passed) {
-        *value = (double)b->skipped / (double)b->passed;
-        return C5_SWITCH_SKIPS;
+    if (lead > b->st->lead_max)
+        b->st->lead_max = lead;
+    while (*pos < o->schedule_len && !queued_in(b, o->schedule[*pos])) {
+        (*pos)++;
+        b->st->sched_skipped++;
     }
-    return C5_SWITCH_NONE;
+    if (next < 0)
+        return -1;
+    int in_sched = *pos < o->schedule_len;
+    if (lead + 1 <= b->budget) {
+        if (in_sched) {
+            b->st->sched_loads++;
+            return o->schedule[(*pos)++];
+        }
+        b->st->sched_fallback++;
+        return busiest_cell(b);
+    }
+    if (in_sched && !b->st->sched_switches++) {
+        b->st->switched_at_load = (int64_t)b->st->fetches;
+        b->st->switch_reason = C5_SWITCH_BUDGET;
+        b->st->switch_value = (double)lead;
+    }
+    b->st->shadow_loads++;
+    return next;
 }
 
 /* Which cell to load next, or -1 when every queue is empty. */
@@ -402,29 +375,17 @@ static int schedule(board *b, int *sched_pos)
                 b->st->sched_skipped++;
         }
         b->st->sched_fallback++;
+    } else if (o->sched == C5_SCHED_EXTERNAL && b->certify) {
+        int c = certified_next(b, sched_pos);
+        if (c != -3)
+            return c;
     } else if (o->sched == C5_SCHED_EXTERNAL) {
-        double v = 0;
-        c5_switch_reason why;
-        if (b->rem && !b->switched && *sched_pos < o->schedule_len && (why = stale_signal(b, &v)) != C5_SWITCH_NONE) {
-            b->switched = 1;
-            b->st->sched_switches = 1;
-            b->st->switched_at_load = (int64_t)b->st->fetches;
-            b->st->switch_reason = why;
-            b->st->switch_value = v;
-        }
-        while (!b->switched && *sched_pos < o->schedule_len) {
-            int i = (*sched_pos)++, c = o->schedule[i];
-            int expect = b->plan ? b->plan->pred[i] > 0 : -1;
-            if (b->rem)
-                b->rem[c]--;
-            b->passed++;
+        while (*sched_pos < o->schedule_len) {
+            int c = o->schedule[(*sched_pos)++];
             if (b->q[c].n > b->q[c].head) {
                 b->st->sched_loads++;
-                b->surprise += expect == 0;
                 return c;
             }
-            b->surprise -= expect == 1;
-            b->skipped++;
             b->st->sched_skipped++;
         }
         b->st->sched_fallback++; /* undone below when no queue holds a ray */
@@ -529,7 +490,7 @@ static void board_free(board *b)
     c5_rq_free(&b->edram);
     c5_rqh_free(&b->heap);
     free(b->own_tree);
-    free(b->rem);
+    c5_mw_shadow_free(&b->shadow);
     free(b->out_pk);
     free(b->out_dest);
     free(b->px_owner);
@@ -730,15 +691,16 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         memset(o.moves, 0, (size_t)b.cells.count * (size_t)b.cells.count * sizeof *o.moves);
     if (o.node_rays)
         memset(o.node_rays, 0, C5_TREE_SLOTS * sizeof *o.node_rays);
-    if (o.sched == C5_SCHED_EXTERNAL && o.stale_check >= 0 && b.sgroup[0] * b.sgroup[1] * b.sgroup[2] == 1) {
-        if (!(b.rem = calloc((size_t)b.cells.count, sizeof *b.rem))) {
+    if (o.sched == C5_SCHED_EXTERNAL && o.stale_check >= 0 && !o.link && b.sgroup[0] * b.sgroup[1] * b.sgroup[2] == 1 &&
+        b.group[0] * b.group[1] * b.group[2] == 1) {
+        if (c5_mw_shadow_init(&b.shadow, b.cells.count) != 0) {
             board_free(&b);
             return c5_fail(err, "out of memory for the board model");
         }
-        for (int i = 0; i < o.schedule_len; i++)
-            b.rem[o.schedule[i]]++;
-        b.th = stale_thresholds(&o.stale);
-        b.plan = o.plan && o.plan->valid && o.plan->len == o.schedule_len ? o.plan : NULL;
+        /* The bank goes on through frames without a replay (c5_stale_plan_settle). */
+        b.certify = stats->certified = 1;
+        const c5_stale_plan *p = o.plan;
+        b.budget = stats->ledger_budget = (p ? p->bank : 0) + c5_ledger_allowance(p);
     }
     for (uint32_t i = 0; i < (uint32_t)o.queue_capacity; i++)
         b.free_slots[b.n_free++] = (uint32_t)o.queue_capacity - 1 - i;
@@ -777,6 +739,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
             o.fetch_log[stats->fetches - 1] = cell;
         stats->fetch_bytes += bytes;
         stats->cycles_fetch += fetch_cycles(&o, bytes);
+        if (b.certify)
+            c5_mw_shadow_load(&b.shadow, cell);
         b.proc.active = cell;
         uint64_t c0 = b.proc.st.cycles, p0 = stats->bus_packets;
         process_cell(&b, cell);
@@ -785,6 +749,13 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         if (o.progress)
             o.progress(o.progress_ctx, &(c5_board_progress){stats->fetches, b.queued});
     }
+    if (b.certify && !b.oom && cell == -1) {
+        if (c5_mw_shadow_advance(&b.shadow) >= 0 || b.shadow.broken)
+            certificate_lost(&b); /* the shadow cannot finish with every queue empty: a model bug */
+        else
+            stats->shadow_steps = b.shadow.steps;
+    }
+    stats->shadow_ops = b.shadow.ops;
     if (b.oom || cell == -2) {
         board_free(&b);
         return cell == -2 ? -1 : c5_fail(err, "out of memory for the DSP's SDRAM ray queues");

@@ -75,35 +75,13 @@ typedef struct {
 /* Why the board stopped following a schedule (c5_board_stats.switch_reason). */
 typedef enum {
     C5_SWITCH_NONE = 0,
-    C5_SWITCH_START = 1,   /* the queues after the set-up differ from the previous frame's */
-    C5_SWITCH_ORPHANS = 2, /* rays wait in cells the rest of the schedule never visits */
-    C5_SWITCH_SKIPS = 3,   /* scheduled cells found empty too often */
-    C5_SWITCH_NO_GAIN = 4, /* on the previous tree the schedule makes no fewer loads than Max Work */
-    C5_SWITCH_SURPRISE = 5, /* loads the replay did not expect have eaten the expected saving */
-    C5_SWITCH_LAG = 6,     /* a one-frame-old schedule, replayed on the previous frame, saved too little */
-    C5_SWITCH_LEDGER = 7,  /* the expected saving does not cover the frame's risk and the path's deficit */
+    C5_SWITCH_BUDGET = 1, /* the next scheduled load would take the lead over Max Work's shadow past
+                           * the frame's budget: the shadow's cell is loaded instead */
 } c5_switch_reason;
 
-/* The detection's thresholds (docs/cell-tree.md, "Stale schedules": measured). */
-#define C5_STALE_START_OVERLAP 0.95 /* switch at load 0 below this overlap of the start queues */
-#define C5_STALE_ORPHAN_FRAC 0.10   /* switch when orphan rays are this part of the queued rays */
-#define C5_STALE_SKIP_FRAC 0.50     /* switch when skipped entries are this part of those passed */
-#define C5_STALE_SKIP_MIN 4         /* ... and at least this many */
-#define C5_STALE_GAIN_MARGIN 0.0    /* follow only a schedule the replay finds this part shorter than Max Work */
-#define C5_STALE_GAIN_MIN_LOADS 2   /* ... and at least this many loads shorter */
-#define C5_STALE_LAG_GAIN 0.03      /* ... and a one-frame-old schedule saved this part of Max Work's loads */
-#define C5_STALE_SURPRISE 0.5       /* switch when unexpected loads and orphan cells reach this part of the saving */
-#define C5_STALE_FIRST_RISK 3       /* with less than one frame's allowance banked, follow only an expected
-                                     * saving of this many allowances */
-typedef struct {
-    double start_overlap, orphan_frac, skip_frac;
-    int skip_min;
-    double gain_margin;  /* follow only when the replayed schedule saves more than this part of Max Work's loads */
-    double lag_gain;     /* follow only when the previous frame's schedule, replayed on the frame after, saved this part */
-    double surprise;     /* switch when unexpected loads reach this part of the expected saving */
-    int first_risk;      /* allowances of expected saving needed while the bank holds less than one
-                          * allowance; < 0: the ledger is off */
-} c5_stale_thresholds;
+/* The allowance of a frame that follows a schedule, besides the path's bank (docs/cell-tree.md,
+ * "The certificate"): max(this % of the previous frame's Max Work loads, one load). */
+#define C5_LEDGER_ALLOWANCE_PCT 2.0
 
 typedef struct {
     int cells[3];            /* split of the grid into cells per axis; < 1: the fewest cells of at most 256 voxels (c5_model_auto_split) */
@@ -136,17 +114,20 @@ typedef struct {
     /* Called after every cell visit, for a progress line in long frames; NULL: none. */
     void (*progress)(void *ctx, const struct c5_board_progress *p);
     void *progress_ctx;
-    /* Stale-schedule detection while following an external schedule of cells (the DSP's, at
-     * the cost of its queue counters; docs/cell-tree.md, "Stale schedules"): when a signal
-     * fires, Max Work chooses the rest of the frame. The image never depends on it. */
-    int stale_check;         /* 0: on (default); -1: off, the schedule is followed to its end */
+    /* The certificate while following an external schedule of cells over a tree of cells
+     * (docs/cell-tree.md, "The certificate"): the DSP runs Max Work's shadow on the frame's
+     * tree (mw_shadow.h) and follows the schedule only while its loads beyond the shadow's
+     * steps stay within the budget, the path's bank plus one allowance; else it loads the
+     * shadow's cell. The frame then never fetches more than Max Work plus the budget. The
+     * image never depends on it. */
+    int stale_check;         /* 0: on (default); -1: off, the schedule is followed to its end (the
+                              * paper's board), then Max Work */
     const uint32_t *prev_start; /* rays each cell's queue held when the previous frame's set-up
                                  * ended (c5_board_stats.start_counts of that frame), or NULL */
     int prev_start_len;      /* entries of prev_start: the split's cells */
     uint32_t *start_counts;  /* out, or NULL: this frame's, [cells] */
-    c5_stale_thresholds stale; /* 0 fields: the defaults (C5_STALE_*) */
-    /* The DSP's replay of the previous frame's tree (stale_plan.h), or NULL: what following
-     * the schedule and Max Work cost there, and per entry the rays it expects. */
+    /* The DSP's replay of the previous frame's tree (stale_plan.h), or NULL: its bank (the
+     * path's exact saving so far) and Max Work's loads set the budget. */
     const c5_stale_plan *plan;
     uint32_t *node_rays;     /* out, or NULL: packets tagged with each node slot, [C5_TREE_SLOTS] */
     /* Several boards (rtl_model/multi_board.h): NULL: this board owns every cell. With a
@@ -194,12 +175,18 @@ typedef struct c5_board_stats {
     uint64_t sched_loads;    /* fetches that followed the external schedule */
     uint64_t sched_skipped;  /* schedule entries passed over: the cell had no rays */
     uint64_t sched_fallback; /* fetches chosen by Max Work after the schedule ran out */
-    uint64_t sched_switches; /* 1 when the frame stopped following a stale schedule */
-    int64_t switched_at_load;  /* the fetch index (0-based) of the first Max Work load after the
-                                * switch; -1: no switch */
+    uint64_t sched_switches; /* loads taken from Max Work's shadow while schedule entries were left */
+    int64_t switched_at_load;  /* the fetch index (0-based) of the first of them; -1: none */
     c5_switch_reason switch_reason;
-    double switch_value;     /* the signal's value at the switch (overlap, fraction) */
-    uint64_t stale_ops;      /* DSP operations of the detection: counters read and compared */
+    double switch_value;     /* the lead at that load */
+    int certified;           /* the frame followed a schedule under the certificate (not Max Work, the
+                              * paper's board or a schedule of groups) */
+    int64_t ledger_budget;   /* then: loads it may make beyond Max Work's (bank + allowance) */
+    int64_t lead_max;        /* the largest lead: the board's loads less the shadow's steps */
+    uint64_t shadow_loads;   /* = sched_switches; sched_fallback: the shadow's loads after the schedule */
+    uint64_t shadow_steps;   /* Max Work's fetches of the frame, as the shadow found them; 0: none */
+    int shadow_broken;       /* a packet the shadow could not place: no bound for the frame's rest */
+    uint64_t shadow_ops;     /* DSP operations of the shadow (mw_shadow.h) */
     uint64_t node_count_ops; /* DSP operations counting each node's rays (opts.node_rays) */
     double start_overlap;    /* the start queues' overlap with the previous frame's; -1: not compared */
     uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
@@ -221,6 +208,10 @@ typedef struct c5_board_stats {
 
 /* Renders frame `frame` of the scene into out (allocated here). 0, or -1 with a message
  * (a scene beyond the model's formats, docs/bit-layouts.md, is refused, not approximated). */
+/* The allowance of a frame following a schedule made with replay p (NULL: none): max(2 %,
+ * one load) of p's Max Work loads. */
+int64_t c5_ledger_allowance(const c5_stale_plan *p);
+
 int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
                     c5_image *out, c5_board_stats *stats, c5_err *err);
 

@@ -26,6 +26,7 @@ run_suite bash tests/cli_test.sh "$build"
 run_suite bash tests/mpi_test.sh "$build"
 run_suite bash tests/scene_limits_test.sh "$build"
 run_suite bash tests/prefetch_test.sh "$build"
+run_suite bash tests/sched_family_test.sh "$build"
 run_suite bash tests/layouts_test.sh
 run_suite bash tests/regmap_test.sh
 run_suite bash tests/vectors_test.sh "$build"
