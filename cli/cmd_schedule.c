@@ -67,11 +67,10 @@ static const char usage_text[] =
     "                    (0.5..2; below 1 the eye moves in past surfaces). With any motion,\n"
     "                    --frames defaults to 8\n"
     "  --stale-check on|off\n"
-    "                    on (default): the board watches for a stale schedule (the queues\n"
-    "                    after the set-up unlike the previous frame's, rays in cells the rest\n"
-    "                    of the schedule never visits, scheduled cells found empty) and\n"
-    "                    switches to Max Work for the rest of the frame; off: it follows the\n"
-    "                    schedule to its end (the paper's board). docs/cell-tree.md\n"
+    "                    on (default): the board follows the schedule under its certificate\n"
+    "                    (Max Work's shadow on the growing tree): never past Max Work plus the\n"
+    "                    path's bank and one allowance; off: it follows the schedule to its end\n"
+    "                    (the paper's board). docs/cell-tree.md, \"The certificate\"\n"
     "  --json            one JSON object instead of the text\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_BOARDS_HELP
     "                    each board schedules its own cells from its own Cell Tree; the tree\n"
@@ -369,7 +368,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "certificate",
                         !r->ct.certified
                             ? json_null()
-                            : json_pack("{s:I, s:I, s:I, s:I, s:b, s:I}", "budget", (json_int_t)r->ct.ledger_budget,
+                            : json_pack("{s:o, s:b, s:I, s:I, s:I, s:b, s:I}", "budget",
+                                        r->ct.identical ? json_null() : json_integer((json_int_t)r->ct.ledger_budget),
+                                        "identical", r->ct.identical,
                                         "lead_max", (json_int_t)r->ct.lead_max, "shadow_loads",
                                         (json_int_t)r->ct.shadow_loads, "maxwork_fetches",
                                         (json_int_t)r->ct.shadow_steps, "broken", r->ct.shadow_broken, "dsp_ops",
@@ -489,8 +490,9 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
             printf("%5s this frame's tree is over groups of %dx%dx%d cells\n", "", r->group, r->group, r->group);
         if (r->ct.sched_switches) {
             char why[160];
-            printf("%5s WARNING: stale schedule: switched to Max Work at load %lld: %s\n", "",
-                   (long long)r->ct.switched_at_load, switch_reason(&r->ct, why, sizeof why));
+            printf("%5s certificate: %llu loads taken from Max Work's shadow, the first at load %lld: %s\n", "",
+                   (unsigned long long)r->ct.shadow_loads, (long long)r->ct.switched_at_load,
+                   switch_reason(&r->ct, why, sizeof why));
         }
         if (r->jump)
             printf("%5s (the camera cut to a new view at this frame)\n", "");
@@ -603,7 +605,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
             c5_fail(err, "frame %d: the image under the Cell Tree schedule differs from Max Work's (a model bug)", f);
             goto done;
         }
-        row->followed = row->ct.sched_switches ? "celltree, switched to maxwork (stale)"
+        row->followed = row->ct.sched_switches ? "celltree, with max work's shadow (certificate)"
                         : prev->overflow                        ? "partial celltree, then maxwork"
                         : row->ct.sched_fallback                ? "celltree, then maxwork"
                                                                 : "celltree";
@@ -633,7 +635,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
                                 o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL,
                                 o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0, &row->plan, err);
     if (rc == 0)
-        c5_stale_plan_settle(&row->plan, prev_plan, row->ct.fetches);
+        c5_stale_plan_settle(&row->plan, prev_plan, row->ct.fetches, row->ct.frame_key);
 done:
     free(log);
     free(node_rays);

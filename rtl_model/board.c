@@ -9,6 +9,7 @@
 
 #include "board.h"
 #include "model_limits.h"
+#include "ledger.h"
 #include "mw_shadow.h"
 #include "camera.h"
 #include "cells.h"
@@ -284,17 +285,15 @@ static double start_overlap(board *b)
     return most ? (double)both / (double)most : 1.0;
 }
 
-/* The allowance of a frame that follows a schedule: max(C5_LEDGER_ALLOWANCE_PCT %, one load)
- * of the previous frame's Max Work loads (the replay's; this frame's are not known yet). */
-int64_t c5_ledger_allowance(const c5_stale_plan *p)
+/* The frame's budget, after the set-up (ledger.h). */
+static void set_budget(board *b)
 {
-    int64_t mw = p && p->valid ? p->maxwork_loads : 0;
-    int64_t a = (int64_t)ceil(C5_LEDGER_ALLOWANCE_PCT / 100.0 * (double)mw);
-    return a > 1 ? a : 1;
+    c5_board_stats *st = b->st;
+    b->budget = st->ledger_budget = c5_ledger_budget(b->o->plan, st->frame_key, &st->identical);
 }
 
-/* The board takes Max Work's order from the shadow for the rest of the frame: its shadow
- * broke (c5_mw_shadow.broken), and nothing bounds the frame any more. */
+/* The shadow broke (a packet it cannot place: the tree's RAM overflowed): nothing bounds the
+ * rest of the frame, and Max Work on the board's queues chooses it. */
 static void certificate_lost(board *b)
 {
     b->certify = 0;
@@ -328,7 +327,8 @@ static int certified_next(board *b, int *pos)
     int next = c5_mw_shadow_advance(sh);
     int64_t lead = (int64_t)b->st->fetches - (int64_t)sh->steps;
     if (sh->broken || (next < 0 && b->queued)) {
-        certificate_lost(b);
+        certificate_lost(b); /* nothing bounds the rest: Max Work on the board's queues */
+        *pos = o->schedule_len;
         return -3;
     }
     if (lead > b->st->lead_max)
@@ -375,11 +375,10 @@ static int schedule(board *b, int *sched_pos)
                 b->st->sched_skipped++;
         }
         b->st->sched_fallback++;
-    } else if (o->sched == C5_SCHED_EXTERNAL && b->certify) {
-        int c = certified_next(b, sched_pos);
+    } else if (o->sched == C5_SCHED_EXTERNAL) {
+        int c = b->certify ? certified_next(b, sched_pos) : -3;
         if (c != -3)
             return c;
-    } else if (o->sched == C5_SCHED_EXTERNAL) {
         while (*sched_pos < o->schedule_len) {
             int c = o->schedule[(*sched_pos)++];
             if (b->q[c].n > b->q[c].head) {
@@ -642,6 +641,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         o.cells[0] = o.cells[1] = o.cells[2] = 1;
 
     board b = {.s = s, .o = &o, .st = stats};
+    c5_camera frame_cam = o.camera ? *o.camera : c5_scene_camera_at(s, frame);
+    stats->frame_key = c5_frame_key(&frame_cam, s->render.width, s->render.height);
     b.mem.cell = -1;
     if (c5_regs_build(s, sv, &o, &b.r, err) != 0)
         return -1;
@@ -697,10 +698,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
             board_free(&b);
             return c5_fail(err, "out of memory for the board model");
         }
-        /* The bank goes on through frames without a replay (c5_stale_plan_settle). */
         b.certify = stats->certified = 1;
-        const c5_stale_plan *p = o.plan;
-        b.budget = stats->ledger_budget = (p ? p->bank : 0) + c5_ledger_allowance(p);
     }
     for (uint32_t i = 0; i < (uint32_t)o.queue_capacity; i++)
         b.free_slots[b.n_free++] = (uint32_t)o.queue_capacity - 1 - i;
@@ -719,6 +717,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     }
     if (o.sched == C5_SCHED_EXTERNAL && o.prev_start && o.prev_start_len == b.cells.count)
         stats->start_overlap = start_overlap(&b);
+    if (b.certify)
+        set_budget(&b);
     if (o.start_counts)
         for (int c = 0; c < b.cells.count; c++)
             o.start_counts[c] = (uint32_t)queued_in(&b, c);

@@ -79,10 +79,6 @@ typedef enum {
                            * the frame's budget: the shadow's cell is loaded instead */
 } c5_switch_reason;
 
-/* The allowance of a frame that follows a schedule, besides the path's bank (docs/cell-tree.md,
- * "The certificate"): max(this % of the previous frame's Max Work loads, one load). */
-#define C5_LEDGER_ALLOWANCE_PCT 2.0
-
 typedef struct {
     int cells[3];            /* split of the grid into cells per axis; < 1: the fewest cells of at most 256 voxels (c5_model_auto_split) */
     c5_queue_key key;        /* 0: C5_KEY_MORTON */
@@ -179,6 +175,9 @@ typedef struct c5_board_stats {
     int64_t switched_at_load;  /* the fetch index (0-based) of the first of them; -1: none */
     c5_switch_reason switch_reason;
     double switch_value;     /* the lead at that load */
+    uint64_t frame_key;      /* the camera registers of the frame (eye, target, up, field of view,
+                              * image size), hashed: frames with one key trace the same rays */
+    int identical;           /* the frame's key is the previous tree's: its replay is this frame */
     int certified;           /* the frame followed a schedule under the certificate (not Max Work, the
                               * paper's board or a schedule of groups) */
     int64_t ledger_budget;   /* then: loads it may make beyond Max Work's (bank + allowance) */
@@ -208,10 +207,6 @@ typedef struct c5_board_stats {
 
 /* Renders frame `frame` of the scene into out (allocated here). 0, or -1 with a message
  * (a scene beyond the model's formats, docs/bit-layouts.md, is refused, not approximated). */
-/* The allowance of a frame following a schedule made with replay p (NULL: none): max(2 %,
- * one load) of p's Max Work loads. */
-int64_t c5_ledger_allowance(const c5_stale_plan *p);
-
 int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
                     c5_image *out, c5_board_stats *stats, c5_err *err);
 

@@ -18,7 +18,8 @@
 # (the jump motion's --jumps value, "7:3"; empty: none), RULES (below), SCENES (the built-in
 # scenes), EXACT_STATES (20000: the exact search's budget per frame, run once per
 # configuration, on the first rule's run; the best known schedule is the beam search's or
-# the unbudgeted window rule's, --local-window 0), REUSE (1: keep the runs already written).
+# the unbudgeted window rule's, --local-window 0), REUSE (1: keep the runs already written),
+# FAMILY_SEED (2) and FAMILY_PATHS (60): the generated family of camera paths run last.
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -194,3 +195,15 @@ with open(out + "/sched_motion.gp", "w") as g:
 PY
 gnuplot "$out/sched_motion.gp"
 echo "bench-sched: wrote $out/bench-sched.json and $out/sched_motion.png" >&2
+
+# The family (docs/cell-tree.md, "The family"): FAMILY_PATHS camera paths from FAMILY_SEED,
+# nobody tuned on, the board against the unchecked rule; FAMILY_PATHS=0 skips it.
+if [ "${FAMILY_PATHS:-60}" -gt 0 ]; then
+    vols=()
+    [ -d "$data" ] && vols=(--volumes "$data")
+    python3 "$(dirname "$0")/sched_family.py" --seed "${FAMILY_SEED:-2}" --paths "${FAMILY_PATHS:-60}" \
+        --out "$out/family" "${vols[@]}"
+    python3 "$(dirname "$0")/sched_family_run.py" --cube5 "$cube5" --family "$out/family" --size "$SIZE" \
+        --frames "$FRAMES" --json "$out/family.json"
+    echo "bench-sched: wrote $out/family.json" >&2
+fi

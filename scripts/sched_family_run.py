@@ -43,7 +43,9 @@ def path_result(row, on, off):
         if c["broken"]:
             problems.append("frame %d: the shadow broke" % f["frame"])
             continue
-        budget = max(c["budget"], 0)  # below 0: no load past the shadow's, Max Work's fetches at most
+        # below 0: no load past the shadow's; a frame identical to the tree's: the exact replay's
+        # choice. Either makes at most Max Work's fetches.
+        budget = 0 if c["identical"] else max(c["budget"], 0)
         if f["fetches_celltree"] > f["fetches_maxwork"] + budget:
             problems.append("frame %d: %d fetches > Max Work %d + budget %d" % (
                 f["frame"], f["fetches_celltree"], f["fetches_maxwork"], budget))

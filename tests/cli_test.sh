@@ -302,11 +302,16 @@ for chk in on off; do
 import json, sys
 f = json.loads(sys.argv[1])["frames"][1]
 on = sys.argv[2] == "on"
+c = f["certificate"]
 assert f["start_overlap"] is not None and f["start_overlap"] < 0.95
-assert (f["switched_at_load"] == 0 and f["sched_switches"] == 1 and
-        ("overlap" in f["switch_reason"] or "of Max Work" in f["switch_reason"])) if on else \
-    (f["switched_at_load"] is None and f["switch_reason"] is None and f["sched_switches"] == 0)
-assert (f["fetches_celltree"] == f["fetches_maxwork"]) if on else True' "$json" $chk; then ok schedule_stale_$chk; else bad schedule_stale_$chk "$json"; fi
+if on:  # followed under the certificate: within Max Work plus the bank and one allowance
+    assert c is not None and not c["identical"] and c["budget"] >= 1 and c["lead_max"] <= c["budget"]
+    assert c["maxwork_fetches"] == f["fetches_maxwork"]
+    assert f["fetches_celltree"] <= f["fetches_maxwork"] + c["budget"]
+    assert (f["switch_reason"] is None) == (f["sched_switches"] == 0)
+    assert f["switch_reason"] is None or "budget is %d" % c["budget"] in f["switch_reason"]
+else:
+    assert c is None and f["switched_at_load"] is None and f["switch_reason"] is None and f["sched_switches"] == 0' "$json" $chk; then ok schedule_stale_$chk; else bad schedule_stale_$chk "$json"; fi
 done
 expect schedule_local_walk_bad 2 "--local-walk: expected an integer in \[0, 100000\]" -- "$cube5" schedule default --local-walk -1
 expect schedule_unknown_option 2 "unknown option '--model'" -- "$cube5" schedule default --model rtl

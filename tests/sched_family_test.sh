@@ -42,7 +42,7 @@ import json, sys
 d = json.load(sys.stdin)
 for f in d["frames"]:
     if f.get("certificate"):
-        f["fetches_celltree"] = f["fetches_maxwork"] + max(f["certificate"]["budget"], 0) + 1
+        f["fetches_celltree"] = f["fetches_maxwork"] + max(f["certificate"]["budget"] or 0, 0) + 1
         break
 print(json.dumps(d))'
 LIAR

@@ -134,7 +134,7 @@ TEST(celltree_own_schedule_covers_the_frame)
         CHECK(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0);
         CHECK(render(0, (c5_board_opts){.cells = {splits[k][0], splits[k][1], splits[k][2]},
                                         .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
-                                        .schedule_len = r.next.len}, &b, &ct) == 0);
+                                        .schedule_len = r.next.len, .stale_check = -1}, &b, &ct) == 0);
         CHECK(same_bits(&a, &b));
         CHECK_INT(ct.sched_fallback, 0);
         CHECK(ct.fetches <= (uint64_t)r.next.len);
@@ -294,7 +294,7 @@ TEST(celltree_partial_schedule_of_an_overflowed_tree)
     CHECK(r.overflow && r.next.len > 0);
     CHECK(r.optimum == -1 && r.len_lookahead == 0); /* no bounds or other rules for a partial tree */
     CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
-                                    .schedule_len = r.next.len}, &b, &sb) == 0);
+                                    .schedule_len = r.next.len, .stale_check = -1}, &b, &sb) == 0);
     CHECK(same_bits(&a, &b));
     CHECK(sb.sched_loads > 0 && sb.sched_fallback > 0);
     c5_dsp_sched_free(&r);
@@ -344,6 +344,7 @@ TEST(celltree_512_cells_scheduled_and_followed)
     o.sched = C5_SCHED_EXTERNAL;
     o.schedule = r.next.cells;
     o.schedule_len = r.next.len;
+    o.stale_check = -1; /* the schedule's own frame: followed to its end */
     o.tree = &trees[1];
     c5_ctree_init(&trees[1], 0);
     CHECK(render(0, o, &b, &ct) == 0);

@@ -148,7 +148,8 @@ void c5_stale_plan_free(c5_stale_plan *p)
     memset(p, 0, sizeof *p);
 }
 
-void c5_stale_plan_settle(c5_stale_plan *p, const c5_stale_plan *prev, uint64_t fetches)
+void c5_stale_plan_settle(c5_stale_plan *p, const c5_stale_plan *prev, uint64_t fetches, uint64_t frame_key)
 {
+    p->frame_key = frame_key;
     p->bank = (prev ? prev->bank : 0) + (p->valid ? (int64_t)p->maxwork_loads - (int64_t)fetches : 0);
 }

@@ -32,6 +32,8 @@ typedef struct {
     int lag_loads;      /* loads of the schedule this frame followed (made from the frame before),
                          * replayed on this frame's tree: what following a one-frame-old schedule
                          * cost here; -1: there was none */
+    uint64_t frame_key; /* the camera registers of the tree's frame (c5_board_stats.frame_key): a
+                         * frame with the same key renders the same rays, so the same tree */
     int64_t bank;       /* the path's balance after the tree's frame: Max Work's loads less the
                          * board's fetches, summed over the frames so far (c5_stale_plan_settle) */
     uint32_t *pred;     /* [len] rays the entry's cell holds when the replay reaches it (0: it is
@@ -50,8 +52,8 @@ void c5_stale_plan_free(c5_stale_plan *p);
 /* The ledger after the tree's frame: p->bank = the previous frame's bank (prev, NULL on the
  * path's first frame) + Max Work's loads replayed on this frame's tree - `fetches`, the loads
  * the board made in the frame. The replay is exact on the frame's own tree, so the bank is
- * the exact saving of the path so far. A frame without a valid replay (its tree overflowed
+ * the exact saving of the path so far; frame_key: the frame's (c5_board_stats.frame_key). A frame without a valid replay (its tree overflowed
  * the RAM: the next frame schedules groups and runs no stale check) adds nothing. */
-void c5_stale_plan_settle(c5_stale_plan *p, const c5_stale_plan *prev, uint64_t fetches);
+void c5_stale_plan_settle(c5_stale_plan *p, const c5_stale_plan *prev, uint64_t fetches, uint64_t frame_key);
 
 #endif
