@@ -231,6 +231,49 @@ TEST(certificate_holds_against_losing_schedules)
               cases);
 }
 
+/* A frame with the camera registers of the tree's frame builds that tree: the board follows
+ * the schedule by the exact replay (its replayed loads when no more than Max Work's, else Max
+ * Work's); a camera moved by a hair is another frame. */
+TEST(certificate_identical_frame_follows_its_exact_replay)
+{
+    CHECK(load("default", 48) == 0);
+    static uint32_t node_rays[C5_TREE_SLOTS];
+    c5_ctree_init(&trees[0], 0);
+    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .node_rays = node_rays};
+    c5_image a = {0}, b = {0};
+    c5_board_stats mw, ct;
+    c5_err err;
+    c5_dsp_sched_result sch;
+    c5_stale_plan p;
+    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+    CHECK(render(&o, &a, &mw) == 0);
+    CHECK(c5_dsp_schedule(&trees[0], &so, &sch, &err) == 0);
+    CHECK(c5_stale_plan_make(&trees[0], node_rays, sch.next.cells, sch.next.len, NULL, 0, &p, &err) == 0);
+    c5_stale_plan_settle(&p, NULL, mw.fetches, mw.frame_key);
+    CHECK_MSG(p.sched_loads < p.maxwork_loads, "the schedule replays %d loads, Max Work %d", p.sched_loads,
+              p.maxwork_loads);
+    c5_board_opts f = {.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = sch.next.cells,
+                       .schedule_len = sch.next.len, .plan = &p};
+    CHECK(render(&f, &b, &ct) == 0);
+    CHECK(same_bits(&a, &b));
+    CHECK(ct.identical && ct.shadow_loads == 0 && ct.shadow_steps == mw.fetches);
+    CHECK_INT(ct.fetches, p.sched_loads);
+    c5_image_free(&b);
+    p.sched_loads = p.maxwork_loads + 1; /* a schedule the replay finds longer: Max Work's frame */
+    CHECK(render(&f, &b, &ct) == 0);
+    CHECK(ct.identical && ct.ledger_budget == 0 && ct.sched_loads == 0);
+    CHECK_INT(ct.fetches, mw.fetches);
+    c5_image_free(&b);
+    c5_camera cam = scene.camera;
+    cam.eye.x += 1e-9;
+    f.camera = &cam;
+    CHECK(render(&f, &b, &ct) == 0);
+    CHECK(!ct.identical && ct.frame_key != mw.frame_key);
+    c5_image_free(&a), c5_image_free(&b);
+    c5_dsp_sched_free(&sch);
+    c5_stale_plan_free(&p);
+}
+
 /* A tree that overflows the DSP RAM while the board follows: the shadow cannot place the
  * packets the frozen tree answers with no node, says so, and Max Work takes the rest of the
  * frame; the image is the same bits. */
