@@ -301,14 +301,15 @@ static void certificate_lost(board *b)
     b->st->shadow_broken = 1;
 }
 
-/* Max Work's choice on the board's queues: most queued rays, ties to the lowest id; -1: none. */
-static int busiest_cell(const board *b)
+/* Max Work's choice on the board's queues: most queued rays, ties to the lowest id (fewest:
+ * the fewest-first rule); -1: every queue is empty. */
+static int pick_cell(const board *b, int fewest)
 {
     int best = -1;
     size_t best_n = 0;
     for (int c = 0; c < b->cells.count; c++) {
-        size_t n = b->q[c].n - b->q[c].head;
-        if (n > best_n) {
+        size_t n = queued_in(b, c);
+        if (n && (best < 0 || (fewest ? n < best_n : n > best_n))) {
             best = c;
             best_n = n;
         }
@@ -347,7 +348,7 @@ static int certified_next(board *b, int *pos)
             return o->schedule[(*pos)++];
         }
         b->st->sched_fallback++;
-        return busiest_cell(b);
+        return pick_cell(b, 0);
     }
     if (in_sched && !b->st->sched_switches++) {
         b->st->switched_at_load = (int64_t)b->st->fetches;
@@ -390,17 +391,7 @@ static int schedule(board *b, int *sched_pos)
         }
         b->st->sched_fallback++; /* undone below when no queue holds a ray */
     }
-    int best = -1;
-    size_t best_n = 0;
-    for (int c = 0; c < b->cells.count; c++) {
-        size_t n = b->q[c].n - b->q[c].head;
-        if (n == 0)
-            continue;
-        if (best < 0 || (o->sched == C5_SCHED_MINWORK ? n < best_n : n > best_n)) {
-            best = c;
-            best_n = n;
-        }
-    }
+    int best = pick_cell(b, o->sched == C5_SCHED_MINWORK);
     if (best < 0 && o->sched == C5_SCHED_EXTERNAL)
         b->st->sched_fallback--;
     return best;
