@@ -305,8 +305,8 @@ on = sys.argv[2] == "on"
 c = f["certificate"]
 assert f["start_overlap"] is not None and f["start_overlap"] < 0.8
 if on:  # followed under the certificate: within Max Work plus the bank and one allowance
-    # the path's first followed frame, its start queues far from the previous frame's (a fast
-    # orbit): no allowance risked, no bank, so no load past Max Work's shadow
+    # the first followed frame of the path, its start queues far from those of the frame
+    # before (a fast orbit): no allowance risked, no bank, so no load past the shadow
     assert c is not None and not c["identical"] and c["budget"] == 0 and c["lead_max"] <= 0
     assert c["maxwork_fetches"] == f["fetches_maxwork"]
     assert f["fetches_celltree"] <= f["fetches_maxwork"]
