@@ -196,7 +196,7 @@ typedef struct {
     int group;               /* cells a group of this frame's tree holds per axis (1: cells) */
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
     int jump;                /* the camera motion cut to a new view at this frame */
-    uint32_t *start;         /* [cells] rays queued per cell after the set-up (stale check) */
+    uint32_t *start;         /* [cells] rays queued per cell after the set-up (the ledger's start overlap) */
     c5_stale_plan plan;      /* the DSP's replay of this frame's tree for the next frame */
     /* With --boards: both runs' per-board figures, and each board's tree's lower bound (-1:
      * its tree overflowed) and nodes. */

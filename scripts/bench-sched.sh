@@ -5,7 +5,7 @@
 # twice a frame (Max Work; and following the schedule the DSP made from the previous frame's
 # tree) once per split rule. Frames 1..N-1 are counted (frame 0 has no previous tree).
 # Per run: fetches with Max Work and following the rule, the worst frame against Max Work,
-# the frames beyond the never-worse limit (max(2 %, 1 fetch)), and the sum over frames of
+# the frames beyond the certificate's bound (Max Work + budget), and the sum over frames of
 # each frame's proven lower bound and best known schedule (the optimum when proven) from
 # the frame's own tree: no order of loads, whatever chose it, fetches fewer than that
 # frame's optimum.

@@ -12,7 +12,7 @@
 #   Animation: brain_mirrors' 8-frame camera path, frame i's tree scheduling frame i+1.
 # The Cell Tree runs follow the paper's rule on the paper's board (--split paper --stale-check
 # off): this is the paper's evaluation; cube5 schedule's defaults, the window rule and the
-# stale check, are measured in docs/cell-tree.md.
+# certificate, are measured in docs/cell-tree.md.
 set -euo pipefail
 BUILD=${1:-build}
 CUBE5="$BUILD/cube5"

@@ -1,10 +1,10 @@
-/* What the DSP predicts, between frames, about following a schedule next frame
- * (docs/cell-tree.md, "Stale schedules"): Max Work and the schedule both replayed on the
+/* What the DSP knows, between frames, about following a schedule next frame
+ * (docs/cell-tree.md, "The certificate"): Max Work and the schedule both replayed on the
  * frame's Cell Tree with the rays each node received (the DSP counts the packets it tags,
  * one 24-bit word per node slot beside the 96 KB RAM). On the frame's own tree the replay
- * is exact: it gives the loads each order would make on that frame. The board uses it to
- * decline a schedule that cannot beat Max Work and, per load, to compare what it finds
- * with what the schedule was made for. Counted in the DSP's operations (dsp_cost.h). */
+ * is exact: it gives the loads each order would make on that frame. The ledger (ledger.h)
+ * takes the path's bank, the allowance and the evidence of the last camera step from it.
+ * Counted in the DSP's operations (dsp_cost.h). */
 #ifndef C5_STALE_PLAN_H
 #define C5_STALE_PLAN_H
 
@@ -52,8 +52,9 @@ void c5_stale_plan_free(c5_stale_plan *p);
 /* The ledger after the tree's frame: p->bank = the previous frame's bank (prev, NULL on the
  * path's first frame) + Max Work's loads replayed on this frame's tree - `fetches`, the loads
  * the board made in the frame. The replay is exact on the frame's own tree, so the bank is
- * the exact saving of the path so far; frame_key: the frame's (c5_board_stats.frame_key). A frame without a valid replay (its tree overflowed
- * the RAM: the next frame schedules groups and runs no stale check) adds nothing. */
+ * the exact saving of the path so far; frame_key: the frame's (c5_board_stats.frame_key). A
+ * frame without a valid replay (its tree overflowed
+ * the RAM: the next frame schedules groups, without a certificate) adds nothing. */
 void c5_stale_plan_settle(c5_stale_plan *p, const c5_stale_plan *prev, uint64_t fetches, uint64_t frame_key);
 
 #endif
