@@ -231,23 +231,33 @@ TEST(certificate_holds_against_losing_schedules)
               cases);
 }
 
+/* Frame 0 of scene `name` at size x size over 3x3x3 cells under Max Work (its tree in
+ * trees[0], the packets of each node in node_rays) and the DSP's schedule of that tree (the
+ * paper's rule). 0, or -1. */
+static int own_frame(const char *name, int size, uint32_t *node_rays, c5_image *img, c5_board_stats *mw,
+                     c5_dsp_sched_result *sch)
+{
+    c5_err err;
+    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+    if (load(name, size) != 0)
+        return -1;
+    c5_ctree_init(&trees[0], 0);
+    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .node_rays = node_rays};
+    return render(&o, img, mw) == 0 && c5_dsp_schedule(&trees[0], &so, sch, &err) == 0 ? 0 : -1;
+}
+
 /* A frame with the camera registers of the tree's frame builds that tree: the board follows
  * the schedule by the exact replay (its replayed loads when no more than Max Work's, else Max
  * Work's); a camera moved by a hair is another frame. */
 TEST(certificate_identical_frame_follows_its_exact_replay)
 {
-    CHECK(load("default", 48) == 0);
     static uint32_t node_rays[C5_TREE_SLOTS];
-    c5_ctree_init(&trees[0], 0);
-    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .node_rays = node_rays};
     c5_image a = {0}, b = {0};
     c5_board_stats mw, ct;
     c5_err err;
     c5_dsp_sched_result sch;
     c5_stale_plan p;
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
-    CHECK(render(&o, &a, &mw) == 0);
-    CHECK(c5_dsp_schedule(&trees[0], &so, &sch, &err) == 0);
+    CHECK(own_frame("default", 48, node_rays, &a, &mw, &sch) == 0);
     CHECK(c5_stale_plan_make(&trees[0], node_rays, sch.next.cells, sch.next.len, NULL, 0, &p, &err) == 0);
     c5_stale_plan_settle(&p, NULL, mw.fetches, mw.frame_key);
     CHECK_MSG(p.sched_loads < p.maxwork_loads, "the schedule replays %d loads, Max Work %d", p.sched_loads,
@@ -279,17 +289,11 @@ TEST(certificate_identical_frame_follows_its_exact_replay)
  * frame; the image is the same bits. */
 TEST(certificate_lost_when_the_tree_overflows)
 {
-    CHECK(load("brain_mirrors", 32) == 0);
     static uint32_t node_rays[C5_TREE_SLOTS];
-    c5_ctree_init(&trees[0], 0);
-    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .node_rays = node_rays};
     c5_image a = {0}, b = {0};
     c5_board_stats mw, ct;
-    c5_err err;
     c5_dsp_sched_result sch;
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
-    CHECK(render(&o, &a, &mw) == 0);
-    CHECK(c5_dsp_schedule(&trees[0], &so, &sch, &err) == 0);
+    CHECK(own_frame("brain_mirrors", 32, node_rays, &a, &mw, &sch) == 0);
     c5_stale_plan p = {.valid = 1, .maxwork_loads = (int)mw.fetches, .len = sch.next.len, .lag_loads = -1,
                        .bank = 1000};
     c5_ctree_init(&trees[1], 40);
@@ -308,17 +312,11 @@ TEST(certificate_lost_when_the_tree_overflows)
  * followed to the end and saves what it saves unchecked. */
 TEST(certificate_budget_decides_how_far_the_board_follows)
 {
-    CHECK(load("brain_mirrors", 48) == 0);
     static uint32_t node_rays[C5_TREE_SLOTS];
-    c5_ctree_init(&trees[0], 0);
-    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .node_rays = node_rays};
     c5_image a = {0}, b = {0}, u = {0};
     c5_board_stats mw, ct, un;
-    c5_err err;
     c5_dsp_sched_result sch;
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
-    CHECK(render(&o, &a, &mw) == 0);
-    CHECK(c5_dsp_schedule(&trees[0], &so, &sch, &err) == 0);
+    CHECK(own_frame("brain_mirrors", 48, node_rays, &a, &mw, &sch) == 0);
     c5_board_opts f = {.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = sch.next.cells,
                        .schedule_len = sch.next.len, .stale_check = -1};
     CHECK(render(&f, &u, &un) == 0);
