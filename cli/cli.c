@@ -183,7 +183,7 @@ json_t *c5_cli_board_json(const c5_board_stats *st)
         {"samples_leaped", st->samples_leaped}, {"tree_nodes", st->tree_nodes},
         {"tree_slots", st->tree_slots},   {"tree_tags", st->tree_tags},
         {"tree_demand_nodes", st->tree_demand_nodes}, {"tree_demand_slots", st->tree_demand_slots},
-        {"tree_demand_slots6", st->tree_demand_slots6},
+        {"tree_demand_slots6", st->tree_demand_slots6}, {"lower_bound_demand", st->tree_demand_sum_maxgen},
         {"tree_reads", st->tree_reads},   {"tree_writes", st->tree_writes},
     };
     for (size_t i = 0; i < sizeof n / sizeof n[0]; i++)

@@ -192,6 +192,7 @@ static void add_board(c5_board_stats *sum, const c5_board_stats *f)
     C5_MAX_INTO(tree_demand_nodes);
     C5_MAX_INTO(tree_demand_slots);
     C5_MAX_INTO(tree_demand_slots6);
+    C5_MAX_INTO(tree_demand_sum_maxgen);
 #undef C5_MAX_INTO
     sum->tree_tags += f->tree_tags;
     sum->tree_reads += f->tree_reads;

@@ -351,6 +351,11 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "tree_overflow", json_boolean(s->overflow));
     json_object_set_new(o, "tree_group", json_integer(r->group));
     json_object_set_new(o, "tree_demand_nodes", json_integer((json_int_t)r->demand_nodes));
+    /* over groups the instrument's generations are the groups' (a weaker bound); null */
+    json_object_set_new(o, "lower_bound_demand",
+                        r->group == 1 && r->ct.tree_demand_sum_maxgen
+                            ? json_integer((json_int_t)r->ct.tree_demand_sum_maxgen)
+                            : json_null());
     json_object_set_new(o, "tree_demand_bytes", json_integer((json_int_t)r->demand_slots * C5_CELL_TREE_NODE_BYTES));
     json_object_set_new(o, "fetches_maxwork", json_integer((json_int_t)r->fetches_maxwork));
     json_object_set_new(o, "fetches_celltree", json_integer((json_int_t)r->fetches_celltree));

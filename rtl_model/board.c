@@ -785,6 +785,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->tree_demand_nodes = b.demand.oom ? 0 : b.demand.n;
     stats->tree_demand_slots = b.demand.oom ? 0 : c5_demand_slots(&b.demand, C5_TREE_CHILDREN);
     stats->tree_demand_slots6 = b.demand.oom ? 0 : c5_demand_slots(&b.demand, 6);
+    stats->tree_demand_sum_maxgen = c5_demand_sum_maxgen(&b.demand);
     stats->tree_tags = b.tree->tags;
     stats->tree_reads = b.tree->reads;
     stats->tree_writes = b.tree->writes;

@@ -194,6 +194,8 @@ typedef struct c5_board_stats {
      * slots with five children a slot (the node layout) and with six (Figure 8's); 0 when
      * the host ran out of memory for it. */
     uint64_t tree_demand_nodes, tree_demand_slots, tree_demand_slots6;
+    uint64_t tree_demand_sum_maxgen; /* the frame's proven lower bound on any order of loads from
+                                      * that tree (c5_demand_sum_maxgen); 0: no memory for it */
     uint64_t tree_tags, tree_reads, tree_writes; /* DSP work building it: packets, node accesses */
     double tree_wall_s;      /* host time of building it */
     c5_board_stages stages;

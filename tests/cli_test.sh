@@ -230,6 +230,8 @@ assert f1["followed"] == "celltree" and f1["sched_fallback"] == 0
 assert f1["lower_bound"] <= min(f1["fetches_celltree"], f1["fetches_maxwork"])
 assert f1["optimum"] is None or f1["lower_bound"] <= f1["optimum"] <= f1["fetches_celltree"]
 assert f0["nodes"] == f1["nodes"]  # the same view builds the same tree
+for f in (f0, f1):  # the instrument tree gives the fitting tree's sum of maxGen
+    assert f["lower_bound_demand"] == f["sum_maxgen"] <= f["fetches_celltree"]
 PY
 then ok schedule_json; else bad schedule_json "$json"; fi
 json=$("$cube5" schedule brain_mirrors --size 16x16 --cells 2 --still --tree-nodes 5 --json)

@@ -7,6 +7,7 @@
 #include "board.h"
 #include "builtin_scenes.h"
 #include "cell_tree.h"
+#include "dsp_sched.h"
 #include "harness.h"
 #include "rng.h"
 #include "tree_demand.h"
@@ -59,12 +60,19 @@ TEST(demand_slots_by_hand)
     CHECK_INT(c5_demand_slots(&d, 5), 11 + 2);
     CHECK_INT(c5_demand_tag(&d, r, 3), 3); /* found again, nothing new */
     CHECK_INT(d.n, 11);
+    /* maxGen: one node of each of 11 cells; then the path 0 -> 1 -> 0 -> 1 gives cells 0 and
+     * 1 two generations each */
+    CHECK_INT(c5_demand_sum_maxgen(&d), 11);
+    uint32_t back = c5_demand_tag(&d, 1, 0);
+    CHECK_INT(c5_demand_sum_maxgen(&d), 12);
+    c5_demand_tag(&d, back, 1);
+    CHECK_INT(c5_demand_sum_maxgen(&d), 13);
     c5_demand_free(&d);
 }
 
 /* On the board: where the tree fits, the instrument counts what the DSP's RAM holds; where
- * a small RAM overflows, it keeps counting to the full tree's size, and the frame is the
- * same bits. */
+ * a small RAM overflows, it keeps counting to the full tree's size and gives the frame's
+ * bound, and the frame is the same bits. */
 TEST(demand_on_the_board)
 {
     c5_scene s;
@@ -88,6 +96,15 @@ TEST(demand_on_the_board)
     CHECK_INT(sb.tree_demand_slots, sa.tree_slots);
     CHECK(sb.tree_slots <= 300);
     CHECK(!memcmp(a.rgb, b.rgb, sizeof(float) * 3 * 40 * 40));
+    /* The instrument's sum of maxGen: the scheduler's where the tree fits, the same where it
+     * does not, and at most any order of loads of the frame (Max Work's fetches). */
+    c5_dsp_sched_result r;
+    CHECK(c5_dsp_schedule(&big, &(c5_dsp_sched_opts){.rule = C5_SPLIT_MOST_LEAVES}, &r, &err) == 0);
+    CHECK(r.sum_maxgen > 0);
+    CHECK_INT(sa.tree_demand_sum_maxgen, r.sum_maxgen);
+    CHECK_INT(sb.tree_demand_sum_maxgen, r.sum_maxgen);
+    CHECK(sb.tree_demand_sum_maxgen <= sb.fetches && sb.tree_demand_sum_maxgen <= (uint64_t)r.next.len);
+    c5_dsp_sched_free(&r);
     c5_image_free(&a);
     c5_image_free(&b);
     c5_supervol_free(&sv);

@@ -26,6 +26,7 @@ void c5_demand_free(c5_tree_demand *d)
 {
     free(d->cell);
     free(d->kids);
+    free(d->parent);
     free(d->root);
     free(d->hkey);
     free(d->hval);
@@ -64,7 +65,7 @@ static int grow_map(c5_tree_demand *d)
     return 0;
 }
 
-static uint32_t new_node(c5_tree_demand *d, int cell)
+static uint32_t new_node(c5_tree_demand *d, int cell, uint32_t parent)
 {
     if (d->n == d->cap) {
         uint32_t cap = d->cap ? 2 * d->cap : 1024;
@@ -74,7 +75,10 @@ static uint32_t new_node(c5_tree_demand *d, int cell)
         uint32_t *k = c ? realloc(d->kids, cap * sizeof *k) : NULL;
         if (k)
             d->kids = k;
-        if (!c || !k) {
+        uint32_t *p = k ? realloc(d->parent, cap * sizeof *p) : NULL;
+        if (p)
+            d->parent = p;
+        if (!c || !k || !p) {
             d->oom = 1;
             return C5_DEMAND_NONE;
         }
@@ -82,6 +86,7 @@ static uint32_t new_node(c5_tree_demand *d, int cell)
     }
     d->cell[d->n] = (uint32_t)cell;
     d->kids[d->n] = 0;
+    d->parent[d->n] = parent;
     return d->n++;
 }
 
@@ -91,7 +96,7 @@ uint32_t c5_demand_tag(c5_tree_demand *d, uint32_t node, int cell)
         return C5_DEMAND_NONE;
     if (node == C5_DEMAND_NONE) {
         if (d->root[cell] == C5_DEMAND_NONE)
-            d->root[cell] = new_node(d, cell);
+            d->root[cell] = new_node(d, cell, C5_DEMAND_NONE);
         return d->root[cell];
     }
     if (d->cell[node] == (uint32_t)cell)
@@ -103,7 +108,7 @@ uint32_t c5_demand_tag(c5_tree_demand *d, uint32_t node, int cell)
             return d->hval[s];
         s = (s + 1) & (d->hcap - 1);
     }
-    uint32_t child = new_node(d, cell);
+    uint32_t child = new_node(d, cell, node);
     if (child == C5_DEMAND_NONE)
         return child;
     d->kids[node]++;
@@ -126,4 +131,29 @@ uint64_t c5_demand_slots(const c5_tree_demand *d, int per_slot)
         }
     }
     return slots;
+}
+
+uint64_t c5_demand_sum_maxgen(const c5_tree_demand *d)
+{
+    if (d->oom)
+        return 0;
+    /* Ids grow down every path (a child is made after its parent), so one pass in id order
+     * finds each node's generation from its nearest ancestor of the same cell. */
+    uint32_t *gen = malloc(sizeof *gen * (d->n ? d->n : 1)), *most = calloc(C5_MAX_CELLS, sizeof *most);
+    uint64_t sum = 0;
+    if (gen && most) {
+        for (uint32_t v = 0; v < d->n; v++) {
+            uint32_t u = d->parent[v];
+            while (u != C5_DEMAND_NONE && d->cell[u] != d->cell[v])
+                u = d->parent[u];
+            gen[v] = u == C5_DEMAND_NONE ? 1 : gen[u] + 1;
+            if (gen[v] > most[d->cell[v]])
+                most[d->cell[v]] = gen[v];
+        }
+        for (int c = 0; c < C5_MAX_CELLS; c++)
+            sum += most[c];
+    }
+    free(gen);
+    free(most);
+    return sum;
 }

@@ -16,6 +16,7 @@ typedef struct {
     uint32_t n, cap;      /* nodes */
     uint32_t *cell;       /* [cap] node's cell */
     uint32_t *kids;       /* [cap] its number of children */
+    uint32_t *parent;     /* [cap] its parent, C5_DEMAND_NONE: a root */
     uint32_t *root;       /* [C5_MAX_CELLS] each cell's root, C5_DEMAND_NONE: none */
     uint64_t *hkey;       /* open-addressing map (parent << 16 | cell) + 1 -> child; 0: empty */
     uint32_t *hval;
@@ -31,5 +32,11 @@ uint32_t c5_demand_tag(c5_tree_demand *d, uint32_t node, int cell);
  * node with more than per_slot children chains extension slots of per_slot - 1 children
  * and a link, the last holding up to per_slot. */
 uint64_t c5_demand_slots(const c5_tree_demand *d, int per_slot);
+/* The sum over cells of maxGen (the most nodes of the cell on one root-to-leaf path): every
+ * order of loads that serves the frame loads cell c at least maxGen(c) times, so this bounds
+ * any schedule of the frame, Max Work's and the board's among them, at any split and whether
+ * or not the DSP's tree fitted its RAM (docs/cell-tree.md, "Bounds"). 0 when the host ran out
+ * of memory. */
+uint64_t c5_demand_sum_maxgen(const c5_tree_demand *d);
 
 #endif
