@@ -182,7 +182,8 @@ typedef struct c5_board_stats {
                               * paper's board or a schedule of groups) */
     int64_t ledger_budget;   /* then: loads it may make beyond Max Work's (bank + allowance) */
     int64_t lead_max;        /* the largest lead: the board's loads less the shadow's steps */
-    uint64_t shadow_loads;   /* = sched_switches; sched_fallback: the shadow's loads after the schedule */
+    uint64_t shadow_loads;   /* loads taken from Max Work's shadow (sched_switches: those while schedule
+                              * entries were left) */
     uint64_t shadow_steps;   /* Max Work's fetches of the frame, as the shadow found them; 0: none */
     int shadow_broken;       /* a packet the shadow could not place: no bound for the frame's rest */
     uint64_t shadow_ops;     /* DSP operations of the shadow (mw_shadow.h) */
