@@ -18,7 +18,8 @@ static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
     "                      [--split paper|lookahead|rollout|bounded|window] [--exact-states N]\n"
     "                      [--local-window N] [--local-walk N] [--tree-nodes N]\n"
-    "                      [--tree-group G|auto] [--on-overflow maxwork|partial]\n"
+    "                      [--tree-ram auto|onchip|sdram] [--tree-group G|auto]\n"
+    "                      [--on-overflow maxwork|partial]\n"
     "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
     "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n"
     "                      [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n\n"
@@ -51,10 +52,16 @@ static const char usage_text[] =
     "  --local-walk N    then N steps of the local walk (default 0: none; 0..100000;\n"
     "                    scripts/optimum-study.sh runs 500: minutes a 27-cell tree)\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
+    "  --tree-ram auto|onchip|sdram\n"
+    "                    where the DSP keeps the Cell Tree: the 96 KB on chip, or 8 MiB of its\n"
+    "                    SDRAM (16-byte nodes; the packet carries the node's index among its\n"
+    "                    cell's nodes; a scheduling budget of 10% of the frame's board time).\n"
+    "                    auto (default): on chip up to 64 cells, in SDRAM beyond and after a\n"
+    "                    frame whose tree overflowed the on-chip RAM. docs/cell-tree.md\n"
     "  --tree-group G|auto\n"
     "                    the Cell Tree over groups of GxGxG cells; the next frame works off each\n"
     "                    scheduled group, Max Work within it. auto (default): over cells, groups\n"
-    "                    doubled per axis after a frame whose tree overflowed the DSP RAM\n"
+    "                    doubled per axis after a frame whose tree overflowed the RAM it stays in\n"
     "  --on-overflow maxwork|partial\n"
     "                    a tree that outgrew the RAM: no schedule, the next frame runs Max Work\n"
     "                    (default), or the schedule of the part it holds, then Max Work\n"
@@ -91,10 +98,13 @@ typedef struct {
     c5_motion motion; /* --orbit, --jumps, --dolly */
     int moving;       /* one of them given (--orbit 0 too: the path's first camera, still) */
     int stale_off;    /* --stale-check off */
+    int tree_ram;     /* --tree-ram: TREE_RAM_AUTO (c5_dsp_tree_in_sdram), _ONCHIP or _SDRAM */
     const char *volumes[C5_MAX_VOLUMES];
     int n_volumes;
     c5_boards_args bd;
 } sched_args;
+
+enum { TREE_RAM_AUTO, TREE_RAM_ONCHIP, TREE_RAM_SDRAM };
 
 static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
 {
@@ -116,7 +126,7 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
         if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
             !strcmp(o, "--exact-states") || !strcmp(o, "--local-window") || !strcmp(o, "--local-walk") || !strcmp(o, "--tree-nodes") ||
             !strcmp(o, "--volume") || !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group") || !strcmp(o, "--orbit") ||
-            !strcmp(o, "--jumps") || !strcmp(o, "--dolly") || !strcmp(o, "--stale-check")) {
+            !strcmp(o, "--jumps") || !strcmp(o, "--dolly") || !strcmp(o, "--stale-check") || !strcmp(o, "--tree-ram")) {
             if (i + 1 >= argc)
                 return c5_fail(err, "%s: missing value", o);
             const char *v = argv[++i];
@@ -147,7 +157,16 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
                 return -1;
             else if (!strcmp(o, "--dolly") && c5_motion_parse_dolly(o, v, &a->motion, err))
                 return -1;
-            else if (!strcmp(o, "--stale-check")) {
+            else if (!strcmp(o, "--tree-ram")) {
+                if (!strcmp(v, "auto"))
+                    a->tree_ram = TREE_RAM_AUTO;
+                else if (!strcmp(v, "onchip"))
+                    a->tree_ram = TREE_RAM_ONCHIP;
+                else if (!strcmp(v, "sdram"))
+                    a->tree_ram = TREE_RAM_SDRAM;
+                else
+                    return c5_fail(err, "--tree-ram: '%s' is not auto, onchip or sdram", v);
+            } else if (!strcmp(o, "--stale-check")) {
                 if (strcmp(v, "on") && strcmp(v, "off"))
                     return c5_fail(err, "--stale-check: '%s' is not on or off", v);
                 a->stale_off = !strcmp(v, "off");
@@ -194,6 +213,8 @@ typedef struct {
     double board_s_maxwork;
     c5_dsp_sched_result sch; /* the DSP's work on this frame's tree */
     int group;               /* cells a group of this frame's tree holds per axis (1: cells) */
+    int sdram;               /* this frame's tree is in the DSP's SDRAM (cell_tree_sdram.h) */
+    uint64_t budget_ops;     /* the DSP's scheduling budget after this frame (dsp_cost.h) */
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
     int jump;                /* the camera motion cut to a new view at this frame */
     uint32_t *start;         /* [cells] rays queued per cell after the set-up (the ledger's start overlap) */
@@ -282,7 +303,15 @@ static const char *exact_status(const c5_dsp_sched_result *s, long exact_states)
  * packets' tag decisions and node accesses), scheduling between frames (the chosen rule). */
 static uint64_t dsp_ops_tree(const frame_row *r)
 {
+    if (r->ct.tree_sdram)
+        return r->ct.tree_tags * C5_OPS_TAG + (r->ct.tree_reads + r->ct.tree_writes) * C5_OPS_SDRAM_NODE;
     return r->ct.tree_tags * C5_OPS_TAG + r->ct.tree_reads * C5_OPS_NODE_READ + r->ct.tree_writes * C5_OPS_NODE_WRITE;
+}
+
+/* Bytes of the frame's tree in its RAM. */
+static uint64_t tree_bytes(const frame_row *r)
+{
+    return r->sdram ? r->ct.tree_sdram_bytes : (uint64_t)r->sch.slots * C5_CELL_TREE_NODE_BYTES;
 }
 
 static void dsp_json(json_t *o, const frame_row *r)
@@ -296,8 +325,8 @@ static void dsp_json(json_t *o, const frame_row *r)
     json_object_set_new(o, "dsp_us_at_255mips",
                         json_pack("{s:f, s:f}", "tree", c5_dsp_us(dsp_ops_tree(r)), "schedule",
                                   c5_dsp_us(s->dsp_ops_schedule)));
-    json_object_set_new(o, "dsp_budget_ops", json_integer((json_int_t)C5_DSP_SCHED_BUDGET_OPS));
-    json_object_set_new(o, "dsp_within_budget", json_boolean(s->dsp_ops_schedule <= C5_DSP_SCHED_BUDGET_OPS));
+    json_object_set_new(o, "dsp_budget_ops", json_integer((json_int_t)r->budget_ops));
+    json_object_set_new(o, "dsp_within_budget", json_boolean(s->dsp_ops_schedule <= r->budget_ops));
     json_object_set_new(o, "bounded_gave_up", json_boolean(s->bounded_gave_up));
     json_object_set_new(o, "bounded_fell_back", json_boolean(s->bounded_fell_back));
     json_object_set_new(o, "window_warm", json_boolean(s->next.warm));
@@ -306,20 +335,22 @@ static void dsp_json(json_t *o, const frame_row *r)
 /* The DSP's operations per frame, as text. */
 static void dsp_text(const frame_row *rows, int frames)
 {
-    printf("  DSP at %.0f MIPS (dsp_cost.h), scheduling budget between frames %llu ops (%.0f us):\n", C5_DSP_MIPS,
-           (unsigned long long)C5_DSP_SCHED_BUDGET_OPS, c5_dsp_us(C5_DSP_SCHED_BUDGET_OPS));
+    printf("  DSP at %.0f MIPS (dsp_cost.h), scheduling budget between frames %llu ops (%.0f us) for a tree on "
+           "chip, %.0f%% of the frame's board time for a tree in SDRAM:\n",
+           C5_DSP_MIPS, (unsigned long long)C5_DSP_SCHED_BUDGET_OPS, c5_dsp_us(C5_DSP_SCHED_BUDGET_OPS),
+           100.0 * C5_DSP_SDRAM_FRAME_SHARE);
     for (int f = 0; f < frames; f++) {
         const frame_row *r = &rows[f];
         const c5_dsp_sched_result *s = &r->sch;
         uint64_t tree = dsp_ops_tree(r);
-        printf("  frame %d: tree %llu ops (%.0f us, %.2f%% of the frame); schedule %llu ops (%.0f us: export %llu, "
+        printf("  frame %d: tree %s %llu ops (%.0f us, %.2f%% of the frame); schedule %llu ops (%.0f us: export %llu, "
                "rule %llu, write-back %llu)%s; bounded rule %d loads, window rule %d loads%s\n",
-               f, (unsigned long long)tree, c5_dsp_us(tree),
+               f, r->sdram ? "in SDRAM" : "on chip", (unsigned long long)tree, c5_dsp_us(tree),
                r->ct.board_s > 0 ? 100.0 * c5_dsp_us(tree) * 1e-6 / r->ct.board_s : 0.0,
                (unsigned long long)s->dsp_ops_schedule, c5_dsp_us(s->dsp_ops_schedule),
                (unsigned long long)s->dsp_ops_export, (unsigned long long)s->dsp_ops_rule,
                (unsigned long long)s->dsp_ops_writeback,
-               s->dsp_ops_schedule > C5_DSP_SCHED_BUDGET_OPS ? " OVER BUDGET" : "", s->len_bounded,
+               s->dsp_ops_schedule > r->budget_ops ? " OVER BUDGET" : "", s->len_bounded,
                s->len_window,
                s->bounded_fell_back ? " (followed rule: the paper's schedule)"
                : s->bounded_gave_up ? " (followed rule: stopped at the budget)"
@@ -347,7 +378,8 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "rays", json_integer((json_int_t)r->rays));
     json_object_set_new(o, "nodes", json_integer(s->nodes));
     json_object_set_new(o, "tree_slots", json_integer(s->slots));
-    json_object_set_new(o, "tree_bytes", json_integer((json_int_t)s->slots * C5_CELL_TREE_NODE_BYTES));
+    json_object_set_new(o, "tree_bytes", json_integer((json_int_t)tree_bytes(r)));
+    json_object_set_new(o, "tree_ram", json_string(r->sdram ? "sdram" : "onchip"));
     json_object_set_new(o, "tree_overflow", json_boolean(s->overflow));
     json_object_set_new(o, "tree_group", json_integer(r->group));
     json_object_set_new(o, "tree_demand_nodes", json_integer((json_int_t)r->demand_nodes));
@@ -477,10 +509,11 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
         char peels[24];
         snprintf(peels, sizeof peels, x->overflow ? "-" : "%d/%d", x->peels_completion, x->peels_split);
         printf("%5d %8llu %5d %6d %7llu %8llu %5.1f%% %5s %5s %7s %5s %5s %5s %9s %s%s\n", f,
-               (unsigned long long)r->rays, x->nodes, x->slots * C5_CELL_TREE_NODE_BYTES,
+               (unsigned long long)r->rays, x->nodes, (int)tree_bytes(r),
                (unsigned long long)r->fetches_maxwork, (unsigned long long)r->fetches_celltree,
                reduction(r->fetches_maxwork, r->fetches_celltree), v[0], v[1], v[2], v[3], v[4], v[5], peels,
                r->followed, !x->overflow ? ""
+                            : r->sdram ? " (tree OVERFLOWED its SDRAM region: next frame runs Max Work)"
                             : a->partial ? " (tree OVERFLOWED the DSP RAM: next frame follows what it holds)"
                                          : " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)");
         if (a->bd.given) {
@@ -491,6 +524,8 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
                    "boards' lower bounds %ld%s\n", "", a->bd.t.size, (unsigned long long)r->mb_mw->frame_cycles,
                    (unsigned long long)r->mb_ct->frame_cycles, bound, bound < 0 ? " (a tree overflowed)" : "");
         }
+        if (r->sdram)
+            printf("%5s this frame's tree is in the DSP's SDRAM\n", "");
         if (r->group > 1)
             printf("%5s this frame's tree is over groups of %dx%dx%d cells\n", "", r->group, r->group, r->group);
         if (r->ct.sched_switches) {
@@ -586,6 +621,15 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     o.fetch_log_cap = log ? FETCH_LOG_MAX : 0;
     c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
     int rc = -1;
+    /* The tree in the DSP's SDRAM: each run builds its own; the last run's is scheduled. */
+    c5_sdram_tree *sdt = row->sdram ? malloc(sizeof *sdt) : NULL;
+    if (row->sdram && (!sdt || c5_sdram_tree_init(sdt, 0) != 0)) {
+        free(sdt);
+        sdt = NULL;
+        c5_fail(err, "out of memory for the Cell Tree in SDRAM");
+        goto done;
+    }
+    o.sdram_tree = sdt;
     if (model(a, s, sv, f, &o, &mw_img, &mw, row->mb_mw, err) != 0)
         goto done;
     if (row->mb_ct)
@@ -604,6 +648,13 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
+        if (sdt) {
+            c5_sdram_tree_free(sdt);
+            if (c5_sdram_tree_init(sdt, 0) != 0) {
+                c5_fail(err, "out of memory for the Cell Tree in SDRAM");
+                goto done;
+            }
+        }
         if (model(a, s, sv, f, &o, &ct_img, &row->ct, row->mb_ct, err) != 0)
             goto done;
         if (!same_bits(&mw_img, &ct_img)) {
@@ -632,16 +683,29 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         memset(so.split, 0, sizeof so.split); /* the slab bound knows cells, not groups */
     row->demand_nodes = row->ct.tree_demand_nodes;
     row->demand_slots = row->ct.tree_demand_slots;
-    rc = c5_dsp_schedule(tree, &so, &row->sch, err);
+    if (sdt) {
+        /* The DSP's budget in SDRAM: a share of this frame's board time (dsp_cost.h). */
+        so.rule_budget = c5_dsp_sdram_budget(row->ct.board_s, (sdt->slots + sdt->t.n) * C5_OPS_SDRAM_NODE);
+        rc = c5_dsp_schedule_sdram(sdt, &so, &row->sch, err);
+        row->budget_ops = so.rule_budget + (sdt->slots + sdt->t.n) * C5_OPS_SDRAM_NODE;
+    } else {
+        rc = c5_dsp_schedule(tree, &so, &row->sch, err);
+        row->budget_ops = C5_DSP_SCHED_BUDGET_OPS;
+    }
     if (rc == 0 && a->bd.given)
         rc = gather_bounds(a, row, err);
+    const int *lag = o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL;
+    int lag_len = o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0;
     if (rc == 0 && g == 1)
-        rc = c5_stale_plan_make(tree, node_rays, row->sch.next.cells, row->sch.next.len,
-                                o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL,
-                                o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0, &row->plan, err);
+        rc = sdt ? c5_stale_plan_make_sdram(sdt, row->sch.next.cells, row->sch.next.len, lag, lag_len, &row->plan, err)
+                 : c5_stale_plan_make(tree, node_rays, row->sch.next.cells, row->sch.next.len, lag, lag_len,
+                                      &row->plan, err);
     if (rc == 0)
         c5_stale_plan_settle(&row->plan, prev_plan, row->ct.fetches, row->ct.frame_key);
 done:
+    if (sdt)
+        c5_sdram_tree_free(sdt);
+    free(sdt);
     free(log);
     free(node_rays);
     c5_image_free(&mw_img);
@@ -702,8 +766,14 @@ int c5_cmd_schedule(int argc, char **argv)
     if (!c5_boards_leader(&a.bd))
         prog.mode = 0;
     for (int f = 0; f < frames; f++) {
-        rows[f].group = a.group ? (int)a.group
-                        : f == 0 ? 1 : c5_dsp_next_group(rows[f - 1].group, rows[f - 1].sch.overflow, a.cells);
+        int ncells = a.cells[0] * a.cells[1] * a.cells[2];
+        const frame_row *pr = f ? &rows[f - 1] : NULL;
+        rows[f].sdram = a.tree_ram == TREE_RAM_SDRAM   ? 1
+                        : a.tree_ram == TREE_RAM_ONCHIP ? 0
+                                                        : c5_dsp_tree_in_sdram(ncells, f, pr && pr->sdram, pr && pr->sch.overflow);
+        /* Groups grow after an overflow of the RAM the tree stays in (auto: of the SDRAM). */
+        int grow = pr && pr->sch.overflow && (pr->sdram || a.tree_ram == TREE_RAM_ONCHIP);
+        rows[f].group = a.group ? (int)a.group : f == 0 ? 1 : c5_dsp_next_group(pr->group, grow, a.cells);
         if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? &rows[f - 1].plan : NULL,
                       f ? rows[f - 1].group : 1,
                       f ? rows[f - 1].start : NULL, trees, &rows[f], &prog,

@@ -20,6 +20,7 @@
 #include "regs.h"
 #include "taps.h"
 #include "tree_demand.h"
+#include "cell_tree_sdram.h"
 #include "clock.h"
 
 #define CLOCK_HZ 100e6
@@ -62,6 +63,7 @@ typedef struct {
     c5_board_stats *st;
     c5_ctree *tree;          /* opts->tree or own_tree */
     c5_ctree *own_tree;
+    c5_sdram_tree *sdram;    /* opts->sdram_tree: the DSP's tree is there instead of in tree */
     int oom;
     /* Several boards (opts.link): packets for other boards' cells, waiting for the exchange;
      * while eye_probe is set, the set-up only records each pixel's first cell in px_owner. */
@@ -220,16 +222,25 @@ static void dsp_queue(board *b, const c5_bray *r, int arrival)
 {
     c5_bray q = *r;
     double t0 = c5_now_s();
-    q.node = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
+    uint32_t id = C5_NODE_NONE, from_id = r->node; /* the nodes' ids in the tree's store */
+    if (b->sdram) {
+        /* The packet's node is its index among the nodes of the cell it was queued for, the
+         * active cell (cell_tree_sdram.h); the DSP's directory gives its id. */
+        int from = r->node == C5_NODE_NONE ? -1 : tree_unit(b, b->proc.active);
+        from_id = from < 0 ? C5_DEMAND_NONE : c5_sdram_tree_id(b->sdram, from, r->node);
+        q.node = c5_sdram_tree_tag(b->sdram, from, r->node, tree_unit(b, (int)r->cell), &id);
+    } else {
+        q.node = id = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
+    }
     b->st->tree_wall_s += c5_now_s() - t0;
     /* The rays each node brings to its cell's queue (stale_plan.h); a spill of the active
      * cell's own ray is not an arrival. */
     if (b->o->node_rays && q.node != C5_NODE_NONE && arrival) {
-        b->o->node_rays[q.node]++;
+        (b->sdram ? b->sdram->rays : b->o->node_rays)[id]++;
         b->st->node_count_ops += C5_OPS_NODE_COUNT;
     }
     if (b->certify && arrival)
-        c5_mw_shadow_tag(&b->shadow, r->node, q.node, (int)r->cell);
+        c5_mw_shadow_tag(&b->shadow, from_id, q.node == C5_NODE_NONE ? C5_DEMAND_NONE : id, (int)r->cell);
     q.shadow = c5_demand_tag(&b->demand, r->shadow, tree_unit(b, (int)r->cell));
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
@@ -669,6 +680,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     b.free_slots = malloc((size_t)o.queue_capacity * sizeof *b.free_slots);
     b.fb = calloc(npx * 3, sizeof *b.fb);
     b.tree = o.tree;
+    b.sdram = o.sdram_tree;
     if (!b.tree && (b.tree = b.own_tree = malloc(sizeof *b.own_tree)) != NULL)
         c5_ctree_init(b.tree, 0);
     b.cycle_level = o.queue_model == C5_QUEUE_CYCLE;
@@ -686,7 +698,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         memset(o.node_rays, 0, C5_TREE_SLOTS * sizeof *o.node_rays);
     if (o.sched == C5_SCHED_EXTERNAL && o.stale_check >= 0 && !o.link && b.sgroup[0] * b.sgroup[1] * b.sgroup[2] == 1 &&
         b.group[0] * b.group[1] * b.group[2] == 1) {
-        if (c5_mw_shadow_init(&b.shadow, b.cells.count) != 0) {
+        if (c5_mw_shadow_init(&b.shadow, b.cells.count, b.sdram ? c5_sdram_tree_max_nodes(b.sdram) : 0) != 0) {
             board_free(&b);
             return c5_fail(err, "out of memory for the board model");
         }
@@ -789,6 +801,17 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     stats->tree_tags = b.tree->tags;
     stats->tree_reads = b.tree->reads;
     stats->tree_writes = b.tree->writes;
+    if (b.sdram) {
+        const c5_sdram_tree *t = b.sdram;
+        stats->tree_sdram = 1;
+        stats->tree_nodes = t->t.n;
+        stats->tree_slots = (uint32_t)t->slots;
+        stats->tree_overflow = t->overflow || t->t.oom;
+        stats->tree_tags = t->tags;
+        stats->tree_reads = t->reads + t->dir_reads;
+        stats->tree_writes = t->writes;
+        stats->tree_sdram_bytes = c5_sdram_tree_bytes_used(t);
+    }
     stats->cycles = stats->cycles_process + stats->cycles_fetch;
     stats->board_s = (double)stats->cycles / CLOCK_HZ;
     board_free(&b);

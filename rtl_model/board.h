@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "cell_tree.h"
+#include "cell_tree_sdram.h"
 #include "cref.h"
 #include "fixed.h"
 #include "image.h"
@@ -92,6 +93,10 @@ typedef struct {
     int fetch_log_cap;
     c5_ctree *tree;          /* the DSP's Cell Tree of this frame, filled here after the caller's
                               * c5_ctree_init (which sets its capacity); NULL: built and dropped */
+    c5_sdram_tree *sdram_tree; /* the DSP's Cell Tree in its SDRAM (cell_tree_sdram.h), filled here
+                              * after the caller's c5_sdram_tree_init, instead of `tree`; NULL: the
+                              * tree is on chip. Its per-node counts go to its rays[], not
+                              * node_rays (which then only asks for them) */
     int tree_group[3];       /* the Cell Tree this frame builds, over groups of cells: cells a group
                               * holds along each axis (group id = x + gx (y + gy z) over the grid
                               * of groups); < 2 on every axis: over single cells */
@@ -191,6 +196,9 @@ typedef struct c5_board_stats {
     double start_overlap;    /* the start queues' overlap with the previous frame's; -1: not compared */
     uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
     int tree_overflow;       /* the tree outgrew the DSP RAM (the frame is still right) */
+    int tree_sdram;          /* the tree was in the DSP's SDRAM (opts.sdram_tree): its reads and
+                              * writes are SDRAM node and directory accesses */
+    uint64_t tree_sdram_bytes; /* of its region in use */
     /* The tree the frame's dependencies need, with unbounded RAM (tree_demand.h): nodes, and
      * slots with five children a slot (the node layout) and with six (Figure 8's); 0 when
      * the host ran out of memory for it. */

@@ -55,6 +55,22 @@ static inline uint64_t c5_dsp_rule_budget(int n)
     return io < C5_DSP_SCHED_BUDGET_OPS ? C5_DSP_SCHED_BUDGET_OPS - io : 1;
 }
 
+/* The SDRAM tree's between-frame budget (cell_tree_sdram.h): a share of the board time of the
+ * frame whose tree it schedules, less reading the tree out and writing it back (io_ops), and
+ * never below the on-chip rule's. A split of 512 or 4,096 cells makes trees of 10^4 to 10^5
+ * nodes whose frames take seconds of board time; the window rule needs tens to hundreds of
+ * millions of operations to shorten them (docs/cell-tree.md, "Where the tree lives"). The
+ * share is board time the next frame waits: the fetches it saves must pay for it, and the
+ * board's reported frame time includes it. */
+#define C5_DSP_SDRAM_FRAME_SHARE 0.10
+static inline uint64_t c5_dsp_sdram_budget(double board_s, uint64_t io_ops)
+{
+    double ops = C5_DSP_SDRAM_FRAME_SHARE * board_s * C5_DSP_MIPS * 1e6;
+    uint64_t share = ops > 1e15 ? (uint64_t)1e15 : (uint64_t)ops;
+    uint64_t rule = share > io_ops ? share - io_ops : 0;
+    return rule > C5_DSP_SCHED_BUDGET_OPS ? rule : C5_DSP_SCHED_BUDGET_OPS;
+}
+
 static inline double c5_dsp_us(uint64_t ops) { return (double)ops / C5_DSP_MIPS; }
 
 #endif

@@ -24,12 +24,42 @@ int c5_dsp_next_group(int group, int overflowed, const int cells[3])
     return 2 * group < most ? 2 * group : most;
 }
 
+int c5_dsp_tree_in_sdram(int cells, int frame, int prev_sdram, int prev_overflow)
+{
+    if (frame == 0)
+        return cells > C5_DSP_ONCHIP_MAX_CELLS;
+    return prev_sdram || prev_overflow;
+}
+
 int c5_dsp_run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, const c5_dsp_sched_opts *o,
                     c5_schedule *out, c5_err *err)
 {
     if (rule == C5_SPLIT_WINDOW)
-        return c5_sched_window_from(dt, c5_dsp_rule_budget(dt->n), o->warm, o->warm_len, out, err);
+        return c5_sched_window_from(dt, o->rule_budget ? o->rule_budget : c5_dsp_rule_budget(dt->n), o->warm,
+                                    o->warm_len, out, err);
     return c5_sched_celltree_capped(dt, rule, cap, out, err);
+}
+
+/* The DSP's work on a tree read out of its RAM (dt: nodes in id order, parents first): the
+ * chosen rule, the generations checked against the node's field and written back (counted by
+ * the caller's weights). */
+static int schedule_tree(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, int *gen,
+                         c5_dsp_sched_result *r, c5_err *err)
+{
+    int *len_of[6] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded, &r->len_window};
+    c5_split_rule rule = o->rule ? o->rule : C5_SPLIT_MOST_LEAVES;
+    if (c5_tree_check(dt, err) != 0 || c5_dsp_run_rule(dt, rule, 0, o, &r->next, err) != 0 ||
+        c5_tree_generations(dt, gen) < 0)
+        return -1;
+    r->peels_completion = r->next.peels_completion;
+    r->peels_split = r->next.peels_split;
+    r->nodes_examined = r->next.nodes_examined;
+    r->max_gen = r->next.max_gen;
+    r->dsp_ops_rule = r->next.dsp_ops;
+    r->bounded_gave_up = r->next.gave_up;
+    r->bounded_fell_back = r->next.fell_back;
+    *len_of[rule] = r->next.len;
+    return 0;
 }
 
 int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
@@ -47,7 +77,6 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     int *parent = malloc(sizeof *parent * (size_t)(n + 1)), *cell = malloc(sizeof *cell * (size_t)(n + 1));
     int *gen = malloc(sizeof *gen * (size_t)(n + 1));
     uint32_t *id = malloc(sizeof *id * (size_t)(n + 1));
-    int *len_of[6] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded, &r->len_window};
     if (!parent || !cell || !gen || !id) {
         c5_fail(err, "out of memory for the Cell Tree scheduler (%d nodes)", n);
         goto done;
@@ -55,29 +84,64 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     /* The DSP's own work, timed: read the tree, schedule by the chosen rule, write back. */
     c5_ctree_export(t, parent, cell, id);
     c5_dep_tree dt = {n, parent, cell};
-    c5_split_rule rule = o->rule ? o->rule : C5_SPLIT_MOST_LEAVES;
-    if (c5_tree_check(&dt, err) != 0 || c5_dsp_run_rule(&dt, rule, 0, o, &r->next, err) != 0 ||
-        c5_tree_generations(&dt, gen) < 0 || c5_ctree_annotate(t, id, gen, n, err) != 0)
+    if (schedule_tree(&dt, o, gen, r, err) != 0 || c5_ctree_annotate(t, id, gen, n, err) != 0)
         goto done;
     r->sched_wall_s = c5_now_s() - t0;
-    r->peels_completion = r->next.peels_completion;
-    r->peels_split = r->next.peels_split;
-    r->nodes_examined = r->next.nodes_examined;
-    r->max_gen = r->next.max_gen;
     r->dsp_ops_export = (uint64_t)n * C5_OPS_NODE_READ;
-    r->dsp_ops_rule = r->next.dsp_ops;
     r->dsp_ops_writeback = (uint64_t)n * C5_OPS_NODE_WRITE;
     r->dsp_ops_schedule = r->dsp_ops_export + r->dsp_ops_rule + r->dsp_ops_writeback;
-    r->bounded_gave_up = r->next.gave_up;
-    r->bounded_fell_back = r->next.fell_back;
     /* The report's: the other rules and the bounds (offline analysis, sched_report.c). */
-    *len_of[rule] = r->next.len;
-    rc = report ? c5_dsp_sched_report(&dt, rule, o, r, err) : 0;
+    rc = report ? c5_dsp_sched_report(&dt, o->rule ? o->rule : C5_SPLIT_MOST_LEAVES, o, r, err) : 0;
 done:
     free(parent);
     free(cell);
     free(gen);
     free(id);
+    if (rc != 0)
+        c5_schedule_free(&r->next);
+    return rc;
+}
+
+int c5_dsp_schedule_sdram(const c5_sdram_tree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err)
+{
+    memset(r, 0, sizeof *r);
+    r->nodes = (int)t->t.n;
+    r->slots = (int)t->slots;
+    r->overflow = t->overflow || t->t.oom;
+    r->optimum = -1;
+    if (r->overflow)
+        return 0; /* a frozen SDRAM tree: the next frame runs Max Work (or groups, c5_dsp_next_group) */
+    double t0 = c5_now_s();
+    int n = r->nodes, rc = -1;
+    int *parent = malloc(sizeof *parent * (size_t)(n + 1)), *cell = malloc(sizeof *cell * (size_t)(n + 1));
+    int *gen = malloc(sizeof *gen * (size_t)(n + 1));
+    if (!parent || !cell || !gen) {
+        c5_fail(err, "out of memory for the Cell Tree scheduler (%d nodes)", n);
+        goto done;
+    }
+    /* Node ids are in creation order, so parents come first, as c5_ctree_export gives them. */
+    for (int v = 0; v < n; v++) {
+        parent[v] = t->t.parent[v] == C5_DEMAND_NONE ? -1 : (int)t->t.parent[v];
+        cell[v] = (int)t->t.cell[v];
+    }
+    c5_dep_tree dt = {n, parent, cell};
+    if (schedule_tree(&dt, o, gen, r, err) != 0)
+        goto done;
+    for (int v = 0; v < n; v++)
+        if (gen[v] >= 1 << C5_CELL_TREE_NODE_GENERATION_WIDTH) {
+            c5_fail(err, "Cell Tree node %d: generation %d does not fit the node's %d-bit field", v, gen[v],
+                    C5_CELL_TREE_NODE_GENERATION_WIDTH);
+            goto done;
+        }
+    r->sched_wall_s = c5_now_s() - t0;
+    r->dsp_ops_export = (uint64_t)t->slots * C5_OPS_SDRAM_NODE;
+    r->dsp_ops_writeback = (uint64_t)n * C5_OPS_SDRAM_NODE;
+    r->dsp_ops_schedule = r->dsp_ops_export + r->dsp_ops_rule + r->dsp_ops_writeback;
+    rc = c5_dsp_sched_report(&dt, o->rule ? o->rule : C5_SPLIT_MOST_LEAVES, o, r, err);
+done:
+    free(parent);
+    free(cell);
+    free(gen);
     if (rc != 0)
         c5_schedule_free(&r->next);
     return rc;

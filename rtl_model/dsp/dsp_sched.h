@@ -5,6 +5,7 @@
 #define C5_DSP_SCHED_H
 
 #include "cell_tree.h"
+#include "cell_tree_sdram.h"
 #include "err.h"
 #include "tree_sched.h"
 
@@ -54,6 +55,9 @@ typedef struct {
      * before use (c5_sched_window_from). */
     const int *warm;
     int warm_len;
+    /* The window rule's budget of DSP operations (0: c5_dsp_rule_budget, the on-chip tree's
+     * between-frame budget); the SDRAM tree's is c5_dsp_sdram_budget. */
+    uint64_t rule_budget;
 } c5_dsp_sched_opts;
 
 typedef struct {
@@ -94,6 +98,10 @@ typedef struct {
  * overflowed tree is scheduled only with o->partial; otherwise r->next is empty, so the next
  * frame runs Max Work. */
 int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err);
+/* The same for the tree in the DSP's SDRAM: read in slots, written back per node, at the SDRAM
+ * weights (cell_tree_sdram.h); a frozen tree gives no schedule. The generations the write-back
+ * stores are checked against the node's field. */
+int c5_dsp_schedule_sdram(const c5_sdram_tree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result *r, c5_err *err);
 
 /* One rule as the DSP runs it (the window rule from o->warm when there is one), or under a
  * cap of nodes examined (0: none) for the report; 0, 1 when over the cap, -1 on error. */
@@ -108,5 +116,12 @@ void c5_dsp_sched_free(c5_dsp_sched_result *r);
  * group Max Work among its cells (docs/cell-tree.md, "Overflow": measured against a frozen
  * tree's partial schedule and against Max Work). */
 int c5_dsp_next_group(int group, int overflowed, const int cells[3]);
+
+/* Where the DSP keeps the tree of frame `frame` of a split of `cells` cells (the default,
+ * --tree-ram auto; docs/cell-tree.md, "Where the tree lives"): the first frame's tree on chip
+ * up to C5_DSP_ONCHIP_MAX_CELLS cells, in SDRAM beyond; a later frame's in SDRAM once the
+ * previous frame's was there or overflowed the on-chip RAM. 1: SDRAM. */
+#define C5_DSP_ONCHIP_MAX_CELLS 64
+int c5_dsp_tree_in_sdram(int cells, int frame, int prev_sdram, int prev_overflow);
 
 #endif

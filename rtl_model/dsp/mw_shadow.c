@@ -11,11 +11,12 @@ enum {
     SH_TAKEN = 8,  /* worked off in the shadow */
 };
 
-int c5_mw_shadow_init(c5_mw_shadow *s, int ncells)
+int c5_mw_shadow_init(c5_mw_shadow *s, int ncells, uint32_t none)
 {
     memset(s, 0, sizeof *s);
     s->ncells = ncells;
-    size_t n = C5_TREE_SLOTS, m = (size_t)(ncells > 0 ? ncells : 1);
+    s->none = none ? none : C5_NODE_NONE;
+    size_t n = (size_t)s->none + 1, m = (size_t)(ncells > 0 ? ncells : 1);
     s->rays = calloc(n, sizeof *s->rays);
     s->cell = malloc(n * sizeof *s->cell);
     s->first = malloc(n * sizeof *s->first);
@@ -61,7 +62,7 @@ void c5_mw_shadow_tag(c5_mw_shadow *s, uint32_t from, uint32_t node, int cell)
     s->ops += C5_OPS_SHADOW_TAG;
     if (s->broken)
         return;
-    if (node >= C5_NODE_NONE || cell < 0 || cell >= s->ncells || (s->state[node] & SH_DONE)) {
+    if (node >= s->none || cell < 0 || cell >= s->ncells || (s->state[node] & SH_DONE)) {
         s->broken = 1;
         return;
     }
@@ -72,7 +73,7 @@ void c5_mw_shadow_tag(c5_mw_shadow *s, uint32_t from, uint32_t node, int cell)
         s->first[v] = -1;
         s->link[v] = s->head[cell];
         s->head[cell] = v;
-        int root = from >= C5_NODE_NONE;
+        int root = from >= s->none;
         if (!root && (from == node || !(s->state[from] & SH_SEEN))) {
             s->broken = 1; /* a node that came into being without a counted packet */
             return;

@@ -34,7 +34,9 @@
 
 typedef struct {
     int ncells;
-    uint32_t *rays;      /* [C5_TREE_SLOTS] packets tagged with each node */
+    uint32_t none;       /* node ids from here on mean none: C5_NODE_NONE on chip, the SDRAM
+                          * tree's node capacity there; the arrays hold none + 1 entries */
+    uint32_t *rays;      /* [none + 1] packets tagged with each node */
     int32_t *cell;       /* [slots] the node's cell */
     int32_t *first, *sibling; /* [slots] children lists */
     uint8_t *state;      /* [slots] SH_* bits (mw_shadow.c) */
@@ -49,8 +51,8 @@ typedef struct {
     uint64_t ops;        /* DSP operations (the C5_OPS_SHADOW_* weights) */
 } c5_mw_shadow;
 
-/* 0, or -1 when out of memory. */
-int c5_mw_shadow_init(c5_mw_shadow *s, int ncells);
+/* Node ids below `none` (0: C5_NODE_NONE, the on-chip tree's). 0, or -1 when out of memory. */
+int c5_mw_shadow_init(c5_mw_shadow *s, int ncells, uint32_t none);
 void c5_mw_shadow_free(c5_mw_shadow *s);
 
 /* A packet the DSP queues for `cell` from another cell (or the set-up), tagged `node`; `from`:

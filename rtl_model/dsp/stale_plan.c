@@ -81,30 +81,23 @@ static int follow(replay *r, const int *parent, const int *sched, int len, uint3
     return loads;
 }
 
-int c5_stale_plan_make(const c5_ctree *t, const uint32_t *node_rays, const int *sched, int len, const int *lag_sched,
-                       int lag_len, c5_stale_plan *p, c5_err *err)
+/* The replay on a tree read out of the DSP's RAM: n nodes in id order (parents first), the
+ * packets tagged with each. */
+static int plan_tree(int n, const int *parent, const int *cell, const uint32_t *rays, const int *sched, int len,
+                     const int *lag_sched, int lag_len, c5_stale_plan *p, c5_err *err)
 {
-    memset(p, 0, sizeof *p);
-    p->len = len;
-    p->lag_loads = -1;
-    if (!t || !node_rays || t->overflow)
-        return 0;
-    int n = (int)t->nodes, ncell = 0;
-    int *parent = malloc(sizeof(int) * (size_t)(n ? n : 1)), *cell = malloc(sizeof(int) * (size_t)(n ? n : 1));
-    uint32_t *id = malloc(sizeof(uint32_t) * (size_t)(n ? n : 1)), *rays = malloc(sizeof(uint32_t) * (size_t)(n ? n : 1));
+    int ncell = 0;
     replay r = {.n = n, .cell = cell, .rays = rays};
     r.first = malloc(sizeof(int) * (size_t)(n ? n : 1));
     r.sibling = malloc(sizeof(int) * (size_t)(n ? n : 1));
     r.link = malloc(sizeof(int) * (size_t)(n ? n : 1));
     p->pred = calloc((size_t)(len ? len : 1), sizeof *p->pred);
     int rc = -1;
-    if (!parent || !cell || !id || !rays || !r.first || !r.sibling || !r.link || !p->pred) {
+    if (!r.first || !r.sibling || !r.link || !p->pred) {
         c5_fail(err, "out of memory for the stale-schedule replay");
         goto done;
     }
-    c5_ctree_export(t, parent, cell, id); /* the DSP's read of the tree is the scheduler's */
     for (int v = 0; v < n; v++) {
-        rays[v] = node_rays[id[v]];
         p->rays += rays[v];
         if (cell[v] + 1 > ncell)
             ncell = cell[v] + 1;
@@ -135,8 +128,55 @@ int c5_stale_plan_make(const c5_ctree *t, const uint32_t *node_rays, const int *
     p->valid = 1;
     rc = 0;
 done:
-    free(parent), free(cell), free(id), free(rays), free(r.first), free(r.sibling), free(r.link), free(r.head),
-        free(r.wait);
+    free(r.first), free(r.sibling), free(r.link), free(r.head), free(r.wait);
+    return rc;
+}
+
+int c5_stale_plan_make(const c5_ctree *t, const uint32_t *node_rays, const int *sched, int len, const int *lag_sched,
+                       int lag_len, c5_stale_plan *p, c5_err *err)
+{
+    memset(p, 0, sizeof *p);
+    p->len = len;
+    p->lag_loads = -1;
+    if (!t || !node_rays || t->overflow)
+        return 0;
+    int n = (int)t->nodes, rc = -1;
+    int *parent = malloc(sizeof(int) * (size_t)(n ? n : 1)), *cell = malloc(sizeof(int) * (size_t)(n ? n : 1));
+    uint32_t *id = malloc(sizeof(uint32_t) * (size_t)(n ? n : 1)), *rays = malloc(sizeof(uint32_t) * (size_t)(n ? n : 1));
+    if (!parent || !cell || !id || !rays) {
+        c5_fail(err, "out of memory for the stale-schedule replay");
+    } else {
+        c5_ctree_export(t, parent, cell, id); /* the DSP's read of the tree is the scheduler's */
+        for (int v = 0; v < n; v++)
+            rays[v] = node_rays[id[v]];
+        rc = plan_tree(n, parent, cell, rays, sched, len, lag_sched, lag_len, p, err);
+    }
+    free(parent), free(cell), free(id), free(rays);
+    if (rc)
+        c5_stale_plan_free(p);
+    return rc;
+}
+
+int c5_stale_plan_make_sdram(const c5_sdram_tree *t, const int *sched, int len, const int *lag_sched, int lag_len,
+                             c5_stale_plan *p, c5_err *err)
+{
+    memset(p, 0, sizeof *p);
+    p->len = len;
+    p->lag_loads = -1;
+    if (!t || t->overflow || t->t.oom)
+        return 0;
+    int n = (int)t->t.n, rc = -1;
+    int *parent = malloc(sizeof(int) * (size_t)(n ? n : 1)), *cell = malloc(sizeof(int) * (size_t)(n ? n : 1));
+    if (!parent || !cell) {
+        c5_fail(err, "out of memory for the stale-schedule replay");
+    } else {
+        for (int v = 0; v < n; v++) {
+            parent[v] = t->t.parent[v] == C5_DEMAND_NONE ? -1 : (int)t->t.parent[v];
+            cell[v] = (int)t->t.cell[v];
+        }
+        rc = plan_tree(n, parent, cell, t->rays, sched, len, lag_sched, lag_len, p, err);
+    }
+    free(parent), free(cell);
     if (rc)
         c5_stale_plan_free(p);
     return rc;

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "cell_tree.h"
+#include "cell_tree_sdram.h"
 #include "err.h"
 
 /* DSP operations of the replay: per node (its count read, added to its cell's waiting
@@ -47,6 +48,9 @@ typedef struct {
  * node slot (C5_TREE_SLOTS entries). 0, or -1 with a message. */
 int c5_stale_plan_make(const c5_ctree *t, const uint32_t *node_rays, const int *sched, int len, const int *lag_sched,
                        int lag_len, c5_stale_plan *p, c5_err *err);
+/* The same on the tree in the DSP's SDRAM, with the packets its rays[] counted. */
+int c5_stale_plan_make_sdram(const c5_sdram_tree *t, const int *sched, int len, const int *lag_sched, int lag_len,
+                             c5_stale_plan *p, c5_err *err);
 void c5_stale_plan_free(c5_stale_plan *p);
 
 /* The ledger after the tree's frame: p->bank = the previous frame's bank (prev, NULL on the
