@@ -214,6 +214,9 @@ typedef struct {
     c5_dsp_sched_result sch; /* the DSP's work on this frame's tree */
     int group;               /* cells a group of this frame's tree holds per axis (1: cells) */
     int sdram;               /* this frame's tree is in the DSP's SDRAM (cell_tree_sdram.h) */
+    int *tparent, *tcell, tn; /* that tree as the DSP reads it, until the next frame's refinement */
+    c5_schedule refined;     /* the previous frame's schedule, shortened during this frame (refine) */
+    uint64_t refine_budget;  /* the DSP's idle operations in this frame */
     uint64_t budget_ops;     /* the DSP's scheduling budget after this frame (dsp_cost.h) */
     uint64_t demand_nodes, demand_slots; /* the tree with unbounded RAM (tree_demand.h) */
     int jump;                /* the camera motion cut to a new view at this frame */
@@ -330,6 +333,11 @@ static void dsp_json(json_t *o, const frame_row *r)
     json_object_set_new(o, "bounded_gave_up", json_boolean(s->bounded_gave_up));
     json_object_set_new(o, "bounded_fell_back", json_boolean(s->bounded_fell_back));
     json_object_set_new(o, "window_warm", json_boolean(s->next.warm));
+    json_object_set_new(o, "refined", r->refined.len > 0 ? json_pack("{s:I, s:I, s:i}", "budget_ops",
+                                                                      (json_int_t)r->refine_budget, "dsp_ops",
+                                                                      (json_int_t)r->refined.dsp_ops, "len",
+                                                                      r->refined.len)
+                                                         : json_null());
 }
 
 /* The DSP's operations per frame, as text. */
@@ -588,11 +596,53 @@ static const char *maxwork_reason(int f, const c5_dsp_sched_result *prev)
 /* Frame f: the Max Work baseline, then the board as it runs (following the schedule the DSP
  * made from frame f-1's tree, `prev`, when there is one), then the DSP's work on this frame's
  * tree. */
-static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f,
-                     const c5_dsp_sched_result *prev, const c5_stale_plan *prev_plan, int prev_group,
-                     const uint32_t *prev_start,
+/* The DSP's refinement during frame f of the schedule it follows (c5_dsp_refine), when its tree
+ * is the previous frame's: a tree in SDRAM kept as the DSP read it, and the same camera. */
+static int refine(const frame_row *pr, frame_row *row, c5_err *err)
+{
+    if (!pr || !pr->tn || pr->sch.next.len == 0 || row->ct.frame_key != pr->ct.frame_key || row->group != 1 ||
+        pr->group != 1)
+        return 0;
+    double idle = row->ct.board_s * C5_DSP_MIPS * 1e6 -
+                  (double)(dsp_ops_tree(row) + row->ct.node_count_ops + row->ct.shadow_ops);
+    row->refine_budget = idle > 1e15 ? (uint64_t)1e15 : idle > 1 ? (uint64_t)idle : 1;
+    c5_dep_tree dt = {pr->tn, pr->tparent, pr->tcell};
+    return c5_dsp_refine(&dt, row->refine_budget, &pr->sch.next, &row->refined, err);
+}
+
+/* Keeps the frame's tree in SDRAM as the DSP reads it, for the refinement during the next frame. */
+static int keep_tree(const c5_sdram_tree *t, frame_row *row, c5_err *err)
+{
+    if (t->overflow || t->t.oom || t->t.n == 0)
+        return 0;
+    int n = (int)t->t.n;
+    row->tparent = malloc(sizeof *row->tparent * (size_t)n);
+    row->tcell = malloc(sizeof *row->tcell * (size_t)n);
+    if (!row->tparent || !row->tcell)
+        return c5_fail(err, "out of memory for the Cell Tree in SDRAM (%d nodes)", n);
+    for (int v = 0; v < n; v++) {
+        row->tparent[v] = t->t.parent[v] == C5_DEMAND_NONE ? -1 : (int)t->t.parent[v];
+        row->tcell[v] = (int)t->t.cell[v];
+    }
+    row->tn = n;
+    return 0;
+}
+
+static void drop_tree(frame_row *row)
+{
+    free(row->tparent);
+    free(row->tcell);
+    row->tparent = row->tcell = NULL;
+    row->tn = 0;
+}
+
+static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f, const frame_row *pr,
                      c5_ctree *trees, frame_row *row, c5_progress *prog, c5_err *err)
 {
+    const c5_dsp_sched_result *prev = pr ? &pr->sch : NULL;
+    const c5_stale_plan *prev_plan = pr ? &pr->plan : NULL;
+    int prev_group = pr ? pr->group : 1;
+    const uint32_t *prev_start = pr ? pr->start : NULL;
     c5_image mw_img = {0}, ct_img = {0};
     c5_board_stats mw;
     int g = row->group;
@@ -684,6 +734,13 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->demand_nodes = row->ct.tree_demand_nodes;
     row->demand_slots = row->ct.tree_demand_slots;
     if (sdt) {
+        if (refine(pr, row, err) != 0)
+            goto done;
+        if (row->refined.len > 0) { /* the same tree: go on from the refinement */
+            so.warm = row->refined.cells;
+            so.warm_len = row->refined.len;
+            so.resume = &row->refined.cursor;
+        }
         /* The DSP's budget in SDRAM: a share of this frame's board time (dsp_cost.h). */
         so.rule_budget = c5_dsp_sdram_budget(row->ct.board_s, (sdt->slots + sdt->t.n) * C5_OPS_SDRAM_NODE);
         rc = c5_dsp_schedule_sdram(sdt, &so, &row->sch, err);
@@ -696,6 +753,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         rc = gather_bounds(a, row, err);
     const int *lag = o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL;
     int lag_len = o.sched == C5_SCHED_EXTERNAL ? o.schedule_len : 0;
+    if (rc == 0 && sdt)
+        rc = keep_tree(sdt, row, err);
     if (rc == 0 && g == 1)
         rc = sdt ? c5_stale_plan_make_sdram(sdt, row->sch.next.cells, row->sch.next.len, lag, lag_len, &row->plan, err)
                  : c5_stale_plan_make(tree, node_rays, row->sch.next.cells, row->sch.next.len, lag, lag_len,
@@ -774,10 +833,10 @@ int c5_cmd_schedule(int argc, char **argv)
         /* Groups grow after an overflow of the RAM the tree stays in (auto: of the SDRAM). */
         int grow = pr && pr->sch.overflow && (pr->sdram || a.tree_ram == TREE_RAM_ONCHIP);
         rows[f].group = a.group ? (int)a.group : f == 0 ? 1 : c5_dsp_next_group(pr->group, grow, a.cells);
-        if (run_frame(&a, &s, &sv, f, f ? &rows[f - 1].sch : NULL, f ? &rows[f - 1].plan : NULL,
-                      f ? rows[f - 1].group : 1,
-                      f ? rows[f - 1].start : NULL, trees, &rows[f], &prog,
-                      &err) != 0) {
+        int rf = run_frame(&a, &s, &sv, f, pr, trees, &rows[f], &prog, &err);
+        if (f)
+            drop_tree(&rows[f - 1]);
+        if (rf != 0) {
             c5_progress_end(&prog);
             if (a.bd.mpi) /* the other boards wait in a collective: end them all */
                 c5_mpi_fail(&a.bd.t, err.msg, C5_EXIT_RUNTIME);
@@ -797,7 +856,7 @@ fail:
     if (rows)
         for (int f = 0; f < frames; f++)
             c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), c5_stale_plan_free(&rows[f].plan),
-                free(rows[f].mb_mw);
+                free(rows[f].mb_mw), drop_tree(&rows[f]), c5_schedule_free(&rows[f].refined);
     free(rows);
     c5_supervol_free(&sv);
     c5_boards_end(&a.bd);

@@ -24,6 +24,11 @@ int c5_dsp_next_group(int group, int overflowed, const int cells[3])
     return 2 * group < most ? 2 * group : most;
 }
 
+int c5_dsp_refine(const c5_dep_tree *dt, uint64_t budget, const c5_schedule *from, c5_schedule *out, c5_err *err)
+{
+    return c5_sched_window_resume(dt, budget ? budget : 1, from->cells, from->len, &from->cursor, out, err);
+}
+
 int c5_dsp_tree_in_sdram(int cells, int frame, int prev_sdram, int prev_overflow)
 {
     if (frame == 0)
@@ -35,8 +40,8 @@ int c5_dsp_run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, con
                     c5_schedule *out, c5_err *err)
 {
     if (rule == C5_SPLIT_WINDOW)
-        return c5_sched_window_from(dt, o->rule_budget ? o->rule_budget : c5_dsp_rule_budget(dt->n), o->warm,
-                                    o->warm_len, out, err);
+        return c5_sched_window_resume(dt, o->rule_budget ? o->rule_budget : c5_dsp_rule_budget(dt->n), o->warm,
+                                      o->warm_len, o->resume, out, err);
     return c5_sched_celltree_capped(dt, rule, cap, out, err);
 }
 

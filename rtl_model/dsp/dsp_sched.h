@@ -58,6 +58,9 @@ typedef struct {
     /* The window rule's budget of DSP operations (0: c5_dsp_rule_budget, the on-chip tree's
      * between-frame budget); the SDRAM tree's is c5_dsp_sdram_budget. */
     uint64_t rule_budget;
+    /* The window rule resumes its sweeps there (c5_sched_window_resume; NULL: from the start):
+     * where the DSP's refinement of the same tree stopped (c5_dsp_refine). */
+    const c5_window_cursor *resume;
 } c5_dsp_sched_opts;
 
 typedef struct {
@@ -116,6 +119,13 @@ void c5_dsp_sched_free(c5_dsp_sched_result *r);
  * group Max Work among its cells (docs/cell-tree.md, "Overflow": measured against a frozen
  * tree's partial schedule and against Max Work). */
 int c5_dsp_next_group(int group, int overflowed, const int cells[3]);
+
+/* The DSP's work during a frame, between its tags (the tree in SDRAM; docs/cell-tree.md, "Where
+ * the tree lives"): the window rule goes on shortening `from`, the schedule the frame follows,
+ * on the tree `from` was made from, where from's search stopped, within `budget` operations
+ * (the DSP's idle time in the frame). The next schedule starts from the result when the next
+ * tree is the same (the same camera registers). 0, or -1 with a message. */
+int c5_dsp_refine(const c5_dep_tree *dt, uint64_t budget, const c5_schedule *from, c5_schedule *out, c5_err *err);
 
 /* Where the DSP keeps the tree of frame `frame` of a split of `cells` cells (the default,
  * --tree-ram auto; docs/cell-tree.md, "Where the tree lives"): the first frame's tree on chip

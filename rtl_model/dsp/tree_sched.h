@@ -65,6 +65,11 @@ typedef enum {
                                  (c5_sched_window). Never longer than rule 1. */
 } c5_split_rule;
 
+/* Where the window rule's sweeps stopped: round, width index, first load of the window. */
+typedef struct {
+    int round, width, lo;
+} c5_window_cursor;
+
 typedef struct {
     int len;                 /* schedule length */
     int *cells;              /* FORWARD schedule (load order), len entries, malloc'd (never NULL) */
@@ -77,6 +82,8 @@ typedef struct {
     int fell_back;           /* C5_SPLIT_BOUNDED, C5_SPLIT_WINDOW: 1 when the paper's rule's schedule
                                 was returned (the search found nothing shorter) */
     int warm;                /* c5_sched_window_from: 1 when it started from the warm schedule */
+    c5_window_cursor cursor; /* the window rule: where a search that starts from this schedule
+                                goes on (c5_sched_window_resume) */
 } c5_schedule;
 
 /* The guarantees above; 0, or -1 with a message naming the first offending node. */
@@ -124,6 +131,12 @@ int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out,
  * it is shorter and every node embeds in it (loads of cells absent from the tree dropped):
  * the cells the frame that built the tree fetched are such a schedule. out->warm: it was
  * taken. The same guarantees. */
+/* The same, its sweeps starting where a search stopped (from: a c5_schedule's cursor, NULL: the
+ * start), for a search that goes on with more budget over several calls: with the previous
+ * call's schedule as the warm start, the windows it already tried are not tried again first.
+ * Any cursor gives a feasible schedule with the guarantees above. */
+int c5_sched_window_resume(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len,
+                           const c5_window_cursor *from, c5_schedule *out, c5_err *err);
 int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len, c5_schedule *out,
                          c5_err *err);
 

@@ -164,6 +164,21 @@ static void embed_full(win *w)
     sort_by_e(w, w->tmpn, n, 0, L + 1, 0);
 }
 
+/* Drops the loads that no node's earliest load is (embed_full's E, by bstart): the board would
+ * pass them with an empty queue. Every node keeps its load, so the schedule stays feasible.
+ * Returns the loads dropped; the caller embeds again. */
+static int compact(win *w)
+{
+    int k = 0;
+    for (int j = 0; j < w->L; j++)
+        if (w->bstart[j + 1] > w->bstart[j])
+            w->S[k++] = w->S[j];
+    int dropped = w->L - k;
+    w->ops += (uint64_t)w->L * C5_OPS_WIN_NODE;
+    w->L = k;
+    return dropped;
+}
+
 /* After the old schedule's S[lo, hi) became S[lo, lo + len) (w->L already the new length),
  * within a sweep that goes on at lo + len or later: a node with E < lo keeps E (it embeds in
  * the unchanged head); the others' E are recomputed, parents first (old E order), and
@@ -284,6 +299,12 @@ int c5_sched_window(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out,
 int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len, c5_schedule *out,
                          c5_err *err)
 {
+    return c5_sched_window_resume(t, budget_ops, warm, warm_len, NULL, out, err);
+}
+
+int c5_sched_window_resume(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len,
+                           const c5_window_cursor *from, c5_schedule *out, c5_err *err)
+{
     memset(out, 0, sizeof *out);
     c5_schedule paper;
     if (c5_sched_celltree(t, C5_SPLIT_MOST_LEAVES, &paper, err) != 0)
@@ -398,15 +419,34 @@ int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *w
      * nodes after it need recomputing (embed_tail); a new sweep starts from embed_full. */
     /* (a schedule as long as the sum of maxGen, the number of the paper's completion peels,
      * is optimal: nothing to look for) */
-    for (int round = 0; !stopped && quiet < 2 && w.L > lb; round++) {
+    /* The loads that serve nothing go first (the paper's schedule holds many on large trees),
+     * for one embedding. */
+    if (!stopped && w.L > 0) {
+        uint64_t ew = stale ? embed_worst(&w) + 2 * (uint64_t)w.m : 0;
+        if (budget_ops && w.ops + ew + (uint64_t)w.L * C5_OPS_WIN_NODE + reserve > budget_ops) {
+            stopped = 1;
+        } else {
+            if (stale)
+                embed_full(&w);
+            w.ops += stale ? 2 * (uint64_t)w.m : 0;
+            stale = compact(&w) > 0;
+        }
+    }
+    /* A search resumed (from): the round, width and first load where the last one stopped. */
+    int r0 = from ? from->round : 0, wi0 = from && from->width < NWIDTHS ? from->width : 0;
+    c5_window_cursor at = {0, 0, 0};
+    for (int round = r0; !stopped && quiet < 2 && w.L > lb; round++) {
         int changed = 0, len0 = w.L;
-        for (int wi = 0; wi < NWIDTHS && !stopped; wi++) {
+        for (int wi = round == r0 ? wi0 : 0; wi < NWIDTHS && !stopped; wi++) {
             int W = widths[wi], lo = (round & 1) ? W / 4 : 0;
+            if (from && round == r0 && wi == wi0 && from->lo > lo && from->lo < w.L)
+                lo = from->lo;
             if (stale) {
                 uint64_t ew = embed_worst(&w);
                 w.ops += 2 * (uint64_t)w.m;
                 if (budget_ops && w.ops + ew + reserve > budget_ops) {
                     stopped = 1;
+                    at = (c5_window_cursor){round, wi, lo};
                     break;
                 }
                 embed_full(&w);
@@ -417,6 +457,7 @@ int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *w
                 uint64_t *sig = &w.sig[(size_t)wi * sl + (size_t)lo], h;
                 if (budget_ops && w.ops + extract_worst(&w, w.bstart[lo], w.bstart[hi]) + reserve > budget_ops) {
                     stopped = 1;
+                    at = (c5_window_cursor){round, wi, lo};
                     break;
                 }
                 int M = extract(&w, lo, hi, ++stamp_id, &h);
@@ -440,9 +481,10 @@ int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *w
                         replace(&w, lo, hi, &ws);
                         changed = stale = 1;
                         next = lo + ws.len;
-                        if (budget_ops && w.ops + tail_worst(&w, w.bstart[lo]) + reserve > budget_ops)
+                        if (budget_ops && w.ops + tail_worst(&w, w.bstart[lo]) + reserve > budget_ops) {
                             stopped = 1; /* the schedule stands; no window can be tried on it */
-                        else
+                            at = (c5_window_cursor){round, wi, next};
+                        } else
                             embed_tail(&w, lo);
                     }
                     c5_schedule_free(&ws);
@@ -458,6 +500,9 @@ int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *w
         quiet = progress ? 0 : quiet + 1;
     }
     out->gave_up = stopped && n > 0;
+    /* Where a search resumed with this schedule as its warm start goes on: where this one
+     * stopped (the window it could not pay for), or from the start when it ended. */
+    out->cursor = at;
     /* The result: the forward schedule in cell ids. */
     for (int k = 0; set_up && k < w.L; k++)
         paper.cells[k] = w.gid[w.S[k]];
