@@ -53,7 +53,7 @@ static const char usage_text[] =
     "                    scripts/optimum-study.sh runs 500: minutes a 27-cell tree)\n"
     "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
     "  --tree-ram auto|onchip|sdram\n"
-    "                    where the DSP keeps the Cell Tree: the 96 KB on chip, or 8 MiB of its\n"
+    "                    where the DSP keeps the Cell Tree: the 96 KB on chip, or 16 MiB of its\n"
     "                    SDRAM (16-byte nodes; the packet carries the node's index among its\n"
     "                    cell's nodes; a scheduling budget of 10% of the frame's board time).\n"
     "                    auto (default): on chip up to 64 cells, in SDRAM beyond and after a\n"
@@ -388,6 +388,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "tree_slots", json_integer(s->slots));
     json_object_set_new(o, "tree_bytes", json_integer((json_int_t)tree_bytes(r)));
     json_object_set_new(o, "tree_ram", json_string(r->sdram ? "sdram" : "onchip"));
+    /* in SDRAM: the most nodes one cell holds (the packet's index runs below 8,191) */
+    json_object_set_new(o, "tree_cell_nodes_max",
+                        r->sdram ? json_integer((json_int_t)r->ct.tree_cell_nodes_max) : json_null());
     json_object_set_new(o, "tree_overflow", json_boolean(s->overflow));
     json_object_set_new(o, "tree_group", json_integer(r->group));
     json_object_set_new(o, "tree_demand_nodes", json_integer((json_int_t)r->demand_nodes));

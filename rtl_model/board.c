@@ -811,6 +811,7 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         stats->tree_reads = t->reads + t->dir_reads;
         stats->tree_writes = t->writes;
         stats->tree_sdram_bytes = c5_sdram_tree_bytes_used(t);
+        stats->tree_cell_nodes_max = t->max_index;
     }
     stats->cycles = stats->cycles_process + stats->cycles_fetch;
     stats->board_s = (double)stats->cycles / CLOCK_HZ;

@@ -199,6 +199,7 @@ typedef struct c5_board_stats {
     int tree_sdram;          /* the tree was in the DSP's SDRAM (opts.sdram_tree): its reads and
                               * writes are SDRAM node and directory accesses */
     uint64_t tree_sdram_bytes; /* of its region in use */
+    uint32_t tree_cell_nodes_max; /* the most nodes of one cell: packet indices run below it */
     /* The tree the frame's dependencies need, with unbounded RAM (tree_demand.h): nodes, and
      * slots with five children a slot (the node layout) and with six (Figure 8's); 0 when
      * the host ran out of memory for it. */

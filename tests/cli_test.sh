@@ -266,6 +266,34 @@ for f in (f0, f1):  # the fetches of a frame are a schedule of its tree: taken w
     assert f["window_warm"] == (f["fetches_celltree"] < f["schedule_len"]["paper"])
 assert f0["dsp_ops_schedule"] <= f0["dsp_budget_ops"] and f0["dsp_within_budget"]' "$json"
 then ok schedule_window; else bad schedule_window "$json"; fi
+# The tree in the DSP's SDRAM: where it lives, its bytes, the DSP's refinement during the frame
+# (the next schedule starts from it on a still camera), Max Work never beaten on a still.
+json=$("$cube5" schedule brain_mirrors --size 24x24 --cells 3 --still --frames 3 --exact-states 0 --local-window 0 --tree-ram sdram --json)
+if python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+f0, f1, f2 = d["frames"]
+for f in d["frames"]:
+    assert f["tree_ram"] == "sdram" and not f["tree_overflow"]
+    assert f["tree_bytes"] == 16 * f["tree_slots"] + 8 * f["nodes"]
+    assert 0 < f["tree_cell_nodes_max"] <= f["nodes"]
+    assert f["dsp_ops_schedule"] <= f["dsp_budget_ops"]
+assert f0["refined"] is None
+for p, f in ((f0, f1), (f1, f2)):
+    r = f["refined"]
+    assert f["followed"].startswith("celltree") and f["fetches_celltree"] <= f["fetches_maxwork"]
+    assert r["dsp_ops"] <= r["budget_ops"] and r["len"] <= p["schedule_len"]["window"]
+    assert f["schedule_len"]["window"] <= r["len"]' "$json"
+then ok schedule_tree_in_sdram; else bad schedule_tree_in_sdram "$json"; fi
+if python3 -c '
+import json, subprocess, sys
+def ram(cells):
+    out = subprocess.run([sys.argv[1], "schedule", "default", "--size", "8x8", "--cells", cells, "--frames", "1",
+                          "--exact-states", "0", "--json"], capture_output=True, text=True, check=True).stdout
+    return json.loads(out)["frames"][0]["tree_ram"]
+assert ram("4") == "onchip" and ram("5") == "sdram"' "$cube5"
+then ok schedule_tree_ram_auto; else bad schedule_tree_ram_auto "auto: on chip up to 64 cells, SDRAM beyond"; fi
+expect schedule_bad_tree_ram 2 "--tree-ram: 'dram' is not auto, onchip or sdram" -- "$cube5" schedule default --tree-ram dram
 expect schedule_bad_split 2 "--split: 'best' is not a rule \(paper, lookahead, rollout, bounded or window\)" -- "$cube5" schedule default --split best
 expect schedule_bad_frames 2 "--frames: expected an integer" -- "$cube5" schedule default --frames 0
 expect schedule_bad_local_window 2 "--local-window: 2 is too small for a window" -- "$cube5" schedule default --local-window 2

@@ -330,6 +330,7 @@ TEST(celltree_512_cells_scheduled_and_followed)
         maxcell = cell[i] > maxcell ? cell[i] : maxcell;
     c5_dep_tree dt = {n, parent, cell};
     int feasible = c5_sched_feasible(&dt, r.next.cells, r.next.len), sum = c5_sched_sum_maxgen(&dt);
+    int blocks = c5_sched_lower_bound_blocks(&dt, (const int[3]){8, 8, 8});
     free(parent);
     free(cell);
     free(id);
@@ -339,7 +340,9 @@ TEST(celltree_512_cells_scheduled_and_followed)
     CHECK(r.next.len >= sum);
     CHECK_INT(r.exact_skipped, 1);
     CHECK_INT(r.optimum, -1);
-    CHECK_INT(r.lower_bound, r.sum_maxgen);
+    /* above 64 cells the bound is the one over blocks of 4x4x4 cells */
+    CHECK_INT(r.lower_bound, blocks);
+    CHECK(sum <= blocks && blocks <= r.next.len);
     CHECK(r.len_paper == r.next.len && r.len_lookahead > 0 && r.len_lookahead <= r.len_paper && r.len_rollout > 0);
     o.sched = C5_SCHED_EXTERNAL;
     o.schedule = r.next.cells;

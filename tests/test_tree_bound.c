@@ -557,3 +557,47 @@ TEST(tree_local_search_by_hand)
     CHECK_INT(c5_sched_optimum_ex(&t, &o, &opt, NULL, NULL, &err), -1);
     CHECK(strstr(err.msg, "overlap") != NULL);
 }
+
+/* ---- the bound over blocks of cells (tree_block_bound.c) -------------------------------- */
+
+/* Cells 0 and 1 of a 2x1x1 split are one block: the ping-pong pair costs 3 loads (0 1 0),
+ * one more than the sum of maxGen. A split of 8x1x1 cuts blocks of 4: cells 0 and 5 are in
+ * two blocks, and the pair 0-5, 5-0 needs only one load of each per block (its interleaving
+ * is not seen): the bound falls to the sum of maxGen, 2, below the optimum 3. */
+TEST(tree_bound_blocks_by_hand)
+{
+    static const int par[] = {-1, 0, -1, 2}, cel[] = {0, 1, 1, 0};
+    c5_dep_tree t = {4, par, cel};
+    CHECK_INT(c5_sched_lower_bound_blocks(&t, (const int[3]){2, 1, 1}), 3);
+    static const int cel5[] = {0, 5, 5, 0};
+    c5_dep_tree t5 = {4, par, cel5};
+    CHECK_INT(c5_sched_lower_bound_blocks(&t5, (const int[3]){8, 1, 1}), 2);
+    CHECK_INT(c5_sched_lower_bound_blocks(&t5, (const int[3]){4, 1, 1}), -1); /* cell 5 outside */
+    static const int cel9[] = {0, 9, 1, 8};
+    c5_dep_tree t9 = {4, par, cel9}; /* 0-9 and 1-8 in a 4x4x1 split: blocks of 4x4 hold all */
+    CHECK_INT(c5_sched_lower_bound_blocks(&t9, (const int[3]){4, 4, 1}), 4);
+}
+
+/* On random trees over 16 cells of a 4x2x2 split (blocks of 4x2x2 = one block) and of an 8x2x1
+ * split (two blocks), the bound lies between the sum of maxGen and the optimum, and with one
+ * block it is at least the pairs bound of the whole tree. */
+TEST(tree_bound_blocks_between_maxgen_and_optimum)
+{
+    uint64_t rng = 0xB10C;
+    static int par[60], cel[60];
+    c5_err err;
+    int above = 0;
+    for (int trial = 0; trial < 200; trial++) {
+        int n = c5t_random_tree(&rng, 40, 16, 10, par, cel), opt = -1;
+        c5_dep_tree t = {n, par, cel};
+        CHECK_INT(c5_sched_optimum(&t, 1000000, 64, &opt, NULL, &err), 1);
+        int one = c5_sched_lower_bound_blocks(&t, (const int[3]){4, 2, 2});
+        int two = c5_sched_lower_bound_blocks(&t, (const int[3]){8, 2, 1});
+        int sum = c5_sched_sum_maxgen(&t);
+        CHECK_MSG(sum <= one && one <= opt, "trial %d: sum of maxGen %d, one block %d, optimum %d", trial, sum, one, opt);
+        CHECK_MSG(sum <= two && two <= opt, "trial %d: sum of maxGen %d, two blocks %d, optimum %d", trial, sum, two, opt);
+        CHECK_MSG(one >= c5_sched_lower_bound_pairs(&t), "trial %d", trial);
+        above += two > sum;
+    }
+    CHECK_MSG(above > 20, "the bound over two blocks beat the sum of maxGen on %d trees of 200", above);
+}

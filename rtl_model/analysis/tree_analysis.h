@@ -48,6 +48,11 @@ int c5_sched_lower_bound_groups(const c5_dep_tree *t, int max_group, long budget
 int c5_sched_lower_bound_split(const c5_dep_tree *t, const uint64_t *groups, int ngroups, long max_states,
                                int *all_exact);
 
+/* A lower bound at any split (tree_block_bound.c, proof there): the grid of cells cut into
+ * blocks of 4x4x4 cells, the sum over the blocks of a proven bound on the tree's restriction
+ * to each block (matched pairs of cells, or the block's slabs: seconds at 4,096 cells). Cell ids are x + split[0] (y + split[1] z), below 4,096. At least
+ * the sum of maxGen. -1 when a cell is outside the split or out of memory. */
+int c5_sched_lower_bound_blocks(const c5_dep_tree *t, const int split[3]);
 /* Exact optimum by A* over interim trees (tree_exact.c).
  * 1: found, *len_out = optimum (and, if sched_out != NULL, a malloc'd optimal forward
  *    schedule, never NULL);

@@ -29,7 +29,7 @@
 #define C5_SDRAM_DIR_BYTES 4   /* a node's directory word */
 #define C5_SDRAM_COUNT_BYTES 4 /* its count of the packets tagged with it (stale_plan.h) */
 #define C5_SDRAM_CHILDREN 4
-#define C5_SDRAM_TREE_BYTES (8u << 20) /* the default region: 8 MiB of the DSP's SDRAM */
+#define C5_SDRAM_TREE_BYTES (16u << 20) /* the default region: 16 MiB of the DSP's SDRAM (699,050 nodes) */
 
 /* DSP operations of an SDRAM node access: six 24-bit words over the external port at four
  * wait states each, against C5_OPS_NODE_READ's 10 on chip. A directory word's read is counted
