@@ -19,7 +19,8 @@
 # scenes), EXACT_STATES (20000: the exact search's budget per frame, run once per
 # configuration, on the first rule's run; the best known schedule is the beam search's or
 # the unbudgeted window rule's, --local-window 0), REUSE (1: keep the runs already written),
-# FAMILY_SEED (2) and FAMILY_PATHS (60): the generated family of camera paths run last.
+# FAMILY_SEED (2) and FAMILY_PATHS (60): the generated family of camera paths; TREE_RAM (1):
+# the real memory fractions and the scale table (scripts/tree_ram_bench.py), run last.
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -211,4 +212,17 @@ if [ "${FAMILY_PATHS:-60}" -gt 0 ]; then
     python3 "$(dirname "$0")/sched_family_run.py" --cube5 "$cube5" --family "$out/family" --size "$SIZE" \
         --frames "$FRAMES" --json "$out/family.json"
     echo "bench-sched: wrote $out/family.json" >&2
+fi
+
+# Real memory fractions (docs/cell-tree.md, "Where the tree lives"): still cameras at 1/512
+# and 1/4096 on the mirrored scenes, the board as it ships against the tree kept on chip, and
+# the scale table of every built-in scene from 1/8 to 1/4096 (Max Work, the board, the proven
+# bound). TREE_RAM=0 skips them.
+if [ "${TREE_RAM:-1}" = 1 ]; then
+    python3 "$(dirname "$0")/tree_ram_bench.py" --cube5 "$cube5" --size "$SIZE" \
+        --json "$out/tree_ram.json" --table "$out/tree_ram.md"
+    python3 "$(dirname "$0")/tree_ram_bench.py" --cube5 "$cube5" --size "$SIZE" --frames 3 --rams auto \
+        --scenes "$("$cube5" scenes | awk '{print $1}' | tr '\n' ' ')" --cells "2 3 4 8 16" \
+        --extra "--exact-states 20000 --local-window 0" --json "$out/scale.json" --table "$out/scale.md"
+    echo "bench-sched: wrote $out/tree_ram.json and $out/scale.json" >&2
 fi
