@@ -623,10 +623,7 @@ static int keep_tree(const c5_sdram_tree *t, frame_row *row, c5_err *err)
     row->tcell = malloc(sizeof *row->tcell * (size_t)n);
     if (!row->tparent || !row->tcell)
         return c5_fail(err, "out of memory for the Cell Tree in SDRAM (%d nodes)", n);
-    for (int v = 0; v < n; v++) {
-        row->tparent[v] = t->t.parent[v] == C5_DEMAND_NONE ? -1 : (int)t->t.parent[v];
-        row->tcell[v] = (int)t->t.cell[v];
-    }
+    c5_sdram_tree_export(t, row->tparent, row->tcell);
     row->tn = n;
     return 0;
 }

@@ -30,6 +30,14 @@ uint64_t c5_sdram_tree_bytes_used(const c5_sdram_tree *s)
     return s->slots * C5_SDRAM_NODE_BYTES + (uint64_t)s->t.n * (C5_SDRAM_DIR_BYTES + C5_SDRAM_COUNT_BYTES);
 }
 
+void c5_sdram_tree_export(const c5_sdram_tree *s, int *parent, int *cell)
+{
+    for (uint32_t v = 0; v < s->t.n; v++) {
+        parent[v] = s->t.parent[v] == C5_DEMAND_NONE ? -1 : (int)s->t.parent[v];
+        cell[v] = (int)s->t.cell[v];
+    }
+}
+
 /* Extension slots of a node with c children, C5_SDRAM_CHILDREN a slot (tree_demand.h). */
 static uint64_t ext_slots(uint64_t c)
 {

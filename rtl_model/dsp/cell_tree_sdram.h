@@ -63,6 +63,11 @@ uint32_t c5_sdram_tree_tag(c5_sdram_tree *s, int from, uint32_t index, int cell,
 /* The node id of (cell, index); C5_DEMAND_NONE for C5_NODE_NONE. */
 uint32_t c5_sdram_tree_id(const c5_sdram_tree *s, int cell, uint32_t index);
 
+/* The tree in the scheduler's array form (tree_sched.h), as c5_ctree_export: node ids are in
+ * creation order, so parents come first; parent -1 for a root. Uncounted (the caller counts the
+ * DSP's read). */
+void c5_sdram_tree_export(const c5_sdram_tree *s, int *parent, int *cell);
+
 /* Bytes of the region in use. */
 uint64_t c5_sdram_tree_bytes_used(const c5_sdram_tree *s);
 /* The most nodes the region can hold: node ids stay below it. */

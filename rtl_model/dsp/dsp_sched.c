@@ -124,11 +124,7 @@ int c5_dsp_schedule_sdram(const c5_sdram_tree *t, const c5_dsp_sched_opts *o, c5
         c5_fail(err, "out of memory for the Cell Tree scheduler (%d nodes)", n);
         goto done;
     }
-    /* Node ids are in creation order, so parents come first, as c5_ctree_export gives them. */
-    for (int v = 0; v < n; v++) {
-        parent[v] = t->t.parent[v] == C5_DEMAND_NONE ? -1 : (int)t->t.parent[v];
-        cell[v] = (int)t->t.cell[v];
-    }
+    c5_sdram_tree_export(t, parent, cell);
     c5_dep_tree dt = {n, parent, cell};
     if (schedule_tree(&dt, o, gen, r, err) != 0)
         goto done;

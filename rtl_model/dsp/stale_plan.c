@@ -170,10 +170,7 @@ int c5_stale_plan_make_sdram(const c5_sdram_tree *t, const int *sched, int len, 
     if (!parent || !cell) {
         c5_fail(err, "out of memory for the stale-schedule replay");
     } else {
-        for (int v = 0; v < n; v++) {
-            parent[v] = t->t.parent[v] == C5_DEMAND_NONE ? -1 : (int)t->t.parent[v];
-            cell[v] = (int)t->t.cell[v];
-        }
+        c5_sdram_tree_export(t, parent, cell);
         rc = plan_tree(n, parent, cell, t->rays, sched, len, lag_sched, lag_len, p, err);
     }
     free(parent), free(cell);
