@@ -219,7 +219,7 @@ demo: $(BUILD)/cube5
 	@mkdir -p out
 	$(BUILD)/cube5 render default -o out/default.png
 
-test: $(BUILD)/cube5 $(BUILD)/cube5-nompi $(BUILD)/tests/unit $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) $(REF_SO) | $(DEPS_TEST)
+test: $(BUILD)/cube5 $(BUILD)/cube5-nompi $(BUILD)/tests/unit $(BUILD)/tests/libwritefault.so $(BUILD)/tests/cast-nosimd $(LINK_BINS) $(FUZZ_REPLAY) $(LAYOUTS_VHD) $(REGS_VHD) $(REF_SO) | $(DEPS_TEST)
 	bash tests/run.sh $(BUILD)
 
 
@@ -233,6 +233,11 @@ regress: $(BUILD)/cube5 $(LAYOUTS_VHD) $(REF_SO) | $(DEPS_TEST)
 asan:
 	$(MAKE) test BUILD=build/asan OPT=-O1 \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
+
+# The write shim of tests/write_fault_test.sh (LD_PRELOAD): no sanitizer, it wraps libc.
+$(BUILD)/tests/libwritefault.so: tests/fault/write_fault.c
+	@mkdir -p $(dir $@)
+	$(CC) -shared -fPIC -O2 -std=c11 -Wall -Wextra -Werror -o $@ $< -ldl
 
 bench: $(BUILD)/cube5 $(LINK_BINS)
 	bash scripts/bench.sh $(BUILD)

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "cast_peer.h"
+#include "atomic_file.h"
 #include "cli.h"
 #include "volume.h"
 #include "clock.h"
@@ -338,11 +339,7 @@ typedef struct {
 
 static int write_raw(const char *path, const input *in, c5_err *err)
 {
-    FILE *f = fopen(path, "wb");
-    size_t n = in->dims[0] * in->dims[1] * in->dims[2];
-    if (!f || fwrite(in->vox, 1, n, f) != n || fclose(f))
-        return c5_fail(err, "%s: could not write the raw volume", path);
-    return 0;
+    return c5_afile_put(path, in->vox, in->dims[0] * in->dims[1] * in->dims[2], err);
 }
 
 /* The files cast reads: the volume (and a NRRD header's data files) or the scene's files,

@@ -7,8 +7,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
+#include "atomic_file.h"
 #include "cli.h"
 #include "progress.h"
 #include "sweep.h"
@@ -169,11 +171,11 @@ static void fmt_num(char *buf, size_t len, double v, const char *fmt)
 
 static int write_csv(const char *path, const sweep_row *rows, int n, c5_err *err)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return c5_fail(err, "%s: cannot write: %s", path, strerror(errno));
-    fprintf(f, "knob,value,default,renderer,status,psnr_db,rmse,max_abs_err,host_s,board_s,samples,pareto_host,"
-               "pareto_board\n");
+    c5_afile f;
+    if (c5_afile_open(&f, path, err) != 0)
+        return -1;
+    c5_afile_printf(&f, "knob,value,default,renderer,status,psnr_db,rmse,max_abs_err,host_s,board_s,samples,"
+                        "pareto_host,pareto_board\n");
     for (int i = 0; i < n; i++) {
         const sweep_row *r = &rows[i];
         char ps[32], rm[32], mx[32], hs[32], bs[32];
@@ -182,13 +184,11 @@ static int write_csv(const char *path, const sweep_row *rows, int n, c5_err *err
         fmt_num(mx, sizeof mx, r->res.max_abs_err, "%.6e");
         fmt_num(hs, sizeof hs, r->res.host_s, "%.6f");
         fmt_num(bs, sizeof bs, r->res.board_s, "%.6e");
-        fprintf(f, "%s,%g,%d,%s,%s,%s,%s,%s,%s,%s,%llu,%d,%d\n", r->knob->name, r->value, r->is_default,
-                c5_sweep_renderer_name(r->r), r->res.ok ? "ok" : "error", ps, rm, mx, hs, bs,
-                (unsigned long long)r->res.samples, r->pareto_host, r->pareto_board);
+        c5_afile_printf(&f, "%s,%g,%d,%s,%s,%s,%s,%s,%s,%s,%llu,%d,%d\n", r->knob->name, r->value, r->is_default,
+                        c5_sweep_renderer_name(r->r), r->res.ok ? "ok" : "error", ps, rm, mx, hs, bs,
+                        (unsigned long long)r->res.samples, r->pareto_host, r->pareto_board);
     }
-    if (fclose(f) != 0)
-        return c5_fail(err, "%s: write failed", path);
-    return 0;
+    return c5_afile_commit(&f, err);
 }
 
 /* A gnuplot single-quoted string: ' doubled. */
@@ -295,14 +295,20 @@ static void gp_panel(FILE *g, const sweep_row *rows, int n, const sweep_args *a,
     fprintf(g, "\n");
 }
 
+/* gnuplot draws into a temporary beside `path`, which is read back whole (gnuplot's own
+ * write errors do not always reach its exit status) before it is renamed into place. */
 static int write_png(const char *path, const char *label, int w, int h, const sweep_row *rows, int n,
                      const sweep_args *a, c5_err *err)
 {
+    char tmp[4200];
+    const char *slash = strrchr(path, '/');
+    int dirlen = slash ? (int)(slash - path + 1) : 0;
+    snprintf(tmp, sizeof tmp, "%.*s.%s.tmp-%ld.png", dirlen, path, path + dirlen, (long)getpid());
     FILE *g = popen("gnuplot", "w");
     if (!g)
         return c5_fail(err, "sweep: cannot start gnuplot: %s", strerror(errno));
     fprintf(g, "set terminal pngcairo size 1400,620 font 'sans,10'\nset output ");
-    gp_quoted(g, path);
+    gp_quoted(g, tmp);
     fprintf(g, "\nset logscale xy\nset grid\nset format x '%%g'\nset format y '%%.0e'\n"
                "set ylabel 'RMSE against the reference (peak 1.0)'\nset key outside right top box font ',9'\n"
                "set multiplot layout 1,2 title ");
@@ -317,12 +323,19 @@ static int write_png(const char *path, const char *label, int w, int h, const sw
     gp_panel(g, rows, n, a, 1);
     fprintf(g, "unset multiplot\nset output\n");
     int st = pclose(g);
+    c5_image check = {0};
+    c5_err why;
+    int rc = 0;
     if (st != 0)
-        return c5_fail(err, "%s: gnuplot failed (status %d)", path, st);
-    struct stat sb;
-    if (stat(path, &sb) != 0 || sb.st_size == 0)
-        return c5_fail(err, "%s: gnuplot wrote nothing", path);
-    return 0;
+        rc = c5_fail(err, "%s: gnuplot failed (status %d)", path, st);
+    else if (c5_image_read(tmp, &check, &why) != 0)
+        rc = c5_fail(err, "%s: cannot write: gnuplot's image is not whole (%s)", path, why.msg);
+    else if (rename(tmp, path) != 0)
+        rc = c5_fail(err, "%s: cannot write: %s", path, strerror(errno));
+    c5_image_free(&check);
+    if (rc)
+        unlink(tmp);
+    return rc;
 }
 
 static json_t *num_or_null(double v) { return isnan(v) ? json_null() : json_real(v); }

@@ -8,15 +8,16 @@
 //   .exr  32-bit float RGB, values written exactly (zip compression, lossless).
 // A NaN or an infinity anywhere is an error for both formats and nothing is written: the
 // renderers keep every pixel finite (docs/scene-format.md, "Valid ranges"), so one that is
-// not is a defect, never an image to hand on. The file is written
-// to a temporary ".NAME.tmp-PID.EXT" in the same directory and then rename()d over PATH,
-// so a failed write never leaves a partial file (the temporary is removed on failure).
+// not is a defect, never an image to hand on. The file is made in memory and written whole
+// or not at all (atomic_file.h): a temporary beside PATH, every write, the sync and the close
+// checked, then renamed over PATH.
 //
 // Reading: any format OpenImageIO knows; subimage 0, MIP level 0, the data window. One
 // channel is replicated to RGB, two channels (grey + alpha) keep the grey, three or more
 // keep the first three, as stored (alpha is not multiplied in). Values are converted to
 // float by OpenImageIO (8-bit: v/255).
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cerrno>
@@ -32,6 +33,7 @@
 #include <unistd.h>
 
 extern "C" {
+#include "atomic_file.h"
 #include "image.h"
 }
 
@@ -87,16 +89,6 @@ std::string dir_problem(const std::string &dir)
     return std::string();
 }
 
-// Removes the temporary file when the write did not complete.
-struct TempFile {
-    std::string path;
-    bool armed = false;
-    ~TempFile()
-    {
-        if (armed)
-            std::remove(path.c_str());
-    }
-};
 
 enum class Fmt { PNG, EXR };
 
@@ -138,13 +130,6 @@ int out_path(const char *path, OutPath &o, c5_err *err)
     return 0;
 }
 
-// OpenImageIO's message names the temporary file; the user gave `path`.
-std::string user_named(std::string msg, const std::string &tmp, const char *path)
-{
-    for (size_t at; (at = msg.find(tmp)) != std::string::npos;)
-        msg.replace(at, tmp.size(), path);
-    return msg;
-}
 
 int write_impl(const char *path, const c5_image *img, c5_err *err)
 {
@@ -153,7 +138,7 @@ int write_impl(const char *path, const c5_image *img, c5_err *err)
         return -1;
     if (!img || !img->rgb || img->w < 1 || img->w > kMaxSide || img->h < 1 || img->h > kMaxSide)
         return c5_fail(err, "%s: internal error: invalid image to write", path);
-    const std::string &dir = op.dir, &base = op.base, &ext = op.ext, &lower = op.lower;
+    const std::string &dir = op.dir, &base = op.base, &lower = op.lower;
     const Fmt fmt = op.fmt;
 
     const int w = img->w, h = img->h;
@@ -174,14 +159,19 @@ int write_impl(const char *path, const c5_image *img, c5_err *err)
             bytes[i] = quantise8(img->rgb[i]);
     }
 
-    // Declared before `out` so the output is closed before the temporary is removed.
-    TempFile tmp;
-    tmp.path = dir + "." + base + ".tmp-" + std::to_string(static_cast<long>(getpid())) + ext;
-
-    std::unique_ptr<ImageOutput> out = ImageOutput::create(tmp.path);
+    // The file is made in memory (OpenImageIO's ioproxy), then written whole or not at all
+    // (atomic_file.h): a writer that does not check its own writes cannot leave a truncated
+    // file that looks written.
+    std::vector<unsigned char> file;
+    OIIO::Filesystem::IOVecOutput vec(file);
+    OIIO::Filesystem::IOProxy *proxy = &vec;
+    const std::string name = dir + base; // the writer's name for it in messages
+    std::unique_ptr<ImageOutput> out = ImageOutput::create(name);
     if (!out)
         return c5_fail(err, "%s: cannot create %s writer: %s", path, lower.c_str() + 1,
                        first_line(OIIO::geterror()).c_str());
+    if (!out->supports("ioproxy"))
+        return c5_fail(err, "%s: the %s writer of this OpenImageIO cannot write to memory", path, lower.c_str() + 1);
 
     ImageSpec spec(w, h, 3, fmt == Fmt::PNG ? TypeDesc::UINT8 : TypeDesc::FLOAT);
     if (fmt == Fmt::EXR)
@@ -189,31 +179,21 @@ int write_impl(const char *path, const c5_image *img, c5_err *err)
     /* An empty DateTime keeps OIIO from stamping the file (EXR capDate) with the time:
      * the same image must give the same file bytes on every run. */
     spec.attribute("DateTime", "");
+    spec.attribute("oiio:ioproxy", TypeDesc::PTR, &proxy);
 
-    tmp.armed = true; // open() may create the file even when it fails
-    if (!out->open(tmp.path, spec)) {
-        std::string e = user_named(first_line(out->geterror()), tmp.path, path);
-        add_reason(e, "directory " + (dir.empty() ? std::string(".") : dir), dir_problem(dir));
-        return c5_fail(err, "%s: cannot write: %s", path, e.c_str());
-    }
+    if (!out->open(name, spec))
+        return c5_fail(err, "%s: cannot write: %s", path, first_line(out->geterror()).c_str());
     const bool ok = fmt == Fmt::PNG ? out->write_image(TypeDesc::UINT8, bytes.data())
                                     : out->write_image(TypeDesc::FLOAT, img->rgb);
     if (!ok) {
-        std::string e = user_named(first_line(out->geterror()), tmp.path, path);
+        std::string e = first_line(out->geterror());
         out->close();
         return c5_fail(err, "%s: cannot write: %s", path, e.c_str());
     }
     if (!out->close())
-        return c5_fail(err, "%s: cannot write: %s", path,
-                       user_named(first_line(out->geterror()), tmp.path, path).c_str());
+        return c5_fail(err, "%s: cannot write: %s", path, first_line(out->geterror()).c_str());
     out.reset();
-
-    if (std::rename(tmp.path.c_str(), path) != 0) {
-        const int e = errno;
-        return c5_fail(err, "%s: cannot replace file: %s", path, std::strerror(e));
-    }
-    tmp.armed = false;
-    return 0;
+    return c5_afile_put(path, file.data(), file.size(), err);
 }
 
 int read_impl(const char *path, c5_image *img, c5_err *err)

@@ -34,6 +34,7 @@ run_suite bash tests/coverage_test.sh "$build"
 run_suite bash tests/fingerprint_test.sh "$build"
 run_suite bash tests/fpga_test.sh "$build"
 run_suite bash tests/vcd_test.sh "$build"
+run_suite bash tests/write_fault_test.sh "$build"
 run_suite bash tests/live_test.sh "$build"
 run_suite bash tests/link_test.sh "$build"
 run_suite bash tests/pipefail_lint_test.sh

@@ -31,6 +31,7 @@ typedef struct {
 
 struct c5_frame_vcd {
     c5_vcd *v;
+    char path[4096];
     c5_taps taps;
     uint64_t from, to;          /* the window of sorter cycles [from, to) */
     int64_t pend;               /* the cycle waiting to be written (-1: the reset, before the first) */
@@ -205,11 +206,12 @@ c5_frame_vcd *c5_frame_vcd_open(const char *path, uint64_t from, uint64_t cycles
     w->v = c5_vcd_open_scopes(path, scopes, 2, "cube5 render --vcd (docs/vectors.md)", about, 1, 1);
     if (!w->v) {
         c5_fail(err, errno == EEXIST ? "%s: exists; refusing to overwrite it (remove it, or give another path)"
-                                     : "%s: cannot create the waveform (%s)",
+                                     : "%s: cannot write: %s",
                 path, strerror(errno));
         free(w);
         return NULL;
     }
+    snprintf(w->path, sizeof w->path, "%s", path);
     w->from = from;
     w->to = from + cycles;
     w->pend = -1;
@@ -231,7 +233,7 @@ const c5_taps *c5_frame_vcd_taps(c5_frame_vcd *w) { return &w->taps; }
 int c5_frame_vcd_close(c5_frame_vcd *w, c5_frame_vcd_stats *st, c5_err *err)
 {
     flush(w);
-    int rc = c5_vcd_close(w->v) != 0 || w->io ? c5_fail(err, "cannot write the waveform") : 0;
+    int rc = c5_vcd_close(w->v, err) != 0 ? -1 : w->io ? c5_fail(err, "%s: cannot write the waveform", w->path) : 0;
     if (rc == 0 && w->oom)
         rc = c5_fail(err, "out of memory for the waveform");
     if (st)

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define VCD_MAX_FIELDS 64
 
@@ -14,7 +15,8 @@ typedef struct {
 } vcd_scope;
 
 struct c5_vcd {
-    FILE *f;
+    c5_afile af;
+    int opened;
     long n;                          /* vectors written (c5_vcd_vector) */
     long long unit;                  /* time units a ns */
     long long now;                   /* the time last written */
@@ -74,35 +76,42 @@ c5_vcd *c5_vcd_open_scopes(const char *path, const c5_vblock *const *blocks, int
             }
         }
     }
-    if (!(v->f = fopen(path, exclusive ? "wx" : "w"))) {
-        int e = errno;
+    c5_err e;
+    if (exclusive && access(path, F_OK) == 0) {
         free_vcd(v);
-        errno = e;
+        errno = EEXIST;
         return NULL;
     }
+    if (c5_afile_open(&v->af, path, &e) != 0) {
+        int no = v->af.err_no ? v->af.err_no : EINVAL;
+        free_vcd(v);
+        errno = no;
+        return NULL;
+    }
+    v->opened = 1;
     /* No $date: the same vectors give the same bytes. */
-    fprintf(v->f, "$version %s $end\n", version);
+    c5_afile_printf(&v->af, "$version %s $end\n", version);
     if (comment)
-        fprintf(v->f, "$comment %s $end\n", comment);
-    fprintf(v->f, "$timescale 1%s $end\n", fs ? "fs" : "ns");
+        c5_afile_printf(&v->af, "$comment %s $end\n", comment);
+    c5_afile_printf(&v->af, "$timescale 1%s $end\n", fs ? "fs" : "ns");
     for (int s = 0; s < n; s++) {
         const c5_vblock *b = blocks[s];
-        fprintf(v->f, "$scope module %s $end\n", b->name);
-        fprintf(v->f, "$var wire 1 %s clk $end\n$var wire 1 %s rst $end\n", ID_CLK, ID_RST);
+        c5_afile_printf(&v->af, "$scope module %s $end\n", b->name);
+        c5_afile_printf(&v->af, "$var wire 1 %s clk $end\n$var wire 1 %s rst $end\n", ID_CLK, ID_RST);
         for (int k = 0; k < b->n_fields; k++) {
             unsigned w = b->fields[k].width;
             if (w == 1)
-                fprintf(v->f, "$var wire 1 %s %s $end\n", v->s[s].id[k], b->fields[k].name);
+                c5_afile_printf(&v->af, "$var wire 1 %s %s $end\n", v->s[s].id[k], b->fields[k].name);
             else
-                fprintf(v->f, "$var wire %u %s %s [%u:0] $end\n", w, v->s[s].id[k], b->fields[k].name, w - 1);
+                c5_afile_printf(&v->af, "$var wire %u %s %s [%u:0] $end\n", w, v->s[s].id[k], b->fields[k].name, w - 1);
         }
-        fprintf(v->f, "$upscope $end\n");
+        c5_afile_printf(&v->af, "$upscope $end\n");
     }
-    fprintf(v->f, "$enddefinitions $end\n#0\n$dumpvars\n0%s\n1%s\n", ID_CLK, ID_RST);
+    c5_afile_printf(&v->af, "$enddefinitions $end\n#0\n$dumpvars\n0%s\n1%s\n", ID_CLK, ID_RST);
     for (int s = 0; s < n; s++)
         for (int k = 0; k < blocks[s]->n_fields; k++)
-            fprintf(v->f, blocks[s]->fields[k].width == 1 ? "x%s\n" : "bx %s\n", v->s[s].id[k]);
-    fprintf(v->f, "$end\n");
+            c5_afile_printf(&v->af, blocks[s]->fields[k].width == 1 ? "x%s\n" : "bx %s\n", v->s[s].id[k]);
+    c5_afile_printf(&v->af, "$end\n");
     c5_vcd_at(v, C5_VCD_HALF_NS * v->unit);
     c5_vcd_clk(v, 1);
     return v;
@@ -120,19 +129,19 @@ int c5_vcd_at(c5_vcd *v, long long t)
     if (t < v->now)
         return -1;
     if (t > v->now)
-        fprintf(v->f, "#%lld\n", t);
+        c5_afile_printf(&v->af, "#%lld\n", t);
     v->now = t;
     return 0;
 }
 
 void c5_vcd_clk(c5_vcd *v, int level)
 {
-    fprintf(v->f, "%d%s\n", level != 0, ID_CLK);
+    c5_afile_printf(&v->af, "%d%s\n", level != 0, ID_CLK);
     if (level)
         v->next_fall = v->now + C5_VCD_HALF_NS * v->unit;
 }
 
-void c5_vcd_rst(c5_vcd *v, int level) { fprintf(v->f, "%d%s\n", level != 0, ID_RST); }
+void c5_vcd_rst(c5_vcd *v, int level) { c5_afile_printf(&v->af, "%d%s\n", level != 0, ID_RST); }
 
 /* Field value from hex digits: binary, most significant bit first, `width` bits; 'x' digits
  * give unknown bits. */
@@ -164,15 +173,15 @@ int c5_vcd_values(c5_vcd *v, int k, const char *line)
             continue;
         strcpy(sc->last[i], bits);
         if (w == 1) {
-            fprintf(v->f, "%c%s\n", bits[0], sc->id[i]);
+            c5_afile_printf(&v->af, "%c%s\n", bits[0], sc->id[i]);
         } else {
             const char *s = bits;
             while (s[1] && ((s[0] == '0' && s[1] != 'x') || (s[0] == 'x' && s[1] == 'x'))) /* leading 0s (xs) are implied */
                 s++;
-            fprintf(v->f, "b%s %s\n", s, sc->id[i]);
+            c5_afile_printf(&v->af, "b%s %s\n", s, sc->id[i]);
         }
     }
-    return ferror(v->f) ? -1 : 0;
+    return v->af.err_no ? -1 : 0;
 }
 
 int c5_vcd_vector(c5_vcd *v, const char *line)
@@ -186,16 +195,16 @@ int c5_vcd_vector(c5_vcd *v, const char *line)
     c5_vcd_at(v, t + C5_VCD_HALF_NS * v->unit);
     c5_vcd_clk(v, 1);
     v->n++;
-    return ferror(v->f) ? -1 : 0;
+    return v->af.err_no ? -1 : 0;
 }
 
-int c5_vcd_close(c5_vcd *v)
+int c5_vcd_close(c5_vcd *v, c5_err *err)
 {
     int rc = 0;
-    if (v->f) {
+    if (v->opened) {
         c5_vcd_at(v, v->next_fall);
         c5_vcd_clk(v, 0);
-        rc = ferror(v->f) | fclose(v->f) ? -1 : 0;
+        rc = c5_afile_commit(&v->af, err);
     }
     free_vcd(v);
     return rc;

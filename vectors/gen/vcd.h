@@ -14,6 +14,7 @@
 #ifndef C5_VCD_H
 #define C5_VCD_H
 
+#include "atomic_file.h"
 #include "vecset.h"
 
 #define C5_VCD_HALF_NS 5 /* half the clock period: the board's 100 MHz */
@@ -26,8 +27,9 @@ c5_vcd *c5_vcd_open(const char *path, const c5_vblock *b);
 /* One vector: `line` as written to the .hex file (the fields' hex digits separated by one
  * space, '\n' optional). Writes the values that changed. 0, or -1 on an I/O error. */
 int c5_vcd_vector(c5_vcd *v, const char *line);
-/* The last cycle's rising and falling edges, then closes; 0, or -1 on an I/O error. Frees v. */
-int c5_vcd_close(c5_vcd *v);
+/* The last cycle's rising and falling edges, then puts the file in place whole
+ * (atomic_file.h); 0, or -1 naming the file and the reason. Frees v. */
+int c5_vcd_close(c5_vcd *v, c5_err *err);
 
 /* Several scopes (blocks[0..n-1], named after the blocks), for a caller that draws the clock
  * itself. The time unit is 1 fs when `fs` (GHDL's own unit; room for events between two

@@ -13,7 +13,7 @@
 struct c5_vfile {
     c5_vset *set;
     const c5_vblock *b;
-    FILE *f;
+    c5_afile af;
     c5_vcd *vcd;        /* the waveform, or NULL */
     char name[512];
     json_t *entry;
@@ -28,6 +28,14 @@ static void set_fail(c5_vset *s, const char *what, const char *path)
 {
     if (!s->failed)
         c5_fail(s->err, "%s %s: %s", what, path, strerror(errno));
+    s->failed = 1;
+}
+
+/* The first failure's message, made by the writer (atomic_file.h: "PATH: cannot write: why"). */
+static void set_failed(c5_vset *s, const c5_err *e)
+{
+    if (!s->failed)
+        c5_fail(s->err, "%s", e->msg);
     s->failed = 1;
 }
 
@@ -118,13 +126,21 @@ int c5_vset_finish(c5_vset *s, json_t *params)
         json_object_update(m, params);
     json_decref(params);
     json_object_set(m, "files", s->files);
-    if (!s->failed && json_dump_file(m, path, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0)
-        set_fail(s, "cannot write", path);
-    if (!s->failed) {
-        FILE *f = fopen(path, "a"); /* jansson ends the document without a newline */
-        if (!f || fputc('\n', f) == EOF || fclose(f) != 0)
-            set_fail(s, "cannot write", path);
+    char *text = s->failed ? NULL : json_dumps(m, JSON_INDENT(2) | JSON_PRESERVE_ORDER);
+    if (!s->failed && !text) {
+        set_fail(s, "out of memory for", path);
+    } else if (!s->failed) {
+        c5_afile a;
+        c5_err e;
+        if (c5_afile_open(&a, path, &e) != 0) {
+            set_failed(s, &e);
+        } else {
+            c5_afile_printf(&a, "%s\n", text); /* jansson ends the document without a newline */
+            if (c5_afile_commit(&a, &e) != 0)
+                set_failed(s, &e);
+        }
     }
+    free(text);
     json_decref(m);
     c5_vset_abort(s);
     return s->failed ? -1 : 0;
@@ -145,9 +161,9 @@ c5_vfile *c5_vfile_open(c5_vset *s, const c5_vblock *b, const char *source, cons
         snprintf(f->name, sizeof f->name, "%s.%s.hex", b->name, source);
     char path[4700];
     snprintf(path, sizeof path, "%s/%s", s->dir, f->name);
-    f->f = fopen(path, "w");
-    if (!f->f) {
-        set_fail(s, "cannot create", path);
+    c5_err e;
+    if (c5_afile_open(&f->af, path, &e) != 0) {
+        set_failed(s, &e);
         free(f);
         return NULL;
     }
@@ -245,8 +261,7 @@ void c5_vfile_end(c5_vfile *f)
 {
     assert(f->field == f->b->n_fields);
     f->line[f->len++] = '\n';
-    if (fwrite(f->line, 1, f->len, f->f) != f->len)
-        set_fail(f->set, "cannot write", f->name);
+    c5_afile_write(&f->af, f->line, f->len); /* a failure is reported by c5_vfile_close */
     f->crc = crc32(f->crc, (const Bytef *)f->line, (uInt)f->len);
     if (f->vcd && c5_vcd_vector(f->vcd, f->line) != 0)
         set_fail(f->set, "cannot write the waveform of", f->name);
@@ -264,10 +279,11 @@ void c5_vfile_close(c5_vfile *f)
     if (!f)
         return;
     assert(f->field == 0);
-    if (fclose(f->f) != 0)
-        set_fail(f->set, "cannot write", f->name);
-    if (f->vcd && c5_vcd_close(f->vcd) != 0)
-        set_fail(f->set, "cannot write the waveform of", f->name);
+    c5_err e;
+    if (c5_afile_commit(&f->af, &e) != 0)
+        set_failed(f->set, &e);
+    if (f->vcd && c5_vcd_close(f->vcd, &e) != 0)
+        set_failed(f->set, &e);
     char crc[32];
     snprintf(crc, sizeof crc, "crc32:%08lx", (unsigned long)f->crc);
     json_object_set_new(f->entry, "count", json_integer(f->count));

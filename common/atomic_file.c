@@ -1,0 +1,127 @@
+/* Whole-or-nothing file writes (atomic_file.h). */
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "atomic_file.h"
+
+static void keep(c5_afile *a, int e)
+{
+    if (!a->err_no)
+        a->err_no = e ? e : EIO;
+}
+
+int c5_afile_open(c5_afile *a, const char *path, c5_err *err)
+{
+    static unsigned seq;
+    memset(a, 0, sizeof *a);
+    a->mode = -1;
+    if (!path || !*path)
+        return c5_fail(err, "no output path given");
+    if (strlen(path) >= sizeof a->shown)
+        return c5_fail(err, "%.200s...: output path too long", path);
+    snprintf(a->shown, sizeof a->shown, "%s", path);
+    snprintf(a->path, sizeof a->path, "%s", path);
+    struct stat st;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
+        char real[PATH_MAX];
+        if (!realpath(path, real)) {
+            a->err_no = errno;
+            return c5_fail(err, "%s: cannot write: the link's target: %s", path, strerror(errno));
+        }
+        snprintf(a->path, sizeof a->path, "%s", real);
+    }
+    if (stat(a->path, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) {
+            a->err_no = EISDIR;
+            return c5_fail(err, "%s: cannot write: %s", path, strerror(EISDIR));
+        }
+        a->mode = (int)(st.st_mode & 07777);
+    }
+    const char *slash = strrchr(a->path, '/');
+    int dirlen = slash ? (int)(slash - a->path + 1) : 0;
+    snprintf(a->tmp, sizeof a->tmp, "%.*s.%s.tmp-%ld-%u", dirlen, a->path, a->path + dirlen, (long)getpid(), seq++);
+    int fd = open(a->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        a->err_no = errno;
+        a->tmp[0] = 0;
+        return c5_fail(err, "%s: cannot write: %s", path, strerror(errno));
+    }
+    if ((a->mode >= 0 && fchmod(fd, (mode_t)a->mode) != 0) || !(a->f = fdopen(fd, "wb"))) {
+        a->err_no = errno;
+        close(fd);
+        unlink(a->tmp);
+        a->tmp[0] = 0;
+        return c5_fail(err, "%s: cannot write: %s", path, strerror(a->err_no));
+    }
+    return 0;
+}
+
+void c5_afile_write(c5_afile *a, const void *buf, size_t n)
+{
+    if (a->err_no || !a->f || n == 0)
+        return;
+    errno = 0;
+    if (fwrite(buf, 1, n, a->f) != n)
+        keep(a, errno);
+}
+
+void c5_afile_printf(c5_afile *a, const char *fmt, ...)
+{
+    if (a->err_no || !a->f)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    errno = 0;
+    if (vfprintf(a->f, fmt, ap) < 0)
+        keep(a, errno);
+    va_end(ap);
+}
+
+void c5_afile_abort(c5_afile *a)
+{
+    if (a->f)
+        fclose(a->f);
+    a->f = NULL;
+    if (a->tmp[0])
+        unlink(a->tmp);
+    a->tmp[0] = 0;
+}
+
+int c5_afile_commit(c5_afile *a, c5_err *err)
+{
+    if (!a->f)
+        return c5_fail(err, "%s: cannot write: not open", a->shown);
+    errno = 0;
+    if (!a->err_no && fflush(a->f) != 0)
+        keep(a, errno);
+    if (!a->err_no && fsync(fileno(a->f)) != 0)
+        keep(a, errno);
+    errno = 0;
+    if (fclose(a->f) != 0)
+        keep(a, errno);
+    a->f = NULL;
+    if (!a->err_no && rename(a->tmp, a->path) != 0)
+        keep(a, errno);
+    if (a->err_no) {
+        int e = a->err_no;
+        c5_afile_abort(a);
+        return c5_fail(err, "%s: cannot write: %s", a->shown, strerror(e));
+    }
+    a->tmp[0] = 0;
+    return 0;
+}
+
+int c5_afile_put(const char *path, const void *buf, size_t n, c5_err *err)
+{
+    c5_afile a;
+    if (c5_afile_open(&a, path, err) != 0)
+        return -1;
+    c5_afile_write(&a, buf, n);
+    return c5_afile_commit(&a, err);
+}
