@@ -1,7 +1,9 @@
 /* cube5: the command-line tool. One subcommand per job; `cube5 help CMD` (or `cube5 CMD
  * --help`) for each. Conventions shared with cube5ctl and cube5-board (README, "Conventions"):
  * errors as "cube5: error: ...", exit 0 ok, 1 failure while running, 2 bad input or usage. */
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -42,6 +44,36 @@ static long find_cmd(const char *name)
     return -1;
 }
 
+/* Several MPI ranks (mpirun -np N, N > 1): their count, or 1. Open MPI and MPICH's names. */
+static int mpi_ranks(void)
+{
+    const char *names[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"};
+    for (int i = 0; i < 2; i++) {
+        const char *v = getenv(names[i]);
+        if (v && atoi(v) > 1)
+            return atoi(v);
+    }
+    return 1;
+}
+
+/* Under several ranks only render, compare and schedule with --boards run (as several boards);
+ * any other start would run the command once per rank into the same outputs. */
+static int ranks_refused(const char *cmd, int argc, char **argv)
+{
+    int ranks = mpi_ranks();
+    if (ranks < 2)
+        return 0;
+    int boards_cmd = !strcmp(cmd, "render") || !strcmp(cmd, "compare") || !strcmp(cmd, "schedule");
+    for (int i = 2; boards_cmd && i < argc; i++)
+        if (!strcmp(argv[i], "--boards"))
+            return 0; /* its own check: the ranks must be its boards (docs/multi-board.md) */
+    fprintf(stderr,
+            "cube5: error: %s: started as %d MPI ranks; only render, compare and schedule run as several boards, "
+            "with --boards %d (docs/multi-board.md); run %s once, without mpirun\n",
+            cmd, ranks, ranks, cmd);
+    return 1;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -71,6 +103,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "cube5: error: unknown command '%s' (see 'cube5 help')\n", argv[1]);
         return C5_EXIT_INPUT;
     }
+    if (ranks_refused(argv[1], argc, argv))
+        return C5_EXIT_INPUT;
     /* --progress means the same to every long command: taken out here, before it parses. */
     int n = 1;
     for (int i = 2; i < argc; i++)
@@ -79,5 +113,12 @@ int main(int argc, char **argv)
         else
             argv[1 + n++] = argv[i];
     argv[1 + n] = NULL;
-    return cmds[c].fn(n, argv + 1);
+    int rc = cmds[c].fn(n, argv + 1);
+    /* The summary or the --json object is an output too: written whole, or the run failed. */
+    errno = 0;
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "cube5: error: standard output: cannot write: %s\n", strerror(errno ? errno : EIO));
+        return rc ? rc : C5_EXIT_RUNTIME;
+    }
+    return rc;
 }

@@ -142,4 +142,20 @@ if [ -x "$nompi" ]; then
 else
     bad nompi_build "no $nompi: make $nompi"
 fi
+# Commands that do not run as several boards refuse several ranks before any work: one line
+# naming those that do, no output from any rank, no file.
+for cmd in "cast phantom:shell:20 --size 16 --views 1 --json" "sweep default --knob step=1,2 --size 16 --out $tmp/sw" \
+    "render default --size 16x16 -o $tmp/r.png"; do
+    name="mpi_refused_$(cut -d' ' -f1 <<<"$cmd")"
+    # shellcheck disable=SC2086 # cmd is a list of arguments
+    timeout 60 "${mpirun[@]}" -np 2 "$cube5" $cmd >"$tmp/out" 2>"$tmp/err"
+    status=$?
+    if [ "$status" -ne 0 ] && [ ! -s "$tmp/out" ] && [ ! -e "$tmp/sw" ] && [ ! -e "$tmp/r.png" ] &&
+        grep -q "started as 2 MPI ranks; only render, compare and schedule run as several boards" "$tmp/err"; then
+        ok "$name"
+    else
+        bad "$name" "exit $status; stdout $(wc -c <"$tmp/out") bytes" "$(tail -3 "$tmp/err")"
+    fi
+done
+
 summary

@@ -2,7 +2,8 @@
 # Every output written whole or not at all (common/atomic_file.h): the faults happen. A write
 # shim (tests/fault/write_fault.c, LD_PRELOAD) fails the k-th write of a tool to a file with
 # ENOSPC or EIO, for k at the start, the middle and the end of each writer's output, and every
-# fsync; where the machine lets a test mount a small tmpfs, a full file system as well. Each
+# fsync; standard output on /dev/full; where the machine lets a test mount a small tmpfs, a
+# full file system as well. Each
 # case checks the exit code (1), the message (the file and the system's reason) and that no
 # partial and no temporary file is left. Usage: write_fault_test.sh BUILD
 set -u
@@ -117,6 +118,20 @@ if "$cube5" render default --size 24x24 -o "$tmp/link/l.png" >/dev/null 2>&1 && 
 else
     bad link_written_through "$(ls -la "$tmp/link")"
 fi
+
+# Standard output is an output too: a summary or a --json object that cannot be written fails
+# the run (/dev/full: every write ENOSPC).
+for cmd in "scenes" "render default --size 8x8 --json -o $tmp/so.png"; do
+    name="stdout_full_$(cut -d' ' -f1 <<<"$cmd")"
+    # shellcheck disable=SC2086 # cmd is a list of arguments
+    err=$("$cube5" $cmd 2>&1 >/dev/full)
+    status=$?
+    if [ "$status" = 1 ] && grep -qF "standard output: cannot write: No space left on device" <<<"$err"; then
+        ok "$name"
+    else
+        bad "$name" "exit $status" "$err"
+    fi
+done
 
 # A full file system, where this machine lets a test mount one (root): the issue's cases.
 mkdir -p "$tmp/small"
