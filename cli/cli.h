@@ -68,6 +68,10 @@ int c5_cli_check_frames_out(const char *out, int n, const c5_file_list *in, c5_e
 int c5_cli_check_dir_out(const char *dir, const c5_file_list *in, c5_err *err);
 /* The scene's inputs, then c5_cli_check_frames_out: the images of render -o and compare --diff. */
 int c5_cli_check_scene_image_out(const char *out, int n, const char *scene_arg, const c5_scene *s, c5_err *err);
+/* Two outputs of one run that name one file (through links) are refused before any work:
+ * `other` (option other_opt) against each file out_opt OUT names over n frames. */
+int c5_cli_check_distinct_frames(const char *out, int n, const char *out_opt, const char *other, const char *other_opt,
+                                 c5_err *err);
 /* OUT for frame i of n: OUT itself when n == 1, else BASE_0007.EXT. */
 void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);
 

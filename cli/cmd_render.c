@@ -349,11 +349,8 @@ int c5_cmd_render(int argc, char **argv)
         err = (c5_err){"--vcd: the waveform is of one frame; the scene has several (give --frames 1)"};
         goto fail;
     }
-    /* Before the frame is rendered: the open below refuses it too, atomically. */
-    if (a.vcd && access(a.vcd, F_OK) == 0) {
-        c5_fail(&err, "%s: exists; refusing to overwrite it (remove it, or give another path)", a.vcd);
+    if (a.out && a.vcd && c5_cli_check_distinct_frames(a.out, c5_scene_frames(&s), "-o", a.vcd, "--vcd", &err) != 0)
         goto fail;
-    }
     if (a.rtl ? c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0 : c5_supervol_build(&s, &sv, &err) != 0)
         goto fail;
     if (a.rtl && c5_boards_begin(&a.bd, &err) != 0)
@@ -425,12 +422,12 @@ int c5_cmd_render(int argc, char **argv)
     c5_frame_vcd_stats ws = {0};
     if (wave) {
         c5_err werr;
-        if (c5_frame_vcd_close(wave, &ws, &werr) != 0 && rc == 0) {
+        if (rc != 0) { /* a frame that failed has no waveform: the file is as it was */
+            c5_frame_vcd_abort(wave);
+        } else if (c5_frame_vcd_close(wave, &ws, &werr) != 0) {
             err = werr;
             rc = C5_EXIT_RUNTIME;
         }
-        if (rc != 0) /* a frame that failed has no waveform: no partial file left behind */
-            remove(a.vcd);
         if (rc == 0) {
             uint64_t last = ws.written ? (uint64_t)a.vcd_from + ws.written - 1 : 0;
             if (ws.written)

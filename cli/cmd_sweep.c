@@ -16,7 +16,7 @@
 #include "sweep.h"
 
 static const char usage_text[] =
-    "usage: cube5 sweep [SCENE|FILE.json] [--knob NAME=V1,V2,...]... [--out DIR] [--force]\n"
+    "usage: cube5 sweep [SCENE|FILE.json] [--knob NAME=V1,V2,...]... [--out DIR]\n"
     "                   [--size N|WxH] [--threads N] [--volume [I=]FILE] [--json] [--progress]\n\n"
     "Renders a scene over a range of one setting at a time (the others at the scene's values)\n"
     "and puts each image's error against a converged reference (PSNR, RMSE, largest error, as\n"
@@ -33,7 +33,6 @@ static const char usage_text[] =
     "  k=N,...           the streaming caster's approximation interval, 1, 2, 4, 8, 16: cast\n"
     "  Without --knob: each knob over a few values around the scene's (docs/sweep.md).\n\n"
     "  --out DIR         where sweep.csv and sweep.png go (default out/sweep_SCENE)\n"
-    "  --force           overwrite sweep.csv and sweep.png in DIR (never an input)\n"
     "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
     "  --threads N       cref's threads and the caster's workers (default: one per CPU)\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
@@ -42,7 +41,7 @@ static const char usage_text[] =
 typedef struct {
     const char *scene_arg, *out_dir;
     const char *volumes[C5_MAX_VOLUMES];
-    int n_volumes, w, h, json, force;
+    int n_volumes, w, h, json;
     long threads;
     c5_sweep_knob knobs[C5_SWEEP_MAX_KNOBS];
     int n_knobs;
@@ -95,8 +94,6 @@ static int parse_args(int argc, char **argv, sweep_args *a, c5_err *err)
                 return -1;
         } else if (!strcmp(o, "--json"))
             a->json = 1;
-        else if (!strcmp(o, "--force"))
-            a->force = 1;
         else if (c5_cli_scene_arg("sweep", o, &a->scene_arg, &have_scene, err) != 0)
             return -1;
     }
@@ -491,12 +488,8 @@ int c5_cmd_sweep(int argc, char **argv)
     const char *outs[2] = {csv, png};
     c5_file_list in = {0};
     int refused = c5_cli_scene_inputs(a.scene_arg, &s, &in, &err);
-    for (int i = 0; i < 2 && !refused; i++) {
-        struct stat st;
+    for (int i = 0; i < 2 && !refused; i++)
         refused = c5_cli_check_not_input(outs[i], &in, &err);
-        if (!refused && !a.force && stat(outs[i], &st) == 0)
-            refused = c5_fail(&err, "%s: exists; refusing to overwrite it (give --force, or another --out)", outs[i]);
-    }
     c5_file_list_free(&in);
     if (refused)
         goto fail;

@@ -2,9 +2,12 @@
  * (the scene file, each volume file, the data files a NRRD header names) and checks every
  * path it will write against them before it writes anything. */
 #include <dirent.h>
+#include <limits.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "atomic_file.h"
 #include "builtin_scenes.h"
 #include "cli.h"
 
@@ -55,6 +58,41 @@ int c5_cli_check_dir_out(const char *dir, const c5_file_list *in, c5_err *err)
     }
     closedir(d);
     return rc;
+}
+
+/* The file a path names, resolved through links: the path itself when it exists, else its
+ * folder's real path and its name. Empty when neither resolves (the write reports it). */
+static void canonical(const char *given, char *out, size_t len)
+{
+    char real[PATH_MAX], path[PATH_MAX];
+    out[0] = 0;
+    if (c5_output_target(given, path, sizeof path) != 0)
+        return;
+    if (realpath(path, real)) {
+        snprintf(out, len, "%s", real);
+        return;
+    }
+    const char *slash = strrchr(path, '/');
+    char dir[PATH_MAX];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+    if (realpath(dir, real))
+        snprintf(out, len, "%s/%s", real, slash ? slash + 1 : path);
+}
+
+int c5_cli_check_distinct_frames(const char *out, int n, const char *out_opt, const char *other, const char *other_opt,
+                                 c5_err *err)
+{
+    char b[2 * PATH_MAX + 8];
+    canonical(other, b, sizeof b);
+    for (int f = 0; b[0] && f < n; f++) {
+        char path[2048], a[2 * PATH_MAX + 8];
+        c5_cli_frame_path(out, f, n, path, sizeof path);
+        canonical(path, a, sizeof a);
+        if (!strcmp(a, b))
+            return c5_fail(err, "%s %s: names the same file as %s %s; give two different files", other_opt, other,
+                           out_opt, path);
+    }
+    return 0;
 }
 
 int c5_cli_check_scene_image_out(const char *out, int n, const char *scene_arg, const c5_scene *s, c5_err *err)

@@ -16,6 +16,36 @@ static void keep(c5_afile *a, int e)
         a->err_no = e ? e : EIO;
 }
 
+int c5_output_target(const char *path, char *out, size_t len)
+{
+    char cur[PATH_MAX], next[PATH_MAX];
+    snprintf(cur, sizeof cur, "%s", path);
+    for (int depth = 0; depth < 16; depth++) {
+        struct stat st;
+        if (lstat(cur, &st) != 0 || !S_ISLNK(st.st_mode)) {
+            snprintf(out, len, "%s", cur);
+            return 0;
+        }
+        ssize_t n = readlink(cur, next, sizeof next - 1);
+        if (n < 0)
+            return -1;
+        next[n] = 0;
+        if (next[0] == '/') {
+            snprintf(cur, sizeof cur, "%s", next);
+        } else { /* relative to the link's folder */
+            const char *slash = strrchr(cur, '/');
+            int dirlen = slash ? (int)(slash - cur + 1) : 0;
+            if ((size_t)dirlen + strlen(next) >= sizeof cur) {
+                errno = ENAMETOOLONG;
+                return -1;
+            }
+            memmove(cur + dirlen, next, strlen(next) + 1);
+        }
+    }
+    errno = ELOOP;
+    return -1;
+}
+
 int c5_afile_open(c5_afile *a, const char *path, c5_err *err)
 {
     static unsigned seq;
@@ -27,15 +57,11 @@ int c5_afile_open(c5_afile *a, const char *path, c5_err *err)
         return c5_fail(err, "%.200s...: output path too long", path);
     snprintf(a->shown, sizeof a->shown, "%s", path);
     snprintf(a->path, sizeof a->path, "%s", path);
-    struct stat st;
-    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
-        char real[PATH_MAX];
-        if (!realpath(path, real)) {
-            a->err_no = errno;
-            return c5_fail(err, "%s: cannot write: the link's target: %s", path, strerror(errno));
-        }
-        snprintf(a->path, sizeof a->path, "%s", real);
+    if (c5_output_target(path, a->path, sizeof a->path) != 0) {
+        a->err_no = errno;
+        return c5_fail(err, "%s: cannot write: the link's target: %s", path, strerror(errno));
     }
+    struct stat st;
     if (stat(a->path, &st) == 0) {
         if (S_ISDIR(st.st_mode)) {
             a->err_no = EISDIR;

@@ -16,7 +16,7 @@ run() { # NAME SCENE [ARGS...]
     local full="$build/accuracy/$name"
     mkdir -p "$full"
     echo "accuracy: $name" >&2
-    "$build/cube5" sweep "$scene" --out "$full" --force "$@" >"$full/sweep.txt"
+    "$build/cube5" sweep "$scene" --out "$full" "$@" >"$full/sweep.txt"
     python3 scripts/accuracy_tracked.py "$full" "$out/$name"
 }
 bash scripts/model-fingerprint.sh "$build" > "$out/model-fingerprint"

@@ -190,9 +190,18 @@ refuse() { # refuse NAME PATTERN -- CMD...
     status=$?
     judge "$name" 2 "$status" "$err" "$pat" && ok "$name"
 }
+# An existing waveform is replaced, whole, as -o replaces an image (README, "Conventions");
+# -o and --vcd naming one file (through a link too) are refused before the frame is rendered.
 echo keep >"$f/taken.vcd"
-refuse render_vcd_refuses_existing "taken.vcd: exists; refusing to overwrite it" -- "${render[@]}" --vcd "$f/taken.vcd"
-[ "$(cat "$f/taken.vcd")" = keep ] || bad render_vcd_existing_kept "$f/taken.vcd was written over"
+if "${render[@]}" --vcd "$f/taken.vcd" >/dev/null 2>&1 && head -c 9 "$f/taken.vcd" | grep -q '^\$version'; then
+    ok render_vcd_replaces_existing
+else
+    bad render_vcd_replaces_existing "$(head -c 40 "$f/taken.vcd")"
+fi
+ln -sf same.png "$f/alias.png"
+refuse render_vcd_same_file_as_image "--vcd .*alias.png: names the same file as -o .*same.png" -- "${render[@]}" \
+    -o "$f/same.png" --vcd "$f/alias.png"
+[ -e "$f/same.png" ] && bad render_vcd_same_file_nothing_written "$f/same.png was written"
 refuse render_vcd_cycles_zero "--vcd-cycles: expected an integer in \[1, " -- "${render[@]}" --vcd "$f/n.vcd" --vcd-cycles 0
 refuse render_vcd_cycles_word "--vcd-cycles: expected an integer" -- "${render[@]}" --vcd "$f/n.vcd" --vcd-cycles many
 refuse render_vcd_from_negative "--vcd-from: expected an integer in \[0, " -- "${render[@]}" --vcd "$f/n.vcd" --vcd-from -1

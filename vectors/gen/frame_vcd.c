@@ -203,11 +203,9 @@ c5_frame_vcd *c5_frame_vcd_open(const char *path, uint64_t from, uint64_t cycles
         return NULL;
     }
     const c5_vblock *scopes[2] = {&c5_vblock_ray_queue, &bus_block};
-    w->v = c5_vcd_open_scopes(path, scopes, 2, "cube5 render --vcd (docs/vectors.md)", about, 1, 1);
+    w->v = c5_vcd_open_scopes(path, scopes, 2, "cube5 render --vcd (docs/vectors.md)", about, 1, 0);
     if (!w->v) {
-        c5_fail(err, errno == EEXIST ? "%s: exists; refusing to overwrite it (remove it, or give another path)"
-                                     : "%s: cannot write: %s",
-                path, strerror(errno));
+        c5_fail(err, "%s: cannot write: %s", path, strerror(errno));
         free(w);
         return NULL;
     }
@@ -229,6 +227,13 @@ c5_frame_vcd *c5_frame_vcd_open(const char *path, uint64_t from, uint64_t cycles
 }
 
 const c5_taps *c5_frame_vcd_taps(c5_frame_vcd *w) { return &w->taps; }
+
+void c5_frame_vcd_abort(c5_frame_vcd *w)
+{
+    c5_vcd_abort(w->v);
+    free(w->gap);
+    free(w);
+}
 
 int c5_frame_vcd_close(c5_frame_vcd *w, c5_frame_vcd_stats *st, c5_err *err)
 {

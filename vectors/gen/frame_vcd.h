@@ -43,5 +43,7 @@ c5_frame_vcd *c5_frame_vcd_open(const char *path, uint64_t from, uint64_t cycles
 const c5_taps *c5_frame_vcd_taps(c5_frame_vcd *w);
 /* Writes what is pending, closes and frees; 0, or -1 with err set on an I/O error. */
 int c5_frame_vcd_close(c5_frame_vcd *w, c5_frame_vcd_stats *st, c5_err *err);
+/* Drops the waveform of a frame that failed: the file is as it was. Frees w. */
+void c5_frame_vcd_abort(c5_frame_vcd *w);
 
 #endif

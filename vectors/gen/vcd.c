@@ -198,6 +198,13 @@ int c5_vcd_vector(c5_vcd *v, const char *line)
     return v->af.err_no ? -1 : 0;
 }
 
+void c5_vcd_abort(c5_vcd *v)
+{
+    if (v->opened)
+        c5_afile_abort(&v->af);
+    free_vcd(v);
+}
+
 int c5_vcd_close(c5_vcd *v, c5_err *err)
 {
     int rc = 0;

@@ -30,6 +30,8 @@ int c5_vcd_vector(c5_vcd *v, const char *line);
 /* The last cycle's rising and falling edges, then puts the file in place whole
  * (atomic_file.h); 0, or -1 naming the file and the reason. Frees v. */
 int c5_vcd_close(c5_vcd *v, c5_err *err);
+/* Drops the waveform: the file is as it was. Frees v. */
+void c5_vcd_abort(c5_vcd *v);
 
 /* Several scopes (blocks[0..n-1], named after the blocks), for a caller that draws the clock
  * itself. The time unit is 1 fs when `fs` (GHDL's own unit; room for events between two
