@@ -155,9 +155,22 @@ int c5_cli_check_cells(const int cells[3], const c5_supervol *sv, c5_err *err)
     return 0;
 }
 
+int c5_cli_grid(const c5_scene *s, const char *label, c5_supervol *sv, c5_err *err)
+{
+    if (c5_supervol_build(s, sv, err) == 0)
+        return 0;
+    size_t n = strlen(label);
+    if (strncmp(err->msg, label, n) != 0) { /* the scene the refusal is about */
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s", err->msg);
+        c5_fail(err, "%s: %s", label, msg);
+    }
+    return -1;
+}
+
 int c5_cli_model_grid(const c5_scene *s, int cells[3], const char *label, c5_supervol *sv, c5_err *err)
 {
-    if (c5_model_check_scene(s, cells, label, err) != 0 || c5_supervol_build(s, sv, err) != 0)
+    if (c5_model_check_scene(s, cells, label, err) != 0 || c5_cli_grid(s, label, sv, err) != 0)
         return -1;
     c5_model_auto_split(sv->dims, cells);
     return c5_cli_check_cells(cells, sv, err) != 0 || c5_model_check_grid(s, sv, cells, label, err) != 0 ? -1 : 0;

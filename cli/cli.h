@@ -28,6 +28,8 @@ int c5_cli_queue_key(const char *opt, const char *s, c5_queue_key *key, c5_err *
 /* A split with more cells along an axis than the grid has voxels is refused (a cell must
  * hold at least one voxel); a scene without a volume takes any split. */
 int c5_cli_check_cells(const int cells[3], const c5_supervol *sv, c5_err *err);
+/* The scene's grid (c5_supervol_build), a refusal naming the scene (label). */
+int c5_cli_grid(const c5_scene *s, const char *label, c5_supervol *sv, c5_err *err);
 /* The grid the board model renders, in the order that refuses early: the model's field-width
  * limits before any volume is read or generated (c5_model_check_scene), the grid, the split
  * against it, then the limits that need the built grid (c5_model_check_grid). */

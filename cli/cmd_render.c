@@ -351,7 +351,7 @@ int c5_cmd_render(int argc, char **argv)
     }
     if (a.out && a.vcd && c5_cli_check_distinct_frames(a.out, c5_scene_frames(&s), "-o", a.vcd, "--vcd", &err) != 0)
         goto fail;
-    if (a.rtl ? c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0 : c5_supervol_build(&s, &sv, &err) != 0)
+    if (a.rtl ? c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0 : c5_cli_grid(&s, label, &sv, &err) != 0)
         goto fail;
     if (a.rtl && c5_boards_begin(&a.bd, &err) != 0)
         goto fail;

@@ -493,7 +493,7 @@ int c5_cmd_sweep(int argc, char **argv)
     c5_file_list_free(&in);
     if (refused)
         goto fail;
-    if (c5_model_check_scene(&s, NULL, label, &err) != 0 || c5_supervol_build(&s, &sv, &err) != 0)
+    if (c5_model_check_scene(&s, NULL, label, &err) != 0 || c5_cli_grid(&s, label, &sv, &err) != 0)
         goto fail;
     if (!a.n_knobs) {
         c5_sweep_point base;

@@ -113,8 +113,9 @@ int c5_voxsrc_open(const c5_volume_desc *d, c5_voxsrc **out, c5_err *err)
     if (d->kind == C5_SRC_GENERATOR) {
         size_t n;
         if (c5_dims_product(d->gen_dims, &n) != 0) {
-            c5_fail(err, "generator %s: dims %zux%zux%zu too large", c5_generator_name(d->generator), d->gen_dims[0],
-                    d->gen_dims[1], d->gen_dims[2]);
+            char what[64];
+            snprintf(what, sizeof what, "generator %s", c5_generator_name(d->generator));
+            c5_dims_fail(what, d->gen_dims, err); /* names the limit */
             free(s);
             return -1;
         }

@@ -322,8 +322,11 @@ static int cmd_render(c5drv *d, const opts *o, const char *json, const char *dir
 {
     int rc;
     if ((rc = c5drv_load_scene(d, json, dir[0] ? dir : NULL, o->scene, o->have_cells ? o->cells : NULL, o->w,
-                               o->h)) ||
-        (rc = c5drv_start_frame(d, o->frame)))
+                               o->h)))
+        return drv_err(d, rc);
+    if ((rc = c5drv_start_frame(d, o->frame)) == C5DRV_E_ARG) /* a frame the scene does not have: bad input */
+        return failure(EXIT_USAGE, "--frame: %s", c5drv_message(d));
+    if (rc)
         return drv_err(d, rc);
     if ((rc = c5drv_wait_frame(d, o->timeout_ms))) {
         int status = drv_err(d, rc);

@@ -446,6 +446,11 @@ else bad sweep_progress_on_stderr "$(cat "$tmp/sw.err")"; fi
 expect sweep_replaces 0 "" -- "$cube5" sweep default --size 16 --knob et=0.9,1 --out "$tmp/sw"
 if [ "$(wc -l <"$tmp/sw/sweep.csv")" = 5 ]; then ok sweep_replaced_csv; else bad sweep_replaced_csv; fi
 expect sweep_force_gone 2 "--force" -- "$cube5" sweep default --size 16 --knob et=1 --out "$tmp/sw" --force
+# A generated grid over the voxel limit: the scene file, the generator and the limit named.
+printf '{"volumes": [{"generator": "cloud", "dims": [30000, 30000, 30000]}], "transfer_function": {"opacity": [[0,0],[255,1]], "color": [[0,1,1,1]]},
+  "camera": {"eye": [1,1,1], "target": [0,0,0], "width": 8, "height": 8}}' >"$tmp/huge.json"
+expect generator_over_limit 2 "huge.json: generator cloud: dims 30000x30000x30000: 27000000000000 voxels exceed the limit of [0-9]+" -- \
+    "$cube5" render "$tmp/huge.json" -o "$tmp/huge.png"
 expect cast_same_output 2 "--save-raw .*c.png: names the same file as -o .*c.png" -- \
     "$cube5" cast phantom:shell:20 --size 16 --views 1 -o "$tmp/c.png" --save-raw "$tmp/c.png"
 expect sweep_text 0 "" -- bash -c "\"$cube5\" sweep default --size 8 --knob bounces=0,3 --out \"$tmp/sw3\" 2>/dev/null | grep -q '^  reference  cref'"

@@ -191,6 +191,16 @@ else
     bad "cube5ctl render through the runner" "$(cat "$tmp/err")"
 fi
 
+# A frame the scene does not have is bad input (status 2) naming --frame; nothing written.
+out=$("$board" run -- "$ctl" render default --size 16x16 --frame 99999 -o "$tmp/f.png" 2>&1)
+rc=$?
+if [ "$rc" -eq 2 ] && grep -q "cube5ctl: error: --frame: frame 99999: the scene has frames 0..0" <<<"$out" &&
+    [ ! -e "$tmp/f.png" ]; then
+    ok "cube5ctl render --frame 99999: status 2 naming --frame"
+else
+    bad "cube5ctl render --frame 99999" "exit $rc" "$out"
+fi
+
 if "$board" run -- sh -c "\"$ctl\" render default --size 32x32 -o \"$tmp/s.png\" >/dev/null && \"$ctl\" stats --json" \
        >"$tmp/stats.json" 2>"$tmp/err" &&
    python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["board"]; sys.exit(0 if b["fetches"] == 1 and b["rays"] > 0 else 1)' \
