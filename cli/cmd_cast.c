@@ -238,6 +238,13 @@ static int load_input(const args *a, input *in, c5_err *err)
             return -1;
         for (int i = 0; i < 3; i++)
             in->dims[i] = (size_t)n;
+        size_t budget, count = (size_t)n * (size_t)n * (size_t)n;
+        if (c5_mem_budget(&budget, err) != 0)
+            return -1;
+        if (count > budget) /* as for a file: the caster holds its volume in memory */
+            return c5_fail(err, "%s: %ldx%ldx%ld voxels are above the memory budget (C5_MEM_BUDGET, here %zu bytes): "
+                                "the caster needs the whole volume in memory; raise C5_MEM_BUDGET",
+                           a->input, n, n, n, budget);
         if (!(in->vox = c5_phantom_make(kind, (size_t)n)))
             return c5_fail(err, "%s: out of memory", a->input);
         snprintf(in->name, sizeof in->name, "synthetic_%s_%ld", k, n);

@@ -40,6 +40,7 @@ struct c5_svstore {
 
 #define BRICK_VOXELS ((size_t)1 << (3 * C5_BRICK_LOG2))
 #define CACHE_WAYS 8
+_Static_assert(C5_MEM_BUDGET_MIN == CACHE_WAYS * BRICK_VOXELS, "the budget's floor is one set of the cache");
 
 static void store_free(struct c5_svstore *st)
 {
@@ -317,6 +318,10 @@ int c5_mem_budget(size_t *out, c5_err *err)
         return c5_fail(err, "C5_MEM_BUDGET: expected a byte count such as 268435456, 512M or 4G, got '%.40s'", e);
     if (v > (SIZE_MAX >> shift) || v == 0)
         return c5_fail(err, "C5_MEM_BUDGET: '%.40s' is %s", e, v ? "too large" : "zero: give at least one byte");
+    if ((size_t)(v << shift) < C5_MEM_BUDGET_MIN)
+        return c5_fail(err, "C5_MEM_BUDGET: '%.40s' is below the least a grid is held in, %zu bytes (%d bricks of "
+                            "%d^3 voxels: the 2x2x2 voxels of one sample may lie in 8)",
+                       e, (size_t)C5_MEM_BUDGET_MIN, CACHE_WAYS, C5_BRICK);
     *out = (size_t)(v << shift);
     return 0;
 }

@@ -32,6 +32,10 @@ typedef struct {
 /* The memory budget, bytes: a grid of at most this many voxels is held whole (resident);
  * a larger one is out of core behind a brick cache of this many bytes. */
 #define C5_MEM_BUDGET_DEFAULT ((size_t)1 << 30)
+/* The least C5_MEM_BUDGET taken: one set of the brick cache, 8 bricks of 32^3 voxels
+ * (256 KiB): a trilinear sample's 2x2x2 voxels may lie in 8 bricks, and a cache of fewer
+ * evicts within one sample. */
+#define C5_MEM_BUDGET_MIN (((size_t)8) << 15)
 /* C5_MEM_BUDGET from the environment (a byte count, with an optional suffix K, M, G or T,
  * powers of 1024), else C5_MEM_BUDGET_DEFAULT; -1 with err when set but not such a size. */
 int c5_mem_budget(size_t *out, c5_err *err);

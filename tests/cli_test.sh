@@ -54,12 +54,16 @@ expect raw_dims_overflow 2 "huge_4294967296x4294967296x2_uint8.raw: dims .*overf
 # out of core with the same image, and the caster, which needs it whole, refuses it.
 expect mem_budget_bad 2 "C5_MEM_BUDGET: expected a byte count" -- env C5_MEM_BUDGET=lots "$cube5" render "$tmp/ok.json"
 expect mem_budget_zero 2 "C5_MEM_BUDGET: '0' is zero" -- env C5_MEM_BUDGET=0 "$cube5" render "$tmp/ok.json"
-expect mem_budget_cast_refused 2 "default: the grid of 96x96x96 voxels is above the memory budget .C5_MEM_BUDGET, here 65536 bytes." \
-    -- env C5_MEM_BUDGET=64K "$cube5" cast default --views 1
-expect mem_budget_cast_raw_refused 2 "vol_10x10x10_uint8.raw: 10x10x10 voxels are above the memory budget" \
+expect mem_budget_cast_refused 2 "default: the grid of 96x96x96 voxels is above the memory budget .C5_MEM_BUDGET, here 262144 bytes." \
+    -- env C5_MEM_BUDGET=256K "$cube5" cast default --views 1
+expect mem_budget_cast_phantom_refused 2 "phantom:shell:100: 100x100x100 voxels are above the memory budget" \
+    -- env C5_MEM_BUDGET=256K "$cube5" cast phantom:shell:100 --views 1
+expect mem_budget_floor 2 "C5_MEM_BUDGET: '999' is below the least a grid is held in, 262144 bytes" \
     -- env C5_MEM_BUDGET=999 "$cube5" cast "$tmp/vol_10x10x10_uint8.raw" --views 1
+expect mem_budget_floor_render 2 "C5_MEM_BUDGET: '1K' is below the least a grid is held in, 262144 bytes" \
+    -- env C5_MEM_BUDGET=1K "$cube5" render default --size 8x8
 crc() { "$@" --json | python3 -c 'import json, sys; print([f["crc32"] for f in json.load(sys.stdin)["frames"]])'; }
-a=$(crc "$cube5" render default --size 24x24 --threads 2) && b=$(crc env C5_MEM_BUDGET=100K "$cube5" render default --size 24x24 --threads 2)
+a=$(crc "$cube5" render default --size 24x24 --threads 2) && b=$(crc env C5_MEM_BUDGET=256K "$cube5" render default --size 24x24 --threads 2)
 if [ -n "$a" ] && [ "$a" = "$b" ]; then ok "mem_budget_out_of_core_same_image"; else bad "mem_budget_out_of_core_same_image" "resident $a, out of core $b"; fi
 expect raw_missing 2 "nowhere_2x2x2_uint8.raw: cannot open" -- "$cube5" render "$tmp/missing.json"
 expect volume_option_bad 2 "short_10x10x10_uint8.raw: .*truncated" -- \
