@@ -434,8 +434,8 @@ TEST(ooc_mem_budget_parse)
 {
     size_t b;
     c5_err err;
-    const char *ok[][2] = {{"1", "1"}, {"4096", "4096"}, {"64K", "65536"}, {"3M", "3145728"}, {"2G", "2147483648"},
-                           {"2GiB", "2147483648"}, {"1T", "1099511627776"}, {"8k", "8192"}};
+    const char *ok[][2] = {{"262144", "262144"}, {"256K", "262144"}, {"3M", "3145728"}, {"2G", "2147483648"},
+                           {"2GiB", "2147483648"}, {"1T", "1099511627776"}, {"512k", "524288"}};
     for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
         setenv("C5_MEM_BUDGET", ok[i][0], 1);
         CHECK_MSG(c5_mem_budget(&b, &err) == 0, "%s: %s", ok[i][0], err.msg);
@@ -446,6 +446,13 @@ TEST(ooc_mem_budget_parse)
         setenv("C5_MEM_BUDGET", bad[i], 1);
         CHECK_MSG(c5_mem_budget(&b, &err) == -1, "'%s' accepted", bad[i]);
         CHECK_MSG(strstr(err.msg, "C5_MEM_BUDGET") != NULL, "%s", err.msg);
+    }
+    /* below one set of the brick cache: refused, the minimum stated */
+    const char *small[] = {"1", "4096", "64K", "262143", "255K"};
+    for (size_t i = 0; i < sizeof small / sizeof small[0]; i++) {
+        setenv("C5_MEM_BUDGET", small[i], 1);
+        CHECK_MSG(c5_mem_budget(&b, &err) == -1, "'%s' accepted", small[i]);
+        CHECK_MSG(strstr(err.msg, "below the least a grid is held in, 262144 bytes") != NULL, "%s", err.msg);
     }
     unsetenv("C5_MEM_BUDGET");
     CHECK(c5_mem_budget(&b, &err) == 0 && b == C5_MEM_BUDGET_DEFAULT);
