@@ -90,8 +90,8 @@ mkdir -p "$tmp/o"
 sweep_k png "$tmp/o/png/x.png" "$cube5" render default --size 32x32 -o "$tmp/o/png/x.png"
 sweep_k exr "$tmp/o/exr/x.exr" "$cube5" render default --size 32x32 -o "$tmp/o/exr/x.exr"
 sweep_k vcd "$tmp/o/vcd/w.vcd" "$cube5" render default --model rtl --cells 2 --size 16x16 --vcd "$tmp/o/vcd/w.vcd"
-sweep_k vectors "$tmp/o/vec/v/" "$cube5" vectors --out "$tmp/o/vec/v" --count 2 --size 8x8
-sweep_k sweep "$tmp/o/sw/s/" "$cube5" sweep default --knob step=1,2 --size 16 --out "$tmp/o/sw/s"
+sweep_k vectors "$tmp/o/vec/v/" "$cube5" vectors --out "$tmp/o/vec/v" --scene none --count 1 --size 8x8
+sweep_k sweep "$tmp/o/sw/s/" "$cube5" sweep default --knob step=2 --size 8 --out "$tmp/o/sw/s"
 sweep_k raw "$tmp/o/raw/v_40x40x40_uint8.raw" "$cube5" cast phantom:shell:40 --size 16 --views 1 \
     --save-raw "$tmp/o/raw/v_40x40x40_uint8.raw"
 
