@@ -299,7 +299,8 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
                         const c5_taps *taps, c5_err *err)
 {
     if (!a->rtl) {
-        c5_cref_opts opts = {.threads = (int)a->threads};
+        c5_progress_frame pf = {prog, f, f};
+        c5_cref_opts opts = {.threads = (int)a->threads, .progress = c5_progress_cref, .progress_ctx = &pf};
         return c5_cref_render(s, sv, f, &opts, img, st, err);
     }
     c5_board_opts opts = {.key = a->key, .host_bw = a->host_mbs * 1e6};

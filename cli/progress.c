@@ -50,6 +50,13 @@ void c5_progress_board(void *ctx, const struct c5_board_progress *bp)
                      (unsigned long long)bp->fetches, (unsigned long long)bp->rays_queued);
 }
 
+void c5_progress_cref(void *ctx, int tiles_done, int tiles)
+{
+    c5_progress_frame *f = ctx;
+    c5_progress_note(f->p, f->done, "frame %d: %d%% of the image", f->frame,
+                     tiles > 0 ? (int)(100.0 * tiles_done / tiles) : 0);
+}
+
 void c5_progress_step(c5_progress *p, int done, const char *fmt, ...)
 {
     double t = c5_now_s() - p->t0;

@@ -36,6 +36,9 @@ typedef struct {
 } c5_progress_frame;
 struct c5_board_progress;
 void c5_progress_board(void *ctx, const struct c5_board_progress *bp);
+/* cref's in-frame hook (c5_cref_opts.progress): notes "frame F: P% of the image". ctx: a
+ * c5_progress_frame. */
+void c5_progress_cref(void *ctx, int tiles_done, int tiles);
 /* Clears a terminal line, so that what follows on stderr starts on a clean line. */
 void c5_progress_end(c5_progress *p);
 

@@ -41,6 +41,11 @@ typedef struct c5_field {
 typedef struct {
     int threads;            /* <= 0: one per online CPU */
     const c5_field *field;  /* NULL: the super volume */
+    /* Called as tiles of the image are taken (tiles taken so far, of how many), one call at a
+     * time, for a progress line in long frames (an out-of-core grid); NULL: none. The image
+     * never depends on it. */
+    void (*progress)(void *ctx, int tiles_done, int tiles);
+    void *progress_ctx;
 } c5_cref_opts;
 
 /* Renders frame `frame` of the scene into out (allocated here; free with c5_image_free). */

@@ -82,6 +82,8 @@ typedef struct {
     int tiles_x, n_tiles;
     int next_tile; /* shared, taken under `lock` */
     pthread_mutex_t lock;
+    void (*progress)(void *ctx, int tiles_done, int tiles);
+    void *progress_ctx;
 } job;
 
 typedef struct {
@@ -97,6 +99,8 @@ static void *work(void *arg)
     for (;;) {
         pthread_mutex_lock(&j->lock);
         int t = j->next_tile++;
+        if (j->progress && t < j->n_tiles)
+            j->progress(j->progress_ctx, t, j->n_tiles);
         pthread_mutex_unlock(&j->lock);
         if (t >= j->n_tiles)
             break;
@@ -159,7 +163,8 @@ int C5R(cref_render_into)(const c5_scene *s, const c5_supervol *sv, int frame, c
     }
     eye_basis eb;
     eye_basis_make(&cam, &basis, &eb);
-    job j = {.ctx = ctx, .cam = &eb, .img = out, .raw = raw};
+    job j = {.ctx = ctx, .cam = &eb, .img = out, .raw = raw, .progress = opts ? opts->progress : NULL,
+             .progress_ctx = opts ? opts->progress_ctx : NULL};
     j.tiles_x = (basis.w + TILE - 1) / TILE;
     j.n_tiles = j.tiles_x * ((basis.h + TILE - 1) / TILE);
     pthread_mutex_init(&j.lock, NULL);

@@ -66,7 +66,7 @@ TEST(board_psnr_floor_every_builtin_scene)
         c5_cref_stats cs;
         c5_board_stats bs;
         c5_err err;
-        c5_cref_opts co = {0, NULL};
+        c5_cref_opts co = {.threads = 0, .field = NULL};
         CHECK(c5_cref_render(&l.s, &l.sv, 0, &co, &ref, &cs, &err) == 0);
         CHECK(model(&l, (c5_board_opts){.cells = {2, 2, 2}}, &img, &bs) == 0);
         double p = psnr(&ref, &img);

@@ -21,7 +21,7 @@ static int render_json(const char *json, int threads, const c5_field *field, c5_
         printf("    %s\n", err.msg);
         return -1;
     }
-    c5_cref_opts o = {threads, field};
+    c5_cref_opts o = {.threads = threads, .field = field};
     int rc = c5_cref_render(&s, &sv, 0, &o, img, st, &err);
     if (rc)
         printf("    %s\n", err.msg);
@@ -252,7 +252,7 @@ static int render_tiny_spacing(void *unused)
     sv.spacing.x = 1e-30;
     c5_image img;
     c5_cref_stats st;
-    c5_cref_opts o = {1, NULL};
+    c5_cref_opts o = {.threads = 1, .field = NULL};
     int rc = c5_cref_render(&s, &sv, 0, &o, &img, &st, &err);
     int finite = rc == 0 && isfinite(img.rgb[0]) && isfinite(img.rgb[1]) && isfinite(img.rgb[2]);
     c5_image_free(&img);
@@ -423,7 +423,7 @@ static int render_builtin(const char *name, int w, int h, int threads, c5_image 
     }
     s.render.width = w;
     s.render.height = h;
-    c5_cref_opts o = {threads, NULL};
+    c5_cref_opts o = {.threads = threads, .field = NULL};
     int rc = c5_cref_render(&s, &sv, 0, &o, img, st, &err);
     c5_supervol_free(&sv);
     return rc;
@@ -509,14 +509,14 @@ TEST(cref_marschner_lobb_error_falls_with_step)
     CHECK(c5_supervol_build(&s, &sv, &err) == 0);
     ml_ctx m = {&sv, 6, 0.25};
     c5_field field = {ml_field, &m};
-    c5_cref_opts truth_opts = {0, &field};
+    c5_cref_opts truth_opts = {.threads = 0, .field = &field};
     c5_image truth, img;
     c5_cref_stats st;
     CHECK(c5_cref_render(&s, &sv, 0, &truth_opts, &truth, &st, &err) == 0);
     double steps[] = {4, 2, 1, 0.5}, prev = INFINITY;
     for (int i = 0; i < 4; i++) {
         s.render.step = steps[i];
-        c5_cref_opts o = {0, NULL};
+        c5_cref_opts o = {.threads = 0, .field = NULL};
         CHECK(c5_cref_render(&s, &sv, 0, &o, &img, &st, &err) == 0);
         double e = rmse(&img, &truth);
         c5_image_free(&img);
@@ -545,9 +545,50 @@ TEST(cref_degenerate_path_camera_is_an_error)
     CHECK(c5_supervol_build(&s, &sv, &err) == 0);
     c5_image img;
     c5_cref_stats st;
-    c5_cref_opts o = {1, NULL};
+    c5_cref_opts o = {.threads = 1, .field = NULL};
     CHECK(c5_cref_render(&s, &sv, 0, &o, &img, &st, &err) == 0);
     c5_image_free(&img);
     CHECK(c5_cref_render(&s, &sv, 1, &o, &img, &st, &err) != 0);
     CHECK_HAS(err.msg, "frame 1: camera: up is zero or parallel");
+}
+
+/* The in-frame progress hook (c5_cref_opts.progress) sees every tile once, numbered 0..n-1
+ * in the order they are taken, one call at a time, and the image does not depend on it. */
+typedef struct {
+    int calls, tiles, seen[64], in_order;
+} tile_log;
+
+static void log_tile(void *ctx, int done, int tiles)
+{
+    tile_log *l = ctx;
+    l->in_order &= done == l->calls;
+    l->tiles = tiles;
+    if (done >= 0 && done < 64)
+        l->seen[done]++;
+    l->calls++;
+}
+
+TEST(cref_progress_hook_sees_every_tile)
+{
+    static c5_scene s;
+    c5_err err;
+    c5_supervol sv;
+    CHECK(c5_scene_parse(c5_builtin_scene_json("default"), NULL, "default", &s, &err) == 0);
+    s.render.width = 40, s.render.height = 24;
+    CHECK(c5_supervol_build(&s, &sv, &err) == 0);
+    c5_image a = {0}, b = {0};
+    c5_cref_stats st;
+    tile_log l = {.in_order = 1};
+    c5_cref_opts plain = {.threads = 3}, hooked = {.threads = 3, .progress = log_tile, .progress_ctx = &l};
+    CHECK(c5_cref_render(&s, &sv, 0, &plain, &a, &st, &err) == 0);
+    CHECK(c5_cref_render(&s, &sv, 0, &hooked, &b, &st, &err) == 0);
+    CHECK(!memcmp(a.rgb, b.rgb, sizeof(float) * 3 * 40 * 24));
+    CHECK(l.tiles > 1 && l.tiles <= 64 && l.calls == l.tiles && l.in_order);
+    int once = 1;
+    for (int t = 0; t < l.tiles; t++)
+        once &= l.seen[t] == 1;
+    CHECK(once);
+    c5_image_free(&a);
+    c5_image_free(&b);
+    c5_supervol_free(&sv);
 }

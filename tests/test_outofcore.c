@@ -363,7 +363,7 @@ TEST(ooc_cref_image_bit_identical_any_threads)
     c5_image ref, img;
     c5_cref_stats st;
     c5_err err;
-    c5_cref_opts one = {1, NULL}, three = {3, NULL};
+    c5_cref_opts one = {.threads = 1, .field = NULL}, three = {.threads = 3, .field = NULL};
     CHECK(c5_cref_render(&p.s, &p.res, 0, &one, &ref, &st, &err) == 0);
     uint64_t samples = st.samples;
     CHECK_MSG(samples > 10000, "%llu samples: the volume is not in view", (unsigned long long)samples);

@@ -66,7 +66,7 @@ static int same_bits(const c5_image *a, const c5_image *b)
 static int cref_once(const stab_scene *sc, int threads, c5_image *img, c5_cref_stats *st)
 {
     c5_err err;
-    c5_cref_opts o = {threads, NULL};
+    c5_cref_opts o = {.threads = threads, .field = NULL};
     if (c5_cref_render(&sc->s, &sc->sv, 0, &o, img, st, &err) != 0)
         return stab_fail("cref: %s", err.msg);
     return finite_image(img, "cref");

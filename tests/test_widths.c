@@ -133,7 +133,7 @@ static wscene *scene(int i)
     c5_err err;
     c5_cref_stats cs;
     c5_board_stats bs;
-    c5_cref_opts co = {1, NULL};
+    c5_cref_opts co = {.threads = 1, .field = NULL};
     c5_board_opts bo = {.cells = {2, 2, 2}};
     if (c5_scene_parse(c5t_json(SCENES[i]), NULL, "widths", &w->s, &err) != 0 ||
         c5_supervol_build(&w->s, &w->sv, &err) != 0 || c5_cref_render(&w->s, &w->sv, 0, &co, &w->ref, &cs, &err) != 0 ||
