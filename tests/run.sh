@@ -7,6 +7,7 @@ build=${1:-build}
 passed=0 failed=0
 log=$(mktemp)
 run_suite() {
+    local t0=$SECONDS
     "$@" 2>&1 | tee "$log"
     local line
     line=$(grep '^SUMMARY ' "$log" | tail -n 1)
@@ -19,6 +20,7 @@ run_suite() {
     p=$(sed -E 's/.*passed=([0-9]+).*/\1/' <<<"$line")
     f=$(sed -E 's/.*failed=([0-9]+).*/\1/' <<<"$line")
     passed=$((passed + p)) failed=$((failed + f))
+    echo "suite ${*:1:2}: $p passed, $f failed, $((SECONDS - t0)) s"
 }
 run_suite "$build/tests/unit"
 run_suite "$build/tests/cast-nosimd" cast   # the caster on its scalar definition (no SSE2)
