@@ -298,9 +298,7 @@ static int write_png(const char *path, const char *label, int w, int h, const sw
                      const sweep_args *a, c5_err *err)
 {
     char tmp[4200];
-    const char *slash = strrchr(path, '/');
-    int dirlen = slash ? (int)(slash - path + 1) : 0;
-    snprintf(tmp, sizeof tmp, "%.*s.%s.tmp-%ld.png", dirlen, path, path + dirlen, (long)getpid());
+    c5_afile_tmp_path(path, ".png", tmp, sizeof tmp); /* gnuplot picks the format from the name */
     FILE *g = popen("gnuplot", "w");
     if (!g)
         return c5_fail(err, "sweep: cannot start gnuplot: %s", strerror(errno));

@@ -16,6 +16,14 @@ static void keep(c5_afile *a, int e)
         a->err_no = e ? e : EIO;
 }
 
+void c5_afile_tmp_path(const char *path, const char *ext, char *out, size_t len)
+{
+    static unsigned seq;
+    const char *slash = strrchr(path, '/');
+    int dirlen = slash ? (int)(slash - path + 1) : 0;
+    snprintf(out, len, "%.*s.%s.tmp-%ld-%u%s", dirlen, path, path + dirlen, (long)getpid(), seq++, ext ? ext : "");
+}
+
 int c5_output_target(const char *path, char *out, size_t len)
 {
     char cur[PATH_MAX], next[PATH_MAX];
@@ -48,7 +56,6 @@ int c5_output_target(const char *path, char *out, size_t len)
 
 int c5_afile_open(c5_afile *a, const char *path, c5_err *err)
 {
-    static unsigned seq;
     memset(a, 0, sizeof *a);
     a->mode = -1;
     if (!path || !*path)
@@ -69,9 +76,7 @@ int c5_afile_open(c5_afile *a, const char *path, c5_err *err)
         }
         a->mode = (int)(st.st_mode & 07777);
     }
-    const char *slash = strrchr(a->path, '/');
-    int dirlen = slash ? (int)(slash - a->path + 1) : 0;
-    snprintf(a->tmp, sizeof a->tmp, "%.*s.%s.tmp-%ld-%u", dirlen, a->path, a->path + dirlen, (long)getpid(), seq++);
+    c5_afile_tmp_path(a->path, NULL, a->tmp, sizeof a->tmp);
     int fd = open(a->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0) {
         a->err_no = errno;

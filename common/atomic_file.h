@@ -31,6 +31,9 @@ void c5_afile_printf(c5_afile *a, const char *fmt, ...) __attribute__((format(pr
 int c5_afile_commit(c5_afile *a, c5_err *err);
 /* Drops the temporary (the target untouched); safe after a failed open or commit. */
 void c5_afile_abort(c5_afile *a);
+/* The temporary for `path` (".NAME.tmp-PID-N" beside it, then ext, or nothing): for a writer
+ * that is not this module's (gnuplot), which renames it into place itself. */
+void c5_afile_tmp_path(const char *path, const char *ext, char *out, size_t len);
 /* The file an output path writes: the path, or the file its symbolic links name (followed
  * even when the last does not exist yet, as the shell's > does). 0, or -1 (errno: a loop). */
 int c5_output_target(const char *path, char *out, size_t len);
