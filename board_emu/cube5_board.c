@@ -104,11 +104,12 @@ static int parse_fault(const char *spec, c5_fault *f, char *why, size_t cap)
     return 0;
 }
 
+/* One line, as every cube5 tool's errors (README "Conventions"). */
 static int usage_error(const char *fmt, const char *arg)
 {
     fprintf(stderr, "cube5-board: error: ");
     fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n%s", usage);
+    fprintf(stderr, " (see cube5-board --help)\n");
     return 2;
 }
 
@@ -153,7 +154,7 @@ static int run(int argc, char **argv)
             break;
         }
         if (strcmp(argv[i], "--serial") == 0 || strcmp(argv[i], "--fault") == 0) {
-            if (i + 1 >= argc)
+            if (i + 1 >= argc || strcmp(argv[i + 1], "--") == 0)
                 return usage_error("%s needs a value", argv[i]);
             if (argv[i][2] == 's') {
                 serial = argv[++i];
@@ -229,8 +230,10 @@ int main(int argc, char **argv)
         printf("cube5-board %s\n", C5_VERSION);
         return 0;
     }
-    if (argc < 2)
-        return usage_error("%s", "no command");
+    if (argc < 2) { /* nothing asked: the usage, as cube5 gives it */
+        fputs(usage, stderr);
+        return 2;
+    }
     if (strcmp(argv[1], "run") != 0)
         return usage_error("unknown command \"%s\"", argv[1]);
     return run(argc - 2, argv + 2);

@@ -372,7 +372,8 @@ static int check_outputs(const args *a, c5_err *err)
 {
     c5_file_list in = {0};
     int rc = cast_inputs(a, &in, err) != 0 || (a->out && c5_cli_check_image_out(a->out, &in, err) != 0) ||
-             (a->save_raw && c5_cli_check_not_input(a->save_raw, &in, err) != 0) ||
+             (a->save_raw && (c5_cli_check_not_input(a->save_raw, &in, err) != 0 ||
+                              c5_output_check(a->save_raw, err) != 0)) ||
              (a->out && a->save_raw && c5_cli_check_distinct_frames(a->out, 1, "-o", a->save_raw, "--save-raw", err) != 0);
     c5_file_list_free(&in);
     return rc ? -1 : 0;

@@ -39,7 +39,7 @@ static const char usage_text[] =
     "                    cycle-level parts, scopes ray_queue (the eDRAM sorter, ports of\n"
     "                    fpga/rtl/ray_queue.vhd) and ray_bus (packets between processor and\n"
     "                    DSP), on the testbenches' 10 ns clock, to load beside GHDL's --vcd\n"
-    "                    in GTKWave (docs/vectors.md); an existing FILE is refused\n"
+    "                    in GTKWave (docs/vectors.md)\n"
     "  --vcd-cycles N    the sorter's cycles in FILE (default 1000000); a longer frame is\n"
     "                    cut there (said on stderr and in FILE's header)\n"
     "  --vcd-from C      FILE starts at the sorter's cycle C (default 0)\n" C5_BOARDS_HELP

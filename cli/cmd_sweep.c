@@ -135,29 +135,6 @@ static int check_gnuplot(c5_err *err)
     return 0;
 }
 
-static int mkdir_p(const char *dir, c5_err *err)
-{
-    char buf[4096];
-    if (strlen(dir) >= sizeof buf)
-        return c5_fail(err, "--out: path too long");
-    strcpy(buf, dir);
-    for (char *p = buf + 1;; p++) {
-        if (*p == '/' || !*p) {
-            char c = *p;
-            *p = 0;
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-                return c5_fail(err, "%s: cannot create the folder: %s", buf, strerror(errno));
-            *p = c;
-            if (!c)
-                break;
-        }
-    }
-    struct stat st;
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        return c5_fail(err, "%s: is not a folder", dir);
-    return 0;
-}
-
 static void fmt_num(char *buf, size_t len, double v, const char *fmt)
 {
     if (isnan(v))
@@ -266,6 +243,20 @@ static void gp_panel(FILE *g, const sweep_row *rows, int n, const sweep_args *a,
                    "set autoscale xy\nset logscale xy\n");
         return;
     }
+    /* An axis whose points all sit at one value gets a decade around it (gnuplot would warn
+     * "empty x range" on stderr of a run that went well). */
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {0, 0};
+    for (int i = 0; i < n; i++)
+        if (row_in(&rows[i], board)) {
+            double v[2] = {gp_pos(row_x(&rows[i], board), 1e-9), gp_pos(rows[i].res.rmse, 1e-10)};
+            for (int ax = 0; ax < 2; ax++)
+                lo[ax] = fmin(lo[ax], v[ax]), hi[ax] = fmax(hi[ax], v[ax]);
+        }
+    for (int ax = 0; ax < 2; ax++)
+        if (lo[ax] == hi[ax])
+            fprintf(g, "set %crange [%.9g:%.9g]\n", "xy"[ax], lo[ax] / sqrt(10.0), lo[ax] * sqrt(10.0));
+        else
+            fprintf(g, "set autoscale %c\n", "xy"[ax]);
     fprintf(g, "plot ");
     const char *sep = "";
     for (int k = 0; k < a->n_knobs; k++)
@@ -516,10 +507,12 @@ int c5_cmd_sweep(int argc, char **argv)
         c5_fail(&err, "--knob k: the scene has no volume to cast");
         goto fail;
     }
-    if (check_gnuplot(&err) != 0 || mkdir_p(dir, &err) != 0) {
+    if (check_gnuplot(&err) != 0) {
         rc = C5_EXIT_RUNTIME;
         goto fail;
     }
+    if (c5_output_dir(dir, &err) != 0)
+        goto fail;
     rc = C5_EXIT_RUNTIME;
     if (c5_sweep_init(&ctx, &s, &sv, (int)a.threads, need_cast, &err) != 0)
         goto fail;

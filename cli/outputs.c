@@ -31,12 +31,11 @@ int c5_cli_check_image_out(const char *out, const c5_file_list *in, c5_err *err)
 
 int c5_cli_check_frames_out(const char *out, int n, const c5_file_list *in, c5_err *err)
 {
-    if (c5_cli_check_image_out(out, in, err) != 0)
-        return -1;
-    for (int f = 0; f < n; f++) {
+    /* the files written: OUT itself for one frame, OUT_0000.EXT ... for several */
+    for (int f = 0; f < (n > 1 ? n : 1); f++) {
         char path[2048];
         c5_cli_frame_path(out, f, n, path, sizeof path);
-        if (c5_cli_check_not_input(path, in, err) != 0)
+        if (c5_cli_check_image_out(path, in, err) != 0)
             return -1;
     }
     return 0;

@@ -54,6 +54,53 @@ int c5_output_target(const char *path, char *out, size_t len)
     return -1;
 }
 
+int c5_output_check(const char *path, c5_err *err)
+{
+    if (!path || !*path)
+        return c5_fail(err, "no output path given");
+    char t[PATH_MAX], dir[PATH_MAX];
+    if (c5_output_target(path, t, sizeof t) != 0)
+        return c5_fail(err, "%s: cannot write: the link's target: %s", path, strerror(errno));
+    struct stat st;
+    if (stat(t, &st) == 0 && S_ISDIR(st.st_mode))
+        return c5_fail(err, "%s: cannot write: %s", path, strerror(EISDIR));
+    const char *slash = strrchr(t, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - t) + 1 : 2, slash ? t : "./");
+    int e = 0;
+    if (stat(dir, &st) != 0)
+        e = errno;
+    else if (!S_ISDIR(st.st_mode))
+        e = ENOTDIR;
+    else if (access(dir, W_OK | X_OK) != 0)
+        e = errno;
+    return e ? c5_fail(err, "%s: cannot write: folder %s: %s", path, dir, strerror(e)) : 0;
+}
+
+int c5_output_dir(const char *dir, c5_err *err)
+{
+    if (!dir || !*dir)
+        return c5_fail(err, "no output folder given");
+    char buf[PATH_MAX];
+    if (strlen(dir) >= sizeof buf)
+        return c5_fail(err, "%.200s...: output path too long", dir);
+    strcpy(buf, dir);
+    for (char *p = buf + 1;; p++) /* each missing level, as mkdir -p */
+        if (*p == '/' || !*p) {
+            char c = *p;
+            *p = 0;
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+                return c5_fail(err, "%s: cannot create the folder %s: %s", dir, buf, strerror(errno));
+            if (!(*p = c))
+                break;
+        }
+    struct stat st;
+    if (stat(dir, &st) != 0)
+        return c5_fail(err, "%s: cannot write: %s", dir, strerror(errno));
+    if (!S_ISDIR(st.st_mode))
+        return c5_fail(err, "%s: cannot write: %s", dir, strerror(ENOTDIR));
+    return 0;
+}
+
 int c5_afile_open(c5_afile *a, const char *path, c5_err *err)
 {
     memset(a, 0, sizeof *a);

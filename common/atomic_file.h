@@ -37,6 +37,14 @@ void c5_afile_tmp_path(const char *path, const char *ext, char *out, size_t len)
 /* The file an output path writes: the path, or the file its symbolic links name (followed
  * even when the last does not exist yet, as the shell's > does). 0, or -1 (errno: a loop). */
 int c5_output_target(const char *path, char *out, size_t len);
+/* Whether a file can be written at `path` (through its links): its folder exists, is a folder
+ * and is writable, and the path is not a folder. Every tool checks each output with it before
+ * any work, so a place that cannot hold the file is bad input (exit 2) found in a moment, not
+ * a failure after the render. 0, or -1 naming path, the folder and the reason. */
+int c5_output_check(const char *path, c5_err *err);
+/* A folder of outputs (vectors --out, sweep --out): created with its missing parents (as
+ * mkdir -p), refused when the path is something else. 0, or -1 naming dir. */
+int c5_output_dir(const char *dir, c5_err *err);
 /* The whole of buf[0..n) into path, as above. */
 int c5_afile_put(const char *path, const void *buf, size_t n, c5_err *err);
 

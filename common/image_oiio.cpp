@@ -75,26 +75,11 @@ void add_reason(std::string &msg, const std::string &what, const std::string &re
         msg += " (" + what + ": " + reason + ")";
 }
 
-// Why a file cannot be created in dir ("" if no obvious reason).
-std::string dir_problem(const std::string &dir)
-{
-    const std::string d = dir.empty() ? std::string(".") : dir;
-    struct stat st;
-    if (stat(d.c_str(), &st) != 0)
-        return std::strerror(errno);
-    if (!S_ISDIR(st.st_mode))
-        return std::strerror(ENOTDIR);
-    if (access(d.c_str(), W_OK | X_OK) != 0)
-        return std::strerror(errno);
-    return std::string();
-}
-
-
 enum class Fmt { PNG, EXR };
 
 // The parts of an output path and its format; refuses, naming `path`, what cannot be written
-// whatever the pixels: no or another extension, a folder that is missing, not a folder or
-// not writable.
+// whatever the pixels: no or another extension, or a place no file can be written
+// (c5_output_check).
 struct OutPath {
     std::string dir, base, ext, lower;
     Fmt fmt;
@@ -123,11 +108,7 @@ int out_path(const char *path, OutPath &o, c5_err *err)
     else
         return c5_fail(err, "%s: unsupported image extension '%s' (use .png or .exr)", path,
                        o.ext.c_str());
-    const std::string why = dir_problem(o.dir);
-    if (!why.empty())
-        return c5_fail(err, "%s: cannot write: folder %s: %s", path,
-                       o.dir.empty() ? "." : o.dir.c_str(), why.c_str());
-    return 0;
+    return c5_output_check(path, err);
 }
 
 

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "atomic_file.h"
 #include "builtin_scenes.h"
 #include "c5drv.h"
 #include "image.h"
@@ -36,7 +37,7 @@ static const char usage[] =
 typedef struct {
     const char *cmd, *scene, *out, *serial;
     unsigned vid, pid, timeout_ms;
-    int frame, cells[3], have_cells, w, h, json;
+    int frame, have_frame, cells[3], have_cells, w, h, json;
 } opts;
 
 /* One error line; returns the exit status: fail() for a failure while running (1),
@@ -166,6 +167,7 @@ static int parse_args(int argc, char **argv, opts *o)
                 if (parse_num(val, 10, 0, 1000000, &u))
                     return usage_err("--frame: expected a frame number >= 0, got", val);
                 o->frame = (int)u;
+                o->have_frame = 1;
             } else if (!strcmp(a, "--cells")) {
                 if (parse_dims(val, 3, MAX_CELLS, o->cells, &n) || n == 2)
                     return usage_err("--cells: expected N or NxMxK (each 1..64), got", val);
@@ -196,7 +198,7 @@ static int parse_args(int argc, char **argv, opts *o)
         return usage_err("unknown command", o->cmd);
     if (render && (!o->scene || !o->out))
         return usage_err("render needs SCENE and -o OUT", NULL);
-    if (!render && (o->out || o->have_cells || o->w || o->frame))
+    if (!render && (o->out || o->have_cells || o->w || o->have_frame))
         return usage_err("-o, --frame, --cells and --size belong to render, not", o->cmd);
     return 0;
 }
@@ -275,6 +277,8 @@ static int check_output(const opts *o, const char *json, const char *dir)
     long i = rc ? -1 : c5_file_list_find(&in, o->out);
     if (i >= 0)
         rc = bad_input("%s: is %s (%s); refusing to overwrite an input", o->out, in.what[i], in.path[i]);
+    else if (!rc && c5_output_check(o->out, &err) != 0)
+        rc = bad_input("%s", err.msg);
     c5_file_list_free(&in);
     free(s);
     return rc;

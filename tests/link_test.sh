@@ -63,16 +63,21 @@ rc=$?
 [ "$rc" -eq 143 ] && ok "cube5-board: a child killed by SIGTERM gives 143" || bad "cube5-board signal status" "exit $rc"
 
 for args in "run --bogus -- true" "run --fault nope -- true" "run --fault stall:nosuchtype -- true" \
-    "run --fault stall:0:0 -- true" "run --fault short:any:1:2 -- true" "run --serial" "run" "" "frobnicate"; do
+    "run --fault stall:0:0 -- true" "run --fault short:any:1:2 -- true" "run --serial" "run --serial -- true" \
+    "run --fault -- true" "run" "frobnicate"; do
     # shellcheck disable=SC2086
     err=$("$board" $args 2>&1 >/dev/null)
     rc=$?
-    if [ "$rc" -eq 2 ] && grep -q "^cube5-board: error: " <<<"$err" && grep -q usage <<<"$err"; then
+    if [ "$rc" -eq 2 ] && [ "$(wc -l <<<"$err")" = 1 ] && grep -q "^cube5-board: error: .*(see cube5-board --help)$" <<<"$err"; then
         ok "cube5-board usage error: ${args:-(nothing)}"
     else
         bad "cube5-board usage error: ${args:-(nothing)}" "exit $rc" "$err"
     fi
 done
+err=$("$board" 2>&1 >/dev/null)
+rc=$?
+[ "$rc" -eq 2 ] && grep -q "^usage: cube5-board run" <<<"$err" && ok "cube5-board alone: its usage, exit 2" ||
+    bad "cube5-board alone" "exit $rc" "$err"
 
 grep -q -- "--fault" <<<"$("$board" --help)" && ok "cube5-board --help" || bad "cube5-board --help"
 

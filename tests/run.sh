@@ -25,6 +25,8 @@ suites=(
     "bash tests/link_test.sh $build"
     "bash tests/fpga_test.sh $build"
     "bash tests/write_fault_test.sh $build"
+    "bash tests/outputs_fuzz_test.sh $build"
+    "bash tests/options_test.sh $build"
     "bash tests/sched_family_test.sh $build"
     "bash tests/scene_limits_test.sh $build"
     "bash tests/layouts_test.sh"

@@ -97,6 +97,9 @@ sweep_k vectors "$tmp/o/vec/v/" "$cube5" vectors --out "$tmp/o/vec/v" --scene no
 sweep_k sweep "$tmp/o/sw/s/" "$cube5" sweep default --knob step=2 --size 8 --out "$tmp/o/sw/s"
 sweep_k raw "$tmp/o/raw/v_40x40x40_uint8.raw" "$cube5" cast phantom:shell:40 --size 16 --views 1 \
     --save-raw "$tmp/o/raw/v_40x40x40_uint8.raw"
+# cube5ctl's frame, on the emulated board (the shim faults cube5ctl, not the board)
+sweep_k ctl "$tmp/o/ctl/f.png" env C5_FAULT_PROG=cube5ctl "$build/cube5-board" run -- "$build/cube5ctl" \
+    render default --size 32x32 -o "$tmp/o/ctl/f.png"
 
 # A sequence that fails at frame 1 says so and leaves frame 0 whole (the bytes of a clean run).
 d="$tmp/seq"

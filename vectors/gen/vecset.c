@@ -95,11 +95,8 @@ int c5_vset_init(c5_vset *s, const char *dir, uint64_t seed, long count, c5_err 
     s->seed = seed;
     s->count = count;
     s->err = err;
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-        return c5_fail(err, "cannot create %s: %s", dir, strerror(errno));
-    struct stat st;
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        return c5_fail(err, "%s is not a directory", dir);
+    if (c5_output_dir(dir, err) != 0)
+        return -1;
     if (clear_dir(dir, err) != 0)
         return -1;
     s->files = json_array();
