@@ -298,6 +298,11 @@ LIBDIR     ?= $(PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
 MANDIR     ?= $(PREFIX)/share/man
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+# A program built against the installed libc5drv finds it at run time: for a LIBDIR the
+# dynamic loader searches (ld.so.conf), `make install` runs ldconfig (when it installs for
+# real, not into a DESTDIR); for any other, c5drv.pc's Libs carry -Wl,-rpath,LIBDIR.
+SYSTEM_LIBDIRS := /lib /lib64 /usr/lib /usr/lib64 $(shell cat /etc/ld.so.conf.d/*.conf 2>/dev/null | grep '^/')
+DRV_RPATH := $(if $(filter $(patsubst %/,%,$(LIBDIR)),$(SYSTEM_LIBDIRS)),,-Wl,-rpath,$${libdir} )
 C5_SOVERSION := $(firstword $(subst ., ,$(C5_VERSION)))
 DRV_SONAME := libc5drv.so.$(C5_SOVERSION)
 DRV_SO     := $(BUILD)/libc5drv.so.$(C5_VERSION)
@@ -342,7 +347,9 @@ install: $(INSTALL_BINS) $(DRV_SO) $(DRV_STATIC) $(DRV_PUBLIC_H) $(MAN_PAGES) ho
 	install -m 644 $(DRV_PUBLIC_H) $(DESTDIR)$(INCLUDEDIR)/cube5/
 	install -m 644 $(MAN_PAGES) $(DESTDIR)$(MANDIR)/man1/
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' \
-	  -e 's|@VERSION@|$(C5_VERSION)|' host_driver/c5drv.pc.in > $(DESTDIR)$(PKGCONFIGDIR)/c5drv.pc
+	  -e 's|@VERSION@|$(C5_VERSION)|' -e 's|@RPATH@|$(DRV_RPATH)|' host_driver/c5drv.pc.in \
+	  > $(DESTDIR)$(PKGCONFIGDIR)/c5drv.pc
+	$(if $(DESTDIR)$(DRV_RPATH),,-/sbin/ldconfig)
 
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(notdir $(INSTALL_BINS))) \

@@ -37,8 +37,14 @@ int c5_cli_size(const char *opt, const char *s, int *w, int *h, c5_err *err)
     char buf[64];
     const char *x = strchr(s, 'x');
     long a, b;
-    if (!x || (size_t)(x - s) >= sizeof buf)
-        return c5_fail(err, "%s: expected WxH, got '%s'", opt, s);
+    if (!x) { /* N: a square N x N */
+        if (c5_cli_int(opt, s, 1, C5_MAX_IMAGE_DIM, &a, err) != 0)
+            return c5_fail(err, "%s: expected N or WxH, got '%s'", opt, s);
+        *w = *h = (int)a;
+        return 0;
+    }
+    if ((size_t)(x - s) >= sizeof buf)
+        return c5_fail(err, "%s: expected N or WxH, got '%s'", opt, s);
     memcpy(buf, s, (size_t)(x - s));
     buf[x - s] = 0;
     if (c5_cli_int(opt, buf, 1, C5_MAX_IMAGE_DIM, &a, err) || c5_cli_int(opt, x + 1, 1, C5_MAX_IMAGE_DIM, &b, err))

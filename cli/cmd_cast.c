@@ -33,7 +33,7 @@ static const char USAGE[] =
     "\n"
     "  -o OUT             write the first view (.png or .exr)\n"
     "  --views N          views 1..1000 (default 24)\n"
-    "  --size N           image N x N, 1..4096 (default 256)\n"
+    "  --size N|NxN       image N x N, 1..4096 (default 256; square, as the peer's views)\n"
     "  --mode M           plain | ess | approx | approx+refine (default approx: with sub-bricks\n"
     "                     the refining hash drops no sample they keep, docs/caster.md)\n"
     "  --threads N        worker threads 1..64 (default 2)\n"
@@ -117,9 +117,12 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
                 return -1;
             a->views = (int)n;
         } else if (!strcmp(o, "--size")) {
-            if (c5_cli_int(o, v, 1, 4096, &n, err))
+            int w, h;
+            if (c5_cli_size(o, v, &w, &h, err))
                 return -1;
-            a->size = (int)n;
+            if (w != h)
+                return c5_fail(err, "%s: the caster's views are square (the peer's); give N or NxN, got '%s'", o, v);
+            a->size = w;
         } else if (!strcmp(o, "--threads")) {
             if (c5_cli_int(o, v, 1, C5_CAST_MAX_WORKERS, &n, err))
                 return -1;
@@ -485,6 +488,12 @@ int c5_cmd_cast(int argc, char **argv)
                          "load_imbalance_pct_mean", imb, "setup_ms", setup_ms, "k_min", k_min, "k_max", k_max,
                          "per_view", per));
         json_object_set_new(j, "samples_mean", json_real(samples));
+        json_t *outputs = json_array();
+        if (a.out)
+            json_array_append_new(outputs, json_string(a.out));
+        if (a.save_raw)
+            json_array_append_new(outputs, json_string(a.save_raw));
+        json_object_set_new(j, "outputs", outputs);
         char *text = json_dumps(j, JSON_COMPACT);
         puts(text);
         free(text);
@@ -506,7 +515,7 @@ int c5_cmd_cast(int argc, char **argv)
     goto done;
 fail:
     c5_progress_end(&prog);
-    fprintf(stderr, "cube5: error: cast: %s\n", err.msg);
+    fprintf(stderr, "cube5: error: %s\n", err.msg);
 done:
     c5_image_free(&img);
     c5_cast_volume_free(cv);

@@ -17,7 +17,7 @@
 
 static const char usage_text[] =
     "usage: cube5 compare [SCENE|FILE.json] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
-    "                     [--size WxH] [--frame I] [--diff OUT.png] [--gain G] [--json]\n"
+    "                     [--size N|WxH] [--frame I] [--diff OUT.png] [--gain G] [--json]\n"
     "                     [--volume [I=]FILE] [--threads N] [--ref-precision double|long]\n"
     "                     [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S]\n"
     "                     [--link-latency US] [--progress]\n\n"
@@ -28,7 +28,7 @@ static const char usage_text[] =
     "  --cells N|NxMxK   split the grid into NxNxN (or NxMxK) cells for the model (default 1,\n"
     "                    or the fewest that keep a cell within 256 voxels a side)\n"
     "  --queue-key K     morton (default) or fifo order of the model's ray queue\n"
-    "  --size WxH        image size instead of the scene's\n"
+    "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
     "  --frame I         frame I (from 0) of the scene's camera path (default 0)\n"
     "  --diff OUT        write |model - cref| x G as an image: .png (clamped) or .exr (float)\n"
     "  --gain G          G for --diff (default 16: one 8-bit step shows as 16)\n"
@@ -157,6 +157,7 @@ static void print_json(const compare_args *a, const c5_scene *s, int threads, co
         json_object_set_new(o, "multi_board", c5_cli_mb_json(&r->mb));
     json_object_set_new(o, "diff", a->diff ? json_string(a->diff) : json_null());
     json_object_set_new(o, "diff_gain", json_real(a->gain));
+    json_object_set_new(o, "outputs", a->diff ? json_pack("[s]", a->diff) : json_array());
     char *text = json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(9));
     puts(text);
     free(text);

@@ -15,7 +15,7 @@
 
 static const char usage_text[] =
     "usage: cube5 render [SCENE|FILE.json] [-o OUT] [--threads N] [--frames N]\n"
-    "                    [--size WxH] [--volume [I=]FILE] [--json] [--progress]\n"
+    "                    [--size N|WxH] [--volume [I=]FILE] [--json] [--progress]\n"
     "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
     "                    [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n"
     "                    [--vcd FILE [--vcd-cycles N] [--vcd-from C]]\n\n"
@@ -26,7 +26,7 @@ static const char usage_text[] =
     "  --threads N       cref only: worker threads (default: one per CPU); the image is\n"
     "                    the same\n"
     "  --frames N        frames along the scene's camera path (default: the scene's)\n"
-    "  --size WxH        image size instead of the scene's\n"
+    "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
     "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
     "  --model M         cref (default) or rtl: the board model (rtl_model/board.h),\n"
     "                    which also reports board cycles, fetches and the stages that ran\n"

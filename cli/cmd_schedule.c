@@ -15,7 +15,7 @@
 #include "progress.h"
 
 static const char usage_text[] =
-    "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size WxH]\n"
+    "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size N|WxH]\n"
     "                      [--split paper|lookahead|rollout|bounded|window] [--exact-states N]\n"
     "                      [--local-window N] [--local-walk N] [--tree-nodes N]\n"
     "                      [--tree-ram auto|onchip|sdram] [--tree-group G|auto]\n"
@@ -36,7 +36,7 @@ static const char usage_text[] =
     "                    that frame 1 follows frame 0's tree); a path is spread over N frames\n"
     "  --still           every frame from the path's first camera: the next frame repeats\n"
     "                    this one, so only the scheduling differs (the paper's Figure 6)\n"
-    "  --size WxH        image size instead of the scene's\n"
+    "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
     "  --split R         rule of the schedule the board follows: window (default: the\n"
     "                    paper's schedule, or the frame's own fetches when fewer, shortened\n"
     "                    window by window within the DSP's budget of counted operations),\n"
@@ -488,6 +488,7 @@ static void print_json(const sched_args *a, const c5_scene *s, const frame_row *
     json_object_set_new(o, "scheduled_frames",
                         json_pack("{s:I, s:I, s:f}", "fetches_maxwork", (json_int_t)mw, "fetches_celltree",
                                   (json_int_t)ct, "reduction_pct", reduction(mw, ct)));
+    json_object_set_new(o, "outputs", json_array()); /* schedule writes no file */
     char *text = json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(9));
     puts(text);
     free(text);

@@ -47,17 +47,6 @@ typedef struct {
     int n_knobs;
 } sweep_args;
 
-static int parse_size(const char *o, const char *v, int *w, int *h, c5_err *err)
-{
-    if (strchr(v, 'x'))
-        return c5_cli_size(o, v, w, h, err);
-    long n;
-    if (c5_cli_int(o, v, 1, C5_MAX_IMAGE_DIM, &n, err) != 0)
-        return c5_fail(err, "%s: expected N or WxH, got '%s'", o, v);
-    *w = *h = (int)n;
-    return 0;
-}
-
 static int parse_args(int argc, char **argv, sweep_args *a, c5_err *err)
 {
     memset(a, 0, sizeof *a);
@@ -85,7 +74,7 @@ static int parse_args(int argc, char **argv, sweep_args *a, c5_err *err)
                     return c5_fail(err, "--out: empty folder name");
                 a->out_dir = v;
             } else if (!strcmp(o, "--size")) {
-                if (parse_size(o, v, &a->w, &a->h, err) != 0)
+                if (c5_cli_size(o, v, &a->w, &a->h, err) != 0)
                     return -1;
             } else if (!strcmp(o, "--threads")) {
                 if (c5_cli_int(o, v, 1, 256, &a->threads, err) != 0)
@@ -395,6 +384,7 @@ static void print_json(const char *label, const c5_scene *s, const c5_sweep_ctx 
     json_object_set_new(o, "pareto_board", pb);
     json_object_set_new(o, "csv", json_string(csv));
     json_object_set_new(o, "png", json_string(png));
+    json_object_set_new(o, "outputs", json_pack("[s, s]", csv, png));
     char *text = json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(9));
     puts(text);
     free(text);

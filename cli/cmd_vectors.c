@@ -10,7 +10,7 @@
 #include "progress.h"
 
 static const char usage_text[] =
-    "usage: cube5 vectors [--out DIR] [--scene S ...] [--count N] [--seed N] [--size WxH] [--cells N|NxMxK]\n"
+    "usage: cube5 vectors [--out DIR] [--scene S ...] [--count N] [--seed N] [--size N|WxH] [--cells N|NxMxK]\n"
     "                     [--vcd] [--progress]\n\n"
     "Writes input and expected-output vectors for every block of the board model into DIR\n"
     "(default out/vectors): BLOCK.SOURCE.hex files (hex text, one vector per line, fixed\n"
@@ -25,7 +25,7 @@ static const char usage_text[] =
     "  --count N       vectors per block and source (random directed cases, scene samples,\n"
     "                  first cycles of a trace); default 256\n"
     "  --seed N        seed of the random cases and samples (default 1)\n"
-    "  --size WxH      image size of the scenes (default 64x64)\n"
+    "  --size N|WxH    image size of the scenes (N: NxN; default 64x64)\n"
     "  --cells N|NxMxK cell split of the scenes (default 2: 8 cells)\n"
     "  --vcd           also each vector file's waveform, BLOCK.SOURCE.vcd: one clock cycle a\n"
     "                  vector on the testbenches' 10 ns clock, the fields as signals, to load\n"

@@ -14,7 +14,9 @@ int c5_progress_requested;
 
 void c5_progress_begin(c5_progress *p, const char *cmd, int total)
 {
-    p->mode = isatty(STDERR_FILENO) ? 1 : c5_progress_requested ? 2 : 0;
+    /* --progress: one line per step, on a terminal too; else a line redrawn in place on a
+     * terminal, nothing elsewhere */
+    p->mode = c5_progress_requested ? 2 : isatty(STDERR_FILENO) ? 1 : 0;
     p->cmd = cmd;
     p->total = total;
     p->t0 = c5_now_s();
@@ -39,7 +41,7 @@ void c5_progress_note(c5_progress *p, int done, const char *fmt, ...)
     p->last_note = t;
     va_list ap;
     va_start(ap, fmt);
-    vline(p, done, t, fmt, ap);
+    vline(p, done + 1, t, fmt, ap); /* the count names the step under way */
     va_end(ap);
 }
 

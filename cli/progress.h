@@ -26,7 +26,8 @@ void c5_progress_begin(c5_progress *p, const char *cmd, int total);
 /* Step `done` of the total (1-based) has finished; WHAT is printf-style. */
 void c5_progress_step(c5_progress *p, int done, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 /* Within step `done` + 1 (a long frame): WHAT, at most once a second (the first a second
- * after the step began), in the same form; does not advance the count. */
+ * after the step began), in the same form, counted as step done + 1; does not advance the
+ * count. */
 void c5_progress_note(c5_progress *p, int done, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 /* The board model's in-frame hook (c5_board_opts.progress) for a c5_progress: notes "frame F:
  * N cell fetches, M rays queued". ctx: a c5_progress_frame. */

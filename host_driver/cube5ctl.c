@@ -26,7 +26,7 @@ static const char usage[] =
     "usage: cube5ctl [--device VID:PID[:SERIAL]] [--timeout MS] COMMAND\n"
     "       cube5ctl --help | --version\n"
     "  info                         the board's id, register map version and serial number\n"
-    "  render SCENE -o OUT [--frame N] [--cells N|NxMxK] [--size WxH] [--json]\n"
+    "  render SCENE -o OUT [--frame N] [--cells N|NxMxK] [--size N|WxH] [--json]\n"
     "                               renders a frame of SCENE (a built-in scene name or a .json\n"
     "                               file) on the board into OUT (.png or .exr)\n"
     "  stats [--json]               the board's counters of its last frame\n"
@@ -176,8 +176,10 @@ static int parse_args(int argc, char **argv, opts *o)
                 o->have_cells = 1;
             } else {
                 int wh[2];
-                if (parse_dims(val, 2, 512, wh, &n) || n != 2)
-                    return usage_err("--size: expected WxH (each 1..512), got", val);
+                if (parse_dims(val, 2, 512, wh, &n))
+                    return usage_err("--size: expected N or WxH (each 1..512), got", val);
+                if (n == 1)
+                    wh[1] = wh[0];
                 o->w = wh[0];
                 o->h = wh[1];
             }

@@ -42,7 +42,30 @@ expect unknown_command 2 "unknown command" -- "$cube5" frobnicate
 expect unknown_scene 2 "neither a built-in scene" -- "$cube5" render nosuch
 expect unknown_option 2 "unknown option '--bogus'" -- "$cube5" render default --bogus
 expect bad_threads 2 "--threads: expected an integer" -- "$cube5" render default --threads 0
-expect bad_size 2 "--size: expected WxH" -- "$cube5" render default --size 12
+expect bad_size 2 "--size: expected N or WxH" -- "$cube5" render default --size 12y
+expect bad_size_zero 2 "--size: expected an integer" -- "$cube5" render default --size 0x8
+# --size N is NxN in every command; the caster's views are square
+for c in "render default" "compare default" "schedule default --frames 1" "sweep default --knob et=1 --out $tmp/sz"; do
+    # shellcheck disable=SC2086 # a command and its words
+    if "$cube5" $c --size 12 --json 2>/dev/null | python3 -c 'import json,sys; o=json.load(sys.stdin); sys.exit(0 if o.get("size", [o.get("width"), o.get("height")]) == [12, 12] else 1)'; then
+        ok "size_n_is_square_${c%% *}"
+    else
+        bad "size_n_is_square_${c%% *}" "--size 12 did not give 12x12"
+    fi
+done
+# every --json object lists the files written under "outputs"
+for c in "render default --size 8 -o $tmp/jo.png" "compare default --size 8 --diff $tmp/jd.png" \
+    "schedule default --size 8 --frames 1" "sweep default --size 8 --knob et=1 --out $tmp/jsw" \
+    "cast phantom:ml:8 --views 1 --size 8 -o $tmp/jc.png"; do
+    # shellcheck disable=SC2086 # a command and its words
+    got=$("$cube5" $c --json 2>/dev/null | python3 -c 'import json,sys; print(" ".join(json.load(sys.stdin)["outputs"]))' 2>&1)
+    want=$(grep -o "$tmp/[a-z]*\.png\|$tmp/jsw" <<<"$c")
+    [ "$want" = "$tmp/jsw" ] && want="$tmp/jsw/sweep.csv $tmp/jsw/sweep.png"
+    [ "$got" = "$want" ] && ok "json_outputs_${c%% *}" || bad "json_outputs_${c%% *}" "outputs '$got', expected '$want'"
+done
+expect cast_error_form 2 "^cube5: error: $tmp/nosuch_8x8x8_uint8.raw: " -- "$cube5" cast "$tmp/nosuch_8x8x8_uint8.raw"
+expect cast_size_not_square 2 "--size: the caster's views are square" -- "$cube5" cast phantom:ml:8 --views 1 --size 8x16
+expect cast_size_nxn 0 "" -- "$cube5" cast phantom:ml:8 --views 1 --size 8x8
 expect frames_without_path 2 "no camera_path" -- "$cube5" render default --frames 3
 expect raw_ok 0 "" -- "$cube5" render "$tmp/ok.json"
 expect raw_truncated 2 "short_10x10x10_uint8.raw: .*truncated" -- "$cube5" render "$tmp/short.json"
@@ -604,8 +627,16 @@ progress cast "^cube5 cast: \[2/2\] view 1: " -- cast phantom:ml:8 --views 2 --s
 if script -qec "\"$cube5\" render default --size 8x8 >/dev/null" /dev/null | grep -q 'cube5 render: \['; then
     bad progress_tty_quiet_when_quick
 else ok progress_tty_quiet_when_quick; fi
-if script -qec "\"$cube5\" render brain_mirrors --size 8x8 --frames 2 --progress >/dev/null" /dev/null |
-    grep -q $'\r\033\\[Kcube5 render: \\[2/2\\]'; then ok progress_tty_redraws; else bad progress_tty_redraws; fi
+# on a terminal: a line redrawn in place once the run is past its first second; with
+# --progress one line per step there too
+if script -qec "\"$cube5\" render brain_mirrors --size 256x256 --frames 8 >/dev/null" /dev/null |
+    grep -q $'\r\033\\[Kcube5 render: \\[[0-9]/8\\]'; then ok progress_tty_redraws; else bad progress_tty_redraws; fi
+out=$(script -qec "\"$cube5\" render brain_mirrors --size 8x8 --frames 2 --progress >/dev/null" /dev/null)
+if grep -q "^cube5 render: \[2/2\] frame 1" <<<"$out" && ! grep -q $'\033' <<<"$out"; then
+    ok progress_flag_lines_on_a_tty
+else
+    bad progress_flag_lines_on_a_tty "$out"
+fi
 # the summary names the files written
 "$cube5" render brain_mirrors --size 8x8 --frames 6 -o "$tmp/sn.png" | grep -q "images   6 files, $tmp/sn_0000.png ... $tmp/sn_0005.png" &&
     ok summary_names_frames || bad summary_names_frames

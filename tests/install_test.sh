@@ -179,6 +179,27 @@ done
 # shellcheck disable=SC2086
 probe static $cflags $slibs $san
 
+# Installed for real (no DESTDIR) into a prefix outside the loader's folders: a program built
+# with nothing but pkg-config's flags finds libc5drv at run time (the rpath c5drv.pc gives),
+# with no LD_LIBRARY_PATH.
+real=$tmp/real
+if make -s --no-print-directory -C "$src" install BUILD="$build" PREFIX="$real" >"$tmp/make.log" 2>&1; then
+    rlibs=$(PKG_CONFIG_PATH=$real/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR= pkg-config --libs c5drv)
+    rcflags=$(PKG_CONFIG_PATH=$real/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR= pkg-config --cflags c5drv)
+    # shellcheck disable=SC2086
+    if err=$(cd "$tmp" && cc -std=c11 probe.c $rcflags $rlibs -o "$tmp/probe-real" 2>&1); then
+        out=$(cd "$tmp" && env -u LD_LIBRARY_PATH LD_PRELOAD=$preload "$real/bin/cube5-board" run -- "$tmp/probe-real" 2>&1)
+        rc=$?
+        [ "$rc" -eq 0 ] && grep -q "^id " <<<"$out" &&
+            ok "installed in $real: a program built with pkg-config's flags ($rlibs) runs without LD_LIBRARY_PATH" ||
+            bad "a program against $real" "exit $rc; libs: $rlibs" "$out"
+    else
+        bad "building against $real" "$err"
+    fi
+else
+    bad "make install PREFIX=$real" "$(tail -n 20 "$tmp/make.log")"
+fi
+
 # Uninstalling leaves no file and no link (the folders PREFIX had before may stay).
 if make -s --no-print-directory -C "$src" uninstall BUILD="$build" DESTDIR="$stage" PREFIX="$prefix" >"$tmp/make.log" 2>&1; then
     left=$(find "$stage" ! -type d)
