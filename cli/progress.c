@@ -2,6 +2,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <unistd.h>
 
 #include "board.h"
@@ -22,6 +23,7 @@ void c5_progress_begin(c5_progress *p, const char *cmd, int total)
     p->t0 = c5_now_s();
     p->drawn = 0;
     p->last_note = 0;
+    p->hinted = 0;
 }
 
 static void vline(c5_progress *p, int done, double t, const char *fmt, va_list ap)
@@ -33,9 +35,23 @@ static void vline(c5_progress *p, int done, double t, const char *fmt, va_list a
     p->drawn = p->mode == 1;
 }
 
+/* Neither a terminal nor --progress: a run past this many seconds says once how to see its
+ * progress, so a long command in a script or a pipe does not look hung. */
+#define C5_PROGRESS_HINT_S 10.0
+
+static void hint(c5_progress *p, double t)
+{
+    const char *e = getenv("C5_PROGRESS_HINT_S"); /* another threshold (tests) */
+    if (p->mode || p->hinted || t < (e ? atof(e) : C5_PROGRESS_HINT_S))
+        return;
+    p->hinted = 1;
+    fprintf(stderr, "cube5 %s: still running after %.0f s (--progress prints a line per step)\n", p->cmd, t);
+}
+
 void c5_progress_note(c5_progress *p, int done, const char *fmt, ...)
 {
     double t = c5_now_s() - p->t0;
+    hint(p, t);
     if (!p->mode || t - p->last_note < C5_PROGRESS_QUIET_S)
         return;
     p->last_note = t;
@@ -62,6 +78,7 @@ void c5_progress_cref(void *ctx, int tiles_done, int tiles)
 void c5_progress_step(c5_progress *p, int done, const char *fmt, ...)
 {
     double t = c5_now_s() - p->t0;
+    hint(p, t);
     if (!p->mode || (p->mode == 1 && !c5_progress_requested && t < C5_PROGRESS_QUIET_S))
         return;
     va_list ap;

@@ -20,6 +20,7 @@ typedef struct {
     double t0;
     int drawn; /* a terminal line is on screen */
     double last_note; /* when c5_progress_note last printed (seconds since t0) */
+    int hinted;       /* the "--progress prints a line per step" hint was given */
 } c5_progress;
 
 void c5_progress_begin(c5_progress *p, const char *cmd, int total);

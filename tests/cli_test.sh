@@ -75,6 +75,15 @@ expect raw_unsupported_type 2 "odd_10x10x10_float32.raw: unsupported voxel type"
 expect raw_dims_overflow 2 "huge_4294967296x4294967296x2_uint8.raw: dims .*overflow" -- "$cube5" render "$tmp/overflow.json"
 # The memory budget (docs/out-of-core.md): a bad value is refused; a grid above it renders
 # out of core with the same image, and the caster, which needs it whole, refuses it.
+# a render that went out of core says so, in its summary and its JSON
+if env C5_MEM_BUDGET=256K "$cube5" render default --size 8x8 | grep -q "^  memory   out of core: .*C5_MEM_BUDGET, 0.2 MiB" &&
+    env C5_MEM_BUDGET=256K "$cube5" render default --size 8x8 --json |
+    python3 -c 'import json,sys; g=json.load(sys.stdin)["grid"]; sys.exit(0 if g["out_of_core"] and g["mem_budget"] == 262144 else 1)' &&
+    "$cube5" render default --size 8x8 --json | python3 -c 'import json,sys; sys.exit(json.load(sys.stdin)["grid"]["out_of_core"])'; then
+    ok out_of_core_said
+else
+    bad out_of_core_said
+fi
 expect mem_budget_bad 2 "C5_MEM_BUDGET: expected a byte count" -- env C5_MEM_BUDGET=lots "$cube5" render "$tmp/ok.json"
 expect mem_budget_zero 2 "C5_MEM_BUDGET: '0' is zero" -- env C5_MEM_BUDGET=0 "$cube5" render "$tmp/ok.json"
 expect mem_budget_cast_refused 2 "default: the grid of 96x96x96 voxels is above the memory budget .C5_MEM_BUDGET, here 262144 bytes." \
@@ -637,6 +646,10 @@ if grep -q "^cube5 render: \[2/2\] frame 1" <<<"$out" && ! grep -q $'\033' <<<"$
 else
     bad progress_flag_lines_on_a_tty "$out"
 fi
+# neither a terminal nor --progress: a long run says once how to see its progress
+err=$(C5_PROGRESS_HINT_S=0 "$cube5" render brain_mirrors --size 8x8 --frames 3 2>&1 >/dev/null)
+[ "$(grep -c "^cube5 render: still running after 0 s (--progress prints a line per step)$" <<<"$err")" = 1 ] &&
+    ok progress_hint_once || bad progress_hint_once "$err"
 # the summary names the files written
 "$cube5" render brain_mirrors --size 8x8 --frames 6 -o "$tmp/sn.png" | grep -q "images   6 files, $tmp/sn_0000.png ... $tmp/sn_0005.png" &&
     ok summary_names_frames || bad summary_names_frames
