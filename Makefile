@@ -22,7 +22,7 @@ CPPFLAGS += -D_DEFAULT_SOURCE -DC5_VERSION='"$(C5_VERSION)"' -Itests -Icommon -I
 CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror -pthread $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror $(SAN)
 LDFLAGS  += -pthread $(SAN)
-LDLIBS   += $(shell pkg-config --libs OpenImageIO jansson 2>/dev/null) -lteem -lz -lm
+LDLIBS   += $(shell pkg-config --libs jansson 2>/dev/null) -lteem -lz -lm -ldl
 
 LIB_SRC  := $(wildcard common/*.c cref/*.c cref/cast/*.c $(MODEL_DIRS:%=%/*.c) vectors/gen/*.c sweep/*.c)
 # The host link (docs/host-protocol.md): the driver library on libusb and the emulated board
@@ -45,7 +45,11 @@ SCENES   := $(sort $(wildcard scenes/*.json))
 # whose symbols are c5l_* and c5_cref_render_long (docs/stability.md, "Is cref itself stable?").
 CREFL_SRC := cref/render.c cref/trace.c cref/sample.c cref/geometry.c
 CREFL_OBJ := $(CREFL_SRC:cref/%.c=$(BUILD)/cref-long/%.o)
-LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o) $(BUILD)/gen/builtin_scenes.o $(CREFL_OBJ)
+LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(BUILD)/gen/builtin_scenes.o $(CREFL_OBJ)
+# The OpenImageIO shim, its own library, opened on the first image read or write
+# (common/image_oiio.h says why): with its own copies of the C it calls.
+IMAGE_SO  := $(BUILD)/libc5image.so
+IMAGE_OBJ := $(LIB_CXX:%.cpp=$(BUILD)/pic/%.o) $(addprefix $(BUILD)/pic/common/,image.o err.o atomic_file.o)
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 # Stamps of the set-up profiles (scripts/setup-deps.sh): demo, and test on top of it.
@@ -122,9 +126,21 @@ docs: | $(DEPS_OK)
 	$(GEN_LAYOUTS) --markdown docs/bit-layouts.md
 	$(GEN_REGS) --markdown docs/register-map.md
 
-$(BUILD)/libcube5.a: $(LIB_OBJ)
+# Whatever links the model can write images: the shim is built with it.
+$(BUILD)/libcube5.a: $(LIB_OBJ) | $(IMAGE_SO)
 	@rm -f $@
-	ar rcs $@ $^
+	ar rcs $@ $(LIB_OBJ)
+
+$(IMAGE_SO): $(IMAGE_OBJ) common/c5image.map
+	$(CXX) -shared $(LDFLAGS) -Wl,--version-script=common/c5image.map -Wl,--no-undefined -o $@ $(IMAGE_OBJ) \
+	  $(shell pkg-config --libs OpenImageIO 2>/dev/null)
+
+$(BUILD)/pic/%.o: %.cpp | $(DEPS_OK) $(LAYOUTS_H) $(REGS_H)
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -fPIC -MMD -MP -c $< -o $@
+
+# Where an installed program finds the shim when it is not in ../lib/cube5 of the program.
+$(BUILD)/common/image_load.o: CPPFLAGS += -DC5_IMAGE_LIBDIR='"$(LIBDIR)/cube5"'
 
 # Several boards over MPI (docs/multi-board.md): cli/mpi_link.c is the only file that calls
 # MPI, built with Open MPI when pkg-config finds it (the demo profile installs it); MPI=0, or
@@ -336,10 +352,11 @@ $(DRV_STATIC): $(DRV_PIC_OBJ)
 	@rm -f $@
 	ar rcs $@ $(@D)/c5drv-all.o
 
-install: $(INSTALL_BINS) $(DRV_SO) $(DRV_STATIC) $(DRV_PUBLIC_H) $(MAN_PAGES) host_driver/c5drv.pc.in
-	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PKGCONFIGDIR) \
+install: $(INSTALL_BINS) $(IMAGE_SO) $(DRV_SO) $(DRV_STATIC) $(DRV_PUBLIC_H) $(MAN_PAGES) host_driver/c5drv.pc.in
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(LIBDIR)/cube5 $(DESTDIR)$(PKGCONFIGDIR) \
 	  $(DESTDIR)$(INCLUDEDIR)/cube5 $(DESTDIR)$(MANDIR)/man1
 	install -m 755 $(INSTALL_BINS) $(DESTDIR)$(BINDIR)/
+	install -m 755 $(IMAGE_SO) $(DESTDIR)$(LIBDIR)/cube5/
 	install -m 755 $(DRV_SO) $(DESTDIR)$(LIBDIR)/
 	ln -sf $(notdir $(DRV_SO)) $(DESTDIR)$(LIBDIR)/$(DRV_SONAME)
 	ln -sf $(DRV_SONAME) $(DESTDIR)$(LIBDIR)/libc5drv.so
@@ -355,8 +372,9 @@ uninstall:
 	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(notdir $(INSTALL_BINS))) \
 	  $(addprefix $(DESTDIR)$(LIBDIR)/,$(notdir $(DRV_SO)) $(DRV_SONAME) libc5drv.so libc5drv.a) \
 	  $(addprefix $(DESTDIR)$(INCLUDEDIR)/cube5/,$(notdir $(DRV_PUBLIC_H))) \
-	  $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(notdir $(MAN_PAGES))) $(DESTDIR)$(PKGCONFIGDIR)/c5drv.pc
-	-rmdir $(DESTDIR)$(INCLUDEDIR)/cube5
+	  $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(notdir $(MAN_PAGES))) $(DESTDIR)$(PKGCONFIGDIR)/c5drv.pc \
+	  $(DESTDIR)$(LIBDIR)/cube5/$(notdir $(IMAGE_SO))
+	-rmdir $(DESTDIR)$(INCLUDEDIR)/cube5 $(DESTDIR)$(LIBDIR)/cube5
 # ---- end of the install block -----------------------------------------------------------------
 
 clean:

@@ -1,4 +1,4 @@
-/* Image storage. Reading and writing live in image_oiio.cpp. */
+/* Image storage. Reading and writing: image_load.c, through image_oiio.cpp. */
 #include "image.h"
 
 #include <stdint.h>

@@ -1,5 +1,6 @@
 /* Images: linear RGB floats, row 0 at the top. Written and read through OpenImageIO
- * (common/image_oiio.cpp, the only C++ in the project). */
+ * (common/image_oiio.cpp, the only C++ in the project, a library opened on first use:
+ * image_load.c). */
 #ifndef C5_IMAGE_H
 #define C5_IMAGE_H
 

@@ -1,5 +1,6 @@
-// Image file I/O through OpenImageIO: the only C++ in cube5. A thin shim that exposes the
-// C API of image.h; no C++ exception ever crosses the extern "C" boundary.
+// Image file I/O through OpenImageIO: the only C++ in cube5. A thin shim, built as its own
+// library (libc5image.so, loaded on the first image read or write: image_load.c), whose C API
+// is image_oiio.h; no C++ exception ever crosses the extern "C" boundary.
 //
 // Writing: the format follows the extension, case-insensitive.
 //   .png  8-bit RGB, no gamma. Each float v is clamped to [0,1] and quantised as
@@ -34,7 +35,7 @@
 
 extern "C" {
 #include "atomic_file.h"
-#include "image.h"
+#include "image_oiio.h"
 }
 
 namespace {
@@ -226,17 +227,7 @@ int read_impl(const char *path, c5_image *img, c5_err *err)
 
 } // namespace
 
-extern "C" int c5_image_check_out(const char *path, c5_err *err)
-{
-    try {
-        OutPath op;
-        return out_path(path, op, err);
-    } catch (...) {
-        return c5_fail(err, "%s: cannot write: out of memory", path ? path : "image");
-    }
-}
-
-extern "C" int c5_image_write(const char *path, const c5_image *img, c5_err *err)
+extern "C" int c5_image_oiio_write(const char *path, const c5_image *img, c5_err *err)
 {
     try {
         return write_impl(path, img, err);
@@ -248,7 +239,7 @@ extern "C" int c5_image_write(const char *path, const c5_image *img, c5_err *err
 }
 
 // img is an output: it is overwritten (not freed first) and is left zeroed on failure.
-extern "C" int c5_image_read(const char *path, c5_image *img, c5_err *err)
+extern "C" int c5_image_oiio_read(const char *path, c5_image *img, c5_err *err)
 {
     if (!img)
         return c5_fail(err, "%s: internal error: no image to read into", path ? path : "image");

@@ -86,8 +86,8 @@ for f in cref/render.c cref/trace.c cref/sample.c cref/geometry.c; do
     [ -f "$o" ] && [ "$o" -nt "$f" ] || $CC "${cflags[@]}" -DC5_CREF_LONG -c "$f" -o "$o"
     lib_objs+=("$o")
 done
-# common/image.c writes images through the C++ OpenImageIO shim, which no harness reaches:
-# the archive only pulls in the objects a harness needs.
+# Images go through the OpenImageIO shim, a library opened on first use (common/image_load.c),
+# which no harness reaches: the archive only pulls in the objects a harness needs.
 rm -f "$out/libcube5-san.a"
 ar rcs "$out/libcube5-san.a" "${lib_objs[@]}"
 for n in $names; do

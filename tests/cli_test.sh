@@ -646,6 +646,12 @@ if grep -q "^cube5 render: \[2/2\] frame 1" <<<"$out" && ! grep -q $'\033' <<<"$
 else
     bad progress_flag_lines_on_a_tty "$out"
 fi
+# the image library is opened on the first image: a run without one never needs it; one that
+# cannot find it fails (1) naming the file and the library, and leaves nothing
+expect image_lib_not_needed 0 "" -- env C5_IMAGE_LIB=/nonexistent/libc5image.so "$cube5" render default --size 8x8 --json
+expect image_lib_missing 1 "nolib.png: the image library libc5image.so \(OpenImageIO\) cannot be loaded: /nonexistent/libc5image.so" -- \
+    env C5_IMAGE_LIB=/nonexistent/libc5image.so "$cube5" render default --size 8x8 -o "$tmp/nolib.png"
+[ -e "$tmp/nolib.png" ] && bad image_lib_missing_leaves_nothing || ok image_lib_missing_leaves_nothing
 # neither a terminal nor --progress: a long run says once how to see its progress
 err=$(C5_PROGRESS_HINT_S=0 "$cube5" render brain_mirrors --size 8x8 --frames 3 2>&1 >/dev/null)
 [ "$(grep -c "^cube5 render: still running after 0 s (--progress prints a line per step)$" <<<"$err")" = 1 ] &&

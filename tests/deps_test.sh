@@ -75,6 +75,7 @@ if ! command -v dpkg >/dev/null || ! command -v apt-cache >/dev/null; then
     summary
 fi
 covered demo_profile_covers_cube5 "$build/cube5" demo
+covered demo_profile_covers_image_library "$build/libc5image.so" demo
 covered test_profile_covers_cube5ctl "$build/cube5ctl" test
 covered test_profile_covers_cube5_board "$build/cube5-board" test
 # The headers the build includes (-dev packages): cube5's objects from the demo profile, the

@@ -26,13 +26,20 @@ fi
 ok "make install DESTDIR=... PREFIX=$prefix"
 
 missing=""
-for f in bin/cube5 bin/cube5ctl bin/cube5-board "lib/libc5drv.so.$version" "lib/libc5drv.so.$major" lib/libc5drv.so \
+for f in bin/cube5 bin/cube5ctl bin/cube5-board lib/cube5/libc5image.so "lib/libc5drv.so.$version" "lib/libc5drv.so.$major" lib/libc5drv.so \
     lib/libc5drv.a include/cube5/c5drv.h include/cube5/c5_regs_map.h lib/pkgconfig/c5drv.pc \
     share/man/man1/cube5.1 share/man/man1/cube5ctl.1 share/man/man1/cube5-board.1; do
     [ -e "$root/$f" ] || missing+=" $f"
 done
-[ -z "$missing" ] && ok "installed: the three programs, libc5drv (.so, .a), headers, c5drv.pc, man pages" ||
+[ -z "$missing" ] && ok "installed: the three programs, the image library, libc5drv (.so, .a), headers, c5drv.pc, man pages" ||
     bad "installed files missing" "$missing"
+# the installed cube5 finds its image library in ../lib/cube5 (the build tree is not looked at)
+if (cd "$tmp" && "$root/bin/cube5" render default --size 8x8 -o "$tmp/installed.png" >/dev/null 2>&1) &&
+    [ -s "$tmp/installed.png" ]; then
+    ok "the installed cube5 writes an image through $prefix/lib/cube5/libc5image.so"
+else
+    bad "the installed cube5 writing an image" "$(cd "$tmp" && "$root/bin/cube5" render default --size 8x8 -o "$tmp/installed.png" 2>&1)"
+fi
 [ "$(readlink "$root/lib/libc5drv.so")" = "libc5drv.so.$major" ] &&
     [ "$(readlink "$root/lib/libc5drv.so.$major")" = "libc5drv.so.$version" ] &&
     ok "libc5drv.so -> libc5drv.so.$major -> libc5drv.so.$version" || bad "libc5drv symlinks" "$(ls -l "$root/lib")"
