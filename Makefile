@@ -325,7 +325,8 @@ DRV_SO     := $(BUILD)/libc5drv.so.$(C5_VERSION)
 DRV_STATIC := $(BUILD)/pic/libc5drv.a
 DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/voxsrc.c common/tlp.c common/volume.c common/nrrd_precheck.c \
   common/generators.c common/tf.c common/camera.c rtl_model/mem/cells.c rtl_model/proc/regs.c rtl_model/model_limits.c \
-  rtl_model/proc/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c
+  rtl_model/proc/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c \
+  common/atomic_file.c
 DRV_PIC_OBJ := $(patsubst %.c,$(BUILD)/pic/%.o,$(DRV_SRC) $(DRV_MODEL_SRC)) $(CREFL_SRC:cref/%.c=$(BUILD)/pic/cref-long/%.o)
 DRV_PUBLIC_H := host_driver/c5drv.h $(REGS_H)
 MAN_PAGES  := man/cube5.1 man/cube5ctl.1 man/cube5-board.1

@@ -1,9 +1,12 @@
 /* Image storage. Reading and writing: image_load.c, through image_oiio.cpp. */
 #include "image.h"
 
+#include "atomic_file.h"
+
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #define C5_IMAGE_MAX_SIDE 16384
 
@@ -36,4 +39,16 @@ void c5_image_free(c5_image *img)
         return;
     free(img->rgb);
     memset(img, 0, sizeof *img);
+}
+
+int c5_image_check_out(const char *path, c5_err *err)
+{
+    if (!path || !*path)
+        return c5_fail(err, "image: no output path given");
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path, *dot = strrchr(base, '.');
+    if (!dot)
+        return c5_fail(err, "%s: missing image extension (use .png or .exr)", path);
+    if (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr"))
+        return c5_fail(err, "%s: unsupported image extension '%s' (use .png or .exr)", path, dot);
+    return c5_output_check(path, err);
 }

@@ -9,10 +9,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <unistd.h>
 
-#include "atomic_file.h"
 #include "image_oiio.h"
 
 #ifndef C5_IMAGE_LIBDIR
@@ -78,18 +76,6 @@ static int ready(const char *path, c5_err *err)
         return 0;
     return c5_fail(err, "%s: the image library " C5_IMAGE_SO " (OpenImageIO) cannot be loaded: %s", path ? path : "image",
                    why);
-}
-
-int c5_image_check_out(const char *path, c5_err *err)
-{
-    if (!path || !*path)
-        return c5_fail(err, "image: no output path given");
-    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path, *dot = strrchr(base, '.');
-    if (!dot)
-        return c5_fail(err, "%s: missing image extension (use .png or .exr)", path);
-    if (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr"))
-        return c5_fail(err, "%s: unsupported image extension '%s' (use .png or .exr)", path, dot);
-    return c5_output_check(path, err);
 }
 
 int c5_image_write(const char *path, const c5_image *img, c5_err *err)

@@ -79,8 +79,7 @@ void add_reason(std::string &msg, const std::string &what, const std::string &re
 enum class Fmt { PNG, EXR };
 
 // The parts of an output path and its format; refuses, naming `path`, what cannot be written
-// whatever the pixels: no or another extension, or a place no file can be written
-// (c5_output_check).
+// whatever the pixels (c5_image_check_out).
 struct OutPath {
     std::string dir, base, ext, lower;
     Fmt fmt;
@@ -88,28 +87,19 @@ struct OutPath {
 
 int out_path(const char *path, OutPath &o, c5_err *err)
 {
-    if (!path || !*path)
-        return c5_fail(err, "image: no output path given");
+    if (c5_image_check_out(path, err) != 0) // image.c: the extension and the place
+        return -1;
     const std::string p(path);
     const size_t slash = p.rfind('/');
     o.dir = slash == std::string::npos ? std::string() : p.substr(0, slash + 1);
     o.base = slash == std::string::npos ? p : p.substr(slash + 1);
-    const size_t dot = o.base.rfind('.');
-    if (dot == std::string::npos)
-        return c5_fail(err, "%s: missing image extension (use .png or .exr)", path);
-    o.ext = o.base.substr(dot);
+    o.ext = o.base.substr(o.base.rfind('.'));
     o.lower = o.ext;
     for (char &c : o.lower)
         if (c >= 'A' && c <= 'Z')
             c = static_cast<char>(c - 'A' + 'a');
-    if (o.lower == ".png")
-        o.fmt = Fmt::PNG;
-    else if (o.lower == ".exr")
-        o.fmt = Fmt::EXR;
-    else
-        return c5_fail(err, "%s: unsupported image extension '%s' (use .png or .exr)", path,
-                       o.ext.c_str());
-    return c5_output_check(path, err);
+    o.fmt = o.lower == ".png" ? Fmt::PNG : Fmt::EXR;
+    return 0;
 }
 
 
