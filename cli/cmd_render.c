@@ -253,6 +253,16 @@ static void print_board(const render_args *a, const c5_board_stats *b)
            (unsigned long long)b->tree_reads, (unsigned long long)b->tree_writes);
 }
 
+/* The memory budget the grid was built under (C5_MEM_BUDGET, read when the grid was built:
+ * valid by then). */
+static size_t mem_budget(void)
+{
+    size_t budget = 0;
+    c5_err ignored;
+    c5_mem_budget(&budget, &ignored);
+    return budget;
+}
+
 static void print_text(const char *label, const c5_scene *s, const c5_supervol *sv, int frames, int threads,
                        const render_args *a, const c5_cref_stats *st, const c5_board_stats *board, const json_t *outputs)
 {
@@ -269,15 +279,11 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
         printf("  grid     %zux%zux%zu voxels, spacing %g %g %g (%s%s), step %g\n", sv->dims[0], sv->dims[1],
                sv->dims[2], sv->spacing.x, sv->spacing.y, sv->spacing.z, sv->spacing_source,
                s->grid.size > 0 ? ", scaled to grid.size" : "", c5_render_step(s, sv));
-        if (sv->store) { /* the reason a render is slower than its size suggests */
-            size_t budget = 0;
-            c5_err ignored;
-            c5_mem_budget(&budget, &ignored);
+        if (sv->store) /* the reason a render is slower than its size suggests */
             printf("  memory   out of core: the grid (%.1f MiB) is above the memory budget (C5_MEM_BUDGET, %.1f "
                    "MiB); voxels read through a brick cache (docs/out-of-core.md)\n",
                    (double)sv->dims[0] * (double)sv->dims[1] * (double)sv->dims[2] / 1048576.0,
-                   (double)budget / 1048576.0);
-        }
+                   (double)mem_budget() / 1048576.0);
     }
     printf("  scene    %d surface(s), %d light(s), max %d bounce(s)\n", s->n_surfaces, s->n_lights,
            s->render.max_bounces);
@@ -478,18 +484,12 @@ int c5_cmd_render(int argc, char **argv)
                 json_object_set_new(o, "threads", json_integer(threads));
             }
             if (!c5_supervol_empty(&sv))
-                json_object_set_new(o, "grid", json_pack("{s:[I, I, I], s:[f, f, f], s:s}", "dims",
+                json_object_set_new(o, "grid", json_pack("{s:[I, I, I], s:[f, f, f], s:s, s:b, s:I}", "dims",
                                                          (json_int_t)sv.dims[0], (json_int_t)sv.dims[1],
                                                          (json_int_t)sv.dims[2], "spacing", sv.spacing.x,
                                                          sv.spacing.y, sv.spacing.z, "spacing_from",
-                                                         sv.spacing_source));
-            if (!c5_supervol_empty(&sv)) {
-                size_t budget = 0;
-                c5_err ignored;
-                c5_mem_budget(&budget, &ignored);
-                json_object_set_new(json_object_get(o, "grid"), "out_of_core", json_boolean(sv.store != NULL));
-                json_object_set_new(json_object_get(o, "grid"), "mem_budget", json_integer((json_int_t)budget));
-            }
+                                                         sv.spacing_source, "out_of_core", sv.store != NULL,
+                                                         "mem_budget", (json_int_t)mem_budget()));
             json_object_set_new(o, "frames", per_frame);
             json_object_set_new(o, "outputs", outputs);
             per_frame = outputs = NULL;

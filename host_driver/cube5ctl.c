@@ -7,9 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
-#include "atomic_file.h"
 #include "builtin_scenes.h"
 #include "c5drv.h"
 #include "image.h"
@@ -261,12 +259,11 @@ static int scene_text(const char *arg, char **json, char *dir, size_t dcap)
  * volume file or a data file a NRRD header names (common/volume_inputs.h). */
 static int check_output(const opts *o, const char *json, const char *dir)
 {
-    const char *dot = strrchr(o->out, '.');
-    if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr")))
-        return bad_input("%s: unsupported image extension (use .png or .exr)", o->out);
+    c5_err err;
+    if (c5_image_check_out(o->out, &err) != 0) /* the extension and the place, as cube5's */
+        return bad_input("%s", err.msg);
     c5_scene *s = calloc(1, sizeof *s);
     c5_file_list in = {0};
-    c5_err err;
     if (!s)
         return fail("out of memory");
     int rc = 0;
@@ -279,8 +276,6 @@ static int check_output(const opts *o, const char *json, const char *dir)
     long i = rc ? -1 : c5_file_list_find(&in, o->out);
     if (i >= 0)
         rc = bad_input("%s: is %s (%s); refusing to overwrite an input", o->out, in.what[i], in.path[i]);
-    else if (!rc && c5_output_check(o->out, &err) != 0)
-        rc = bad_input("%s", err.msg);
     c5_file_list_free(&in);
     free(s);
     return rc;

@@ -28,3 +28,5 @@ judge() {
     fi
     return 1
 }
+# leftovers DIR: the temporaries of common/atomic_file.h (".NAME.tmp-...") left in DIR.
+leftovers() { find "$1" -name '.*.tmp-*' 2>/dev/null; }

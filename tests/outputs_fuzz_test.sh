@@ -87,7 +87,7 @@ for ((r = 0; r < runs; r++)); do
     before=$(state "$d")
     err=$(cd "$d" && "$cube5" "${cmd[@]}" "${args[@]}" 2>&1 >/dev/null)
     status=$?
-    left=$(find "$d" -name '.*.tmp-*')
+    left=$(leftovers "$d")
     judge "$name" "$want" "$status" "$err" "" || continue
     if [ -n "$left" ]; then
         bad "$name" "temporaries left: $left"

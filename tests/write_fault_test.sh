@@ -24,8 +24,6 @@ fi
 
 reason() { [ "$1" = EIO ] && echo "Input/output error" || echo "No space left on device"; }
 
-# leftovers DIR: files of DIR that are temporaries (".NAME.tmp-...").
-leftovers() { find "$1" -name '.*.tmp-*' 2>/dev/null; }
 
 # calls CMD...: how many writes the shim counts for a clean run.
 calls() { C5_FAULT_COUNT=1 LD_PRELOAD="$pre" "$@" 2>&1 >/dev/null | grep -c '^write_fault: call'; }
