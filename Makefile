@@ -178,6 +178,10 @@ $(DRV_SRC:%.c=$(BUILD)/%.o) $(EMU_SRC:%.c=$(BUILD)/%.o) $(LINK_SRC:%.c=$(BUILD)/
 $(BUILD)/cube5ctl: $(BUILD)/host_driver/cube5ctl.o $(BUILD)/libc5drv.a $(BUILD)/libcube5.a
 	$(CXX) $(LDFLAGS) $^ $(USB_LIBS) $(LDLIBS) -o $@
 
+# The gradient study behind docs/accuracy.md's "Gradients" (sweep/grad_study.h).
+$(BUILD)/grad-study: $(BUILD)/sweep/tools/grad_study.o $(BUILD)/libcube5.a
+	$(CXX) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
 $(BUILD)/cube5-board: $(BUILD)/board_emu/cube5_board.o $(BUILD)/libc5emu.a $(BUILD)/libcube5.a
 	$(CXX) $(LDFLAGS) $^ $(EMU_LIBS) $(LDLIBS) -o $@
 
@@ -292,7 +296,7 @@ coverage: $(REF_SO)
 	python3 scripts/vectors_coverage.py vectors/golden --ref $(REF_SO) --all
 
 # The sweeps behind docs/accuracy.md into docs/accuracy/ (scripts/accuracy.sh, about 2 minutes).
-accuracy: $(BUILD)/cube5
+accuracy: $(BUILD)/cube5 $(BUILD)/grad-study
 	bash scripts/accuracy.sh $(BUILD)
 
 # Synthesis estimate of fpga/rtl for an iCE40 (yosys, nextpnr) and an ECP5 (yosys) into

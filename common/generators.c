@@ -38,18 +38,37 @@ static double smoothstep(double e0, double e1, double x)
 }
 
 /* CT-like stand-in: a bright ellipsoidal shell (bone) around smooth Gaussian blobs of
- * mid-range tissue, so that a CT transfer function shows both. */
-__attribute__((noinline)) static double blobs_value(const double p[3], const c5_gen_blob *b, int n)
+ * mid-range tissue, so that a CT transfer function shows both. The shell's and the tissue's
+ * edges rise over 0.06 of d, or over 6 voxels along the edge's normal when that is wider:
+ * a scanner's blur. Sharper edges are not band-limited to the grid, and each voxel layer an
+ * edge crosses then shows as a ring in the shading, whatever the gradient filter
+ * (docs/accuracy.md, "Gradients"). vox[a]: a voxel's size along axis a in p (2 / dims). */
+__attribute__((noinline)) static double blobs_value(const double p[3], const c5_gen_blob *b, int n,
+                                                    const double vox[3])
 {
-    double d = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) / 0.92;
-    double shell = smoothstep(0.80, 0.86, d) * (1 - smoothstep(0.94, 1.0, d));
+    double r2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2], d = sqrt(r2) / 0.92, h = 0.03;
+    if (r2 > 0) {
+        /* the voxel's extent along the normal p / |p|, in d */
+        double e2 = 0;
+        for (int a = 0; a < 3; a++)
+            e2 += p[a] * p[a] * vox[a] * vox[a];
+        double hv = 3 * sqrt(e2 / r2) / 0.92;
+        h = hv > h ? hv : h;
+    }
+    double shell = smoothstep(0.83 - h, 0.83 + h, d) * (1 - smoothstep(0.97 - h, 0.97 + h, d));
     double tissue = 0;
     for (int i = 0; i < n; i++) {
         double dx = p[0] - b[i].c[0], dy = p[1] - b[i].c[1], dz = p[2] - b[i].c[2];
         tissue += b[i].amp * exp(-(dx * dx + dy * dy + dz * dz) * b[i].inv_s2);
     }
-    tissue = fmin(tissue, 1) * (1 - smoothstep(0.78, 0.84, d));
+    tissue = fmin(tissue, 1) * (1 - smoothstep(0.81 - h, 0.81 + h, d));
     return fmax(shell * 0.9, tissue * 0.62);
+}
+
+static void voxel_size(const c5_volume_desc *d, double vox[3])
+{
+    for (int a = 0; a < 3; a++)
+        vox[a] = 2.0 / (double)(d->gen_dims[a] ? d->gen_dims[a] : 1);
 }
 
 /* Value noise on an integer lattice, hashed from the seed. */
@@ -84,6 +103,23 @@ static double cloud_value(double p[3], uint64_t seed)
     return (density - 0.22) * 2.2;
 }
 
+double c5_gen_unit(const c5_volume_desc *d, const c5_gen_state *g, const double p[3])
+{
+    switch (d->generator) {
+    case C5_GEN_MARSCHNER_LOBB: return c5_marschner_lobb(p[0], p[1], p[2], d->f_m, d->alpha);
+    case C5_GEN_BLOBS: {
+        double vox[3];
+        voxel_size(d, vox);
+        return blobs_value(p, g->blobs, g->n_blobs, vox);
+    }
+    case C5_GEN_CLOUD: {
+        double q[3] = {p[0], p[1], p[2]};
+        return cloud_value(q, d->seed);
+    }
+    default: return NAN;
+    }
+}
+
 void c5_gen_prepare(const c5_volume_desc *d, c5_gen_state *g)
 {
     g->n_blobs = 0;
@@ -113,6 +149,8 @@ void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_
     const double f_m = d->f_m, alpha = d->alpha, value = d->value;
     const uint64_t seed = d->seed;
     const int axis = d->axis, nb = g->n_blobs;
+    double vox[3];
+    voxel_size(d, vox);
     c5_gen_blob blobs[C5_GEN_MAX_BLOBS]; /* a local copy: known not to alias out */
     memcpy(blobs, g->blobs, sizeof blobs[0] * (size_t)(nb > 0 ? nb : 0));
     const size_t n_axis = d->gen_dims[axis < 0 || axis > 2 ? 0 : axis];
@@ -125,7 +163,7 @@ void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_
                 double u = 0;
                 switch (gen) {
                 case C5_GEN_MARSCHNER_LOBB: u = c5_marschner_lobb(p[0], p[1], p[2], f_m, alpha); break;
-                case C5_GEN_BLOBS: u = blobs_value(p, blobs, nb); break;
+                case C5_GEN_BLOBS: u = blobs_value(p, blobs, nb, vox); break;
                 case C5_GEN_CLOUD: u = cloud_value(p, seed); break;
                 case C5_GEN_SPHERE: {
                     /* Distance in voxels from the centre, with a one-voxel linear edge. */

@@ -29,6 +29,10 @@ typedef struct {
     c5_gen_blob blobs[C5_GEN_MAX_BLOBS];
 } c5_gen_state;
 void c5_gen_prepare(const c5_volume_desc *d, c5_gen_state *g);
+/* The field a smooth generator (marschner_lobb, blobs, cloud) quantises, at any p in
+ * [-1, 1]^3, unquantised (voxels hold round(255 u) clamped to 0..255); NAN for the others.
+ * The analytic reference of the shading study (docs/accuracy.md, "Gradients"). */
+double c5_gen_unit(const c5_volume_desc *d, const c5_gen_state *g, const double p[3]);
 /* Voxels [lo, hi) of the generated volume (hi <= gen_dims), each by its own definition, so
  * any box holds the same bits as the whole volume there: voxel (x, y, z) of the box at
  * out[(z - lo[2]) sz + (y - lo[1]) sy + x - lo[0]]. Thread-safe (g is only read). */

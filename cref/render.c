@@ -150,7 +150,7 @@ int C5R(cref_render_into)(const c5_scene *s, const c5_supervol *sv, int frame, c
         ctx->box_lo = rv3_of(sv->origin);
         ctx->box_hi = rv3_add(ctx->box_lo, rv3(sv->dims[0] * h.x, sv->dims[1] * h.y, sv->dims[2] * h.z));
         diag = fmax(1, rv3_len(rv3_sub(ctx->box_hi, ctx->box_lo)));
-        ctx->grad_eps = (c5_real)1 / 16 / c5_supervol_min_spacing(sv);
+        ctx->fade_g2 = (c5_real)1 / 16 / ((c5_real)c5_supervol_min_spacing(sv) * (c5_real)c5_supervol_min_spacing(sv));
     }
     ctx->eps = 1e-6 * diag;
 

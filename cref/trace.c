@@ -93,10 +93,12 @@ static c5_rvec3 shade_sample(const c5_trace_ctx *c, c5_rvec3 p, c5_rvec3 view, c
 {
     const c5_tf_desc *tf = &c->s->tf;
     c5_rvec3 col = rv3(rgba[0], rgba[1], rgba[2]);
-    c5_real g = rv3_len(grad);
-    if (g < c->grad_eps)
+    c5_real g2 = rv3_dot(grad, grad);
+    if (g2 == 0)
         return rv3_scale(col, tf->ambient);
-    c5_rvec3 n = rv3_scale(grad, -1 / g);
+    /* the lights' share fades in: min(|g|^2 / fade_g2, 1) (spec sec. 4.3) */
+    c5_real fade = g2 < c->fade_g2 ? g2 / c->fade_g2 : 1;
+    c5_rvec3 n = rv3_scale(grad, -1 / sqrt(g2));
     if (rv3_dot(n, view) < 0)
         n = rv3_scale(n, -1); /* two-sided: the normal faces the viewer */
     c5_real diff = 0, spec = 0;
@@ -112,7 +114,7 @@ static c5_rvec3 shade_sample(const c5_trace_ctx *c, c5_rvec3 p, c5_rvec3 view, c
         if (ndh > 0)
             spec += l->intensity * pow(ndh, tf->specular_power);
     }
-    c5_real k = tf->ambient + tf->diffuse * diff, ks = tf->specular * spec;
+    c5_real k = tf->ambient + fade * tf->diffuse * diff, ks = fade * tf->specular * spec;
     return rv3(col.x * k + ks, col.y * k + ks, col.z * k + ks);
 }
 

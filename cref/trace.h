@@ -32,7 +32,8 @@ typedef struct {
     c5_rtf_table tf;
     c5_real step;
     c5_real eps;        /* hits closer than this to a ray's origin are ignored */
-    c5_real grad_eps;   /* |gradient| below this counts as zero (ambient only) */
+    c5_real fade_g2;    /* |gradient|^2 from which the lights' share is whole: (1/4 value
+                           step a voxel of the smallest spacing)^2 */
     int has_volume;
     int shade;          /* Phong-shade volume samples: lights present and shading on */
     c5_rvec3 box_lo, box_hi;

@@ -26,3 +26,7 @@ run marschner_lobb "$out/marschner_lobb.json"
 for s in brain_mirrors lobster_tunnel; do
     run "et_$s" "$s" --knob et=0.9,0.95,0.99,1
 done
+# The gradient study (docs/accuracy.md, "Gradients"): its images in BUILD/accuracy/gradients.
+echo "accuracy: gradients" >&2
+"$build/grad-study" --size 256 --out "$build/accuracy/gradients" default brain_mirrors \
+    "$out/marschner_lobb_lit.json" >"$out/gradients.txt"

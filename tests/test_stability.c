@@ -267,8 +267,12 @@ TEST(stability_marschner_lobb)
 /* 17x17 images: the centre pixel's ray is exactly the view axis. Every camera below puts
  * that ray (and, for the axis-parallel ones, a column or row of rays) on a cell face, a
  * cell edge, a voxel face or through a cell corner of the 2x2x2 split. */
-/* AXIS_RAYS: measured 0.0064 / 6.3e-4 (worst camera): 2x; no value off by 4 steps. */
-static const stab_bound AXIS_RAYS = {0.012, 0.0012, 0};
+/* AXIS_RAYS: measured 0.013 / 0.0013 (worst camera, -z along the cell edge): 2x; no value off
+ * by 4 steps. The lights' fade (docs/rendering-spec.md sec. 4.3) adds the gradient's magnitude
+ * to what the renderers may differ in, and this 16^3 field's edges rise over 6 voxels, so
+ * many samples lie below a quarter value step a voxel: with the fade off the same cameras
+ * give 0.0072 / 8.7e-4. */
+static const stab_bound AXIS_RAYS = {0.026, 0.0026, 0};
 
 TEST(stability_axis_rays_on_cell_faces_edges_corners)
 {

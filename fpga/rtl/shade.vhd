@@ -1,13 +1,14 @@
 -- Block "shade": Phong shading of one sample (rtl_model/proc/sample_pipe.h c5_shade_w at the
 -- shipped widths; docs/rendering-spec.md 4.3), bit for bit:
---   m2 = |g|^2 (16 fraction bits); below 1024 (|g| < 1/8): k = ka, ks = 0. Otherwise
+--   m2 = |g|^2 (16 fraction bits); m2 = 0: k = ka, ks = 0. Otherwise fade = min(2 m2, 2^15)
+--   (UQ1.15: the lights' share, whole from |g| = 1/2, a quarter value step a voxel),
 --   n = normalize(-g), turned to face the viewer (v = -dir) when n.v < 0; per light i
 --   (n_lights of them) L = normalize(pos_i - gpos) (point) or dir_i (directional);
 --   N.L = dot14(n, L); lights with N.L <= 0 are skipped; diff += I_i N.L;
 --   H = normalize(L + v) (skipped when zero); N.H = dot14(n, H); when N.H > 0,
 --   spec += I_i pow(N.H), pow linear between the 1,025 table entries at N.H >> 4
 --   (entry 1024 for N.H >= 1);
---   k = clamp(ka + round_he(kd diff / 2^26)), ks = clamp(round_he(ks spec / 2^27)),
+--   k = clamp(ka + round_he(kd diff fade / 2^41)), ks = clamp(round_he(ks spec fade / 2^42)),
 --   rgb_c = clamp(round_he(tf_c k / 2^15) + ks), every clamp to [0, 65535] counted in sat.
 -- normalize(v): len = floor(sqrt(|v|^2 2^28)) (digit by digit), each component
 -- round_he(v_a 2^28 / len) (restoring division, then the half-to-even step), 0 for v = 0.
@@ -18,7 +19,7 @@
 -- normalisation, up to 2 n_lights + 1 normalisations a sample, through one shared
 -- iterative normaliser (1 root bit and 1 quotient bit per cycle). in_ready is 1 while it
 -- is idle; a sample accepted in cycle 0 (in_valid and in_ready) gives out_valid (one
--- cycle) in cycle SHADE_FLAT_CYCLES = 3 when |g|^2 < 1/16, else in cycle
+-- cycle) in cycle SHADE_FLAT_CYCLES = 3 when g = 0, else in cycle
 --   SHADE_NORM_CYCLES + 6 + sum over the n_lights lights of
 --     2, + SHADE_NORM_CYCLES for a point light, and when N.L > 0 + SHADE_NORM_CYCLES + 1,
 --     then + 2 when H /= 0 and N.H >= 1, + 3 when H /= 0 and 0 < N.H < 1 (table reads),
@@ -110,6 +111,7 @@ architecture rtl of shade is
   signal ndh_r : signed(NRM_BITS + 1 downto 0);
   signal p0    : signed(SIG_SPEC_POW_WIDTH downto 0);
   signal k_r, ks_r : signed(SIG_LIGHT_TERM_WIDTH + 1 downto 0);
+  signal fade_r : signed(16 downto 0);               -- UQ1.15, 0 < fade <= 1
   signal nsat  : natural range 0 to 7;
 
   function reg_base(i : natural) return natural is  -- light slot i's first register
@@ -174,6 +176,7 @@ begin
     variable t    : v3_t;
     variable lin  : signed(SIG_SPEC_POW_WIDTH + 6 downto 0);
     variable prod : signed(ACC_BITS + 32 downto 0);
+    variable prodf : signed(ACC_BITS + 32 + 17 downto 0);
     variable kk   : signed(ACC_BITS + 32 - 25 downto 0);
     variable c    : signed(SIG_TF_RGBA_WIDTH + SIG_LIGHT_TERM_WIDTH + 3 downto 0);
     variable cs   : signed(c'length - SIG_TF_RGBA_FRAC + 1 downto 0);
@@ -225,11 +228,16 @@ begin
           diff <= (others => '0');
           spec <= (others => '0');
           nsat <= 0;
-          if m2 < 1024 then  -- |g| < 1/8: ambient alone
+          if m2 = 0 then  -- no gradient: ambient alone
             k_r <= resize(regs(0), k_r'length);
             ks_r <= (others => '0');
             st <= OUTPUT;
           else
+            if m2 < 16384 then  -- |g| < 1/2: the lights' share fades, 4 |g|^2
+              fade_r <= resize(shift_left(m2, 1), 17);
+            else
+              fade_r <= to_signed(2 ** 15, 17);
+            end if;
             for a in 0 to 2 loop
               t(a) := -resize(signed(g_r(a)), V_BITS);
             end loop;
@@ -385,11 +393,13 @@ begin
         when KTERMS =>
           n := 0;
           prod := resize(resize(regs(1), 33) * diff, prod'length);  -- kd diff
-          kk := resize(resize(regs(0), kk'length) + resize(rshift_he(prod, 26), kk'length), kk'length);
+          prodf := resize(prod * fade_r, prodf'length);
+          kk := resize(resize(regs(0), kk'length) + resize(rshift_he(prodf, 26 + 15), kk'length), kk'length);
           k_r <= resize(clamp(kk, 0, LT_MAX, SIG_LIGHT_TERM_WIDTH + 1), k_r'length);
           n := n + clamps(kk, 0, LT_MAX);
           prod := resize(resize(regs(2), 33) * spec, prod'length);  -- ks spec
-          kk := resize(rshift_he(prod, 27), kk'length);
+          prodf := resize(prod * fade_r, prodf'length);
+          kk := resize(rshift_he(prodf, 27 + 15), kk'length);
           ks_r <= resize(clamp(kk, 0, LT_MAX, SIG_LIGHT_TERM_WIDTH + 1), ks_r'length);
           n := n + clamps(kk, 0, LT_MAX);
           nsat <= n;

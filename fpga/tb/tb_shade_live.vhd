@@ -4,7 +4,7 @@
 -- Drives:  after the reset edge, the registers and the specular power table the model draws
 --          from SEED (c5ref_sh_setup: ka kd ks, 1 to 8 point or directional lights,
 --          (i / 1024)^p) through the configuration ports; then SAMPLES samples drawn from SEED
---          (gradients from zero through the flat threshold to +-255, transfer-function
+--          (gradients from zero through the lights' fade to +-255, transfer-function
 --          colours at 0, 1 or random, positions in the volume's first 256 voxels, unit
 --          directions), one at a time with in_valid while in_ready = 1.
 -- Checks:  when out_valid comes, rgb and sat = the model's; the first difference ends the
@@ -72,7 +72,7 @@ begin
       for a in 0 to 2 loop
         case rnd.pick(6) is
           when 0 => x := 0;
-          when 1 => x := rnd.pick(64) - 32;          -- about the zero-gradient threshold
+          when 1 => x := rnd.pick(256) - 128;        -- the lights' fade (|g| < 1/2)
           when 2 => x := GMAX;
           when 3 => x := -GMAX;
           when others => x := rnd.pick(2 * GMAX + 1) - GMAX;

@@ -221,9 +221,14 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
     const int64_t *g = s->grad;
     int64_t m2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2]; /* 16 fraction bits */
     int64_t k, ks = 0;                                     /* light_term UQ4.12 */
-    if (m2 < 1024) {                                       /* |g| < 1/8 (1/16 value step a voxel) */
+    if (m2 == 0) {
         k = r->ka;
     } else {
+        /* The lights' share fades in with the gradient: fade = min(4 |g|^2, 1) (UQ1.15; g is
+         * the blend of central differences, two value steps a voxel per unit), whole from a
+         * quarter of a value step a voxel, so that a gradient near zero, whose direction is
+         * the data's noise, cannot switch a sample between ambient and fully lit. */
+        const int64_t fade = m2 < 16384 ? 2 * m2 : C5_ONE15;
         int64_t mg[3] = {-g[0], -g[1], -g[2]}, n[3], v[3] = {-d[0], -d[1], -d[2]};
         C5_ROUND_AT(C5_RS_SHADE_NORMAL);
         c5_geom_normalize(mg, n);
@@ -263,9 +268,9 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
         /* light_term is UQ4.12, saturating (spec/layouts.toml): 8 lights of intensity
          * 15.9 would give ~2000. */
         C5_ROUND_AT(C5_RS_SHADE_K);
-        k = c5_clamp64(r->ka + c5_rshift_he(r->kd * diff, 26), 0, 65535, sat);
+        k = c5_clamp64(r->ka + c5_rshift128_he((__int128)(r->kd * diff) * fade, 26 + 15), 0, 65535, sat);
         C5_ROUND_AT(C5_RS_SHADE_KS);
-        ks = c5_clamp64(c5_rshift_he(r->ks * spec, 27), 0, 65535, sat);
+        ks = c5_clamp64(c5_rshift128_he((__int128)(r->ks * spec) * fade, 27 + 15), 0, 65535, sat);
     }
     C5_ROUND_AT(C5_RS_SHADE_CHANNEL);
     for (int ch = 0; ch < 3; ch++)

@@ -177,8 +177,9 @@ static int bright(c5_vset *s)
 
 #define P(x, y, z) {(int64_t)(x) << 15, (int64_t)(y) << 15, (int64_t)(z) << 15}
 
-/* The zero-gradient path at its threshold |g|^2 < 1024 (2^-6 in SQ8.8 squared: |g| < 1/8)
- * from both sides; a normal facing the viewer and the same gradient negated (back-facing,
+/* The zero gradient (ambient alone) and the lights' fade, min(4 |g|^2, 1), along -x (N =
+ * +x: two lights lit, nothing clamped): |g| = 0, 1/256, 1/16, 1/4, 127/256 (fading), 1/2
+ * and 1 (whole), and one gradient off the axes; a normal facing the viewer and the same gradient negated (back-facing,
  * flipped: the same result); N.H = 1 exactly (the power table's last entry) and just
  * below; every light behind (N.L < 0, and N.L = 0 exactly for the third light); a point
  * light at the sample (L = 0); saturation of every channel and of one; random cases
@@ -197,8 +198,8 @@ static int directed(c5_vset *s)
         free(r);
         return -1;
     }
-    static const int64_t zero_g[][3] = {{0, 0, 0},    {31, 0, 0},    {0, -32, 0}, {18, -18, 18},
-                                        {19, 19, -19}, {0, 0, -31}, {0, 0, -32}};
+    static const int64_t zero_g[][3] = {{0, 0, 0},    {-1, 0, 0},   {-16, 0, 0},  {-64, 0, 0},
+                                        {-127, 0, 0}, {-128, 0, 0}, {-256, 0, 0}, {9, -9, 9}};
     const int64_t rgb0[3] = {C5_ONE15, 16384, 1}, p0[3] = P(10, 10, 10), down[3] = {0, 0, -(1 << 14)},
                   up[3] = {0, 0, 1 << 14};
     for (int i = 0; i < (int)(sizeof zero_g / sizeof zero_g[0]); i++)
