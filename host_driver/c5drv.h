@@ -65,8 +65,8 @@ typedef struct {
     /* clears a halt of the IN (in = 1) or OUT endpoint */
     int (*clear_halt)(void *ctx, int in, char *msg, size_t cap);
     void (*close)(void *ctx);
-    /* Added: the board's serial number for c5drv_identify (USB: iSerialNumber), or NULL when
-     * the transport has none (this op may itself be NULL). */
+    /* The board's serial number for c5drv_identify (USB: iSerialNumber), or NULL when the
+     * transport has none (this op may itself be NULL). */
     const char *(*serial)(void *ctx);
 } c5drv_transport;
 
@@ -120,7 +120,7 @@ typedef struct {
     uint64_t fetches_served;  /* doorbells rung: cells handed to the board */
     uint64_t dma_reads;       /* dma_read requests served (descriptor and cells) */
     uint64_t bytes_served;    /* bytes sent in dma_completions */
-    uint64_t cell_bytes;      /* added: the part of bytes_served that was cell data (for MB/s) */
+    uint64_t cell_bytes;      /* the part of bytes_served that was cell data (for MB/s) */
     uint64_t fb_bytes;        /* bytes of frame buffer received */
     uint64_t interrupts;      /* interrupt packets received */
     uint64_t stall_retries;   /* clear-halts that recovered a stalled endpoint */

@@ -111,7 +111,7 @@ typedef struct {
     const c5_taps *taps;     /* observers of the blocks for golden vectors, or NULL */
     const c5_board_host *host; /* NULL: the model reads the super volume itself */
     const c5_camera *camera; /* NULL: the scene's camera of the frame (the camera registers) */
-    const c5_widths *widths; /* datapath fraction widths, NULL: shipped (widths.h; issue 8 sweep) */
+    const c5_widths *widths; /* datapath fraction widths, NULL: shipped (widths.h, cube5 sweep) */
     /* Called after every cell visit, for a progress line in long frames; NULL: none. */
     void (*progress)(void *ctx, const struct c5_board_progress *p);
     void *progress_ctx;

@@ -131,7 +131,7 @@ print("   the median of %d runs)" % max(r["runs"] for r in rtl))
 m8 = [r for r in rtl if r["cells"] == 8 and r["key"] == "morton"]
 if m8:
     worst = min(m8, key=lambda r: r["msample_positions_per_s_per_core"])
-    print("  slowest scene, 8 cells, Morton: %s at %.2f M sample positions/s per core (issue 22 target: 10)"
+    print("  slowest scene, 8 cells, Morton: %s at %.2f M sample positions/s per core (target: 20)"
           % (worst["scene"], worst["msample_positions_per_s_per_core"]))
 print("\n%-22s %5s %5s %7s %10s %9s %8s %12s %11s %7s %9s" % (
     "rtl scaling 256x256", "voxels", "cells", "threads", "samples", "leaped", "wall s", "M pos/s/core", "cycles",

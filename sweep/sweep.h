@@ -1,4 +1,4 @@
-/* The error/time sweep behind `cube5 sweep` (issue 8; docs/sweep.md): a scene rendered over
+/* The error/time sweep behind `cube5 sweep` (docs/sweep.md): a scene rendered over
  * a range of one setting ("knob") at a time, each image measured against a converged
  * reference (docs/compare.md's PSNR, RMSE and largest error) and timed.
  *

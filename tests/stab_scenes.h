@@ -1,4 +1,4 @@
-/* The scenes of the numerical stability suite (issue 8), shared by tests/test_stability.c
+/* The scenes of the numerical stability suite, shared by tests/test_stability.c
  * (the board model against cref) and tests/test_cref_precision.c (cref in double against
  * cref in long double). Each builder parses its scene, builds the super volume and applies
  * the case's edits; it returns 0, or -1 with the reason in stab_msg. Free with

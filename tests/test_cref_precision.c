@@ -1,4 +1,4 @@
-/* cref's own stability (issue 8, item 3): the stiff and extreme scenes of the stability
+/* cref's own stability: the stiff and extreme scenes of the stability
  * suite (tests/stab_scenes.c) rendered by cref in double (c5_cref_render) and in long
  * double (c5_cref_render_long, the same sources compiled with c5_real = long double,
  * cref/real.h). The difference is cref's own rounding as the display sees it; each case

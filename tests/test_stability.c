@@ -1,4 +1,4 @@
-/* Numerical stability suite (issue 8, item 2): the board model against cref on scenes built
+/* Numerical stability suite: the board model against cref on scenes built
  * to break fixed-point arithmetic: stiff transfer functions, the Marschner-Lobb signal, rays
  * along axes, cell faces, edges and corners, grazing hits, total internal reflection, two
  * parallel mirrors, cameras inside the volume and on cell boundaries, extreme fields of view,

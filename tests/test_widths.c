@@ -1,4 +1,4 @@
-/* The board model at run-time datapath widths (rtl_model/proc/widths.h, issue 8): the setter,
+/* The board model at run-time datapath widths (rtl_model/proc/widths.h): the setter,
  * the shipped widths bit for bit, and per signal that a narrower fraction costs accuracy
  * against cref (double), deterministically.
  *

@@ -1,4 +1,4 @@
-/* Datapath fraction widths the model can be run at (issue 8, `cube5 sweep`): the error a
+/* Datapath fraction widths the model can be run at (`cube5 sweep`): the error a
  * narrower signal costs, measured rather than argued. Each entry names one signal of
  * docs/bit-layouts.md; its width may be set to 1 .. its shipped fraction bits. A narrowed
  * signal keeps its container and format: where the datapath produces it, its value is

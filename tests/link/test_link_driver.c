@@ -1,4 +1,4 @@
-/* The host driver over real libusb against the emulated board on umockdev (issue 6): a frame
+/* The host driver over real libusb against the emulated board on umockdev: a frame
  * through the driver is bit-identical to the model rendering directly and the driver served
  * exactly the model's cell fetches; every injected link fault gives its documented error
  * (docs/host-protocol.md, "What the driver does when the link misbehaves"). */
