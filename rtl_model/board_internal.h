@@ -1,0 +1,104 @@
+/* The board model's state during one frame (c5_board_render), shared by the units of the board
+ * top: the frame loop (board.c), the DSP's choice of the next cell (dsp/frame_sched.c), the
+ * board's end of the multi-board link (board_link.c) and the statistics (board_stats.c).
+ * Private to rtl_model: the public interface is board.h. */
+#ifndef C5_BOARD_INTERNAL_H
+#define C5_BOARD_INTERNAL_H
+
+#include "board.h"
+#include "cell_tree_sdram.h"
+#include "cells.h"
+#include "mw_shadow.h"
+#include "processor.h"
+#include "ray_queue.h"
+#include "regs.h"
+#include "rq_heap.h"
+#include "tree_demand.h"
+
+/* The board clock: every modelled time is counted in its cycles. */
+#define C5_BD_CLOCK_HZ 100e6
+
+typedef struct {
+    uint8_t (*pk)[C5_PACKET_BYTES];
+    uint32_t *shadow;        /* beside each packet: its instrument node (tree_demand.h) */
+    size_t n, head, cap;
+} c5_sdram_queue; /* one cell's rays waiting in DSP SDRAM, FIFO */
+
+typedef struct {
+    const c5_scene *s;
+    const c5_board_opts *o;
+    c5_frame_regs r;
+    c5_cells cells;
+    c5_rdram mem;
+    c5_proc proc;
+    c5_sdram_queue *q;          /* [cells] */
+    int cycle_level;         /* 1: the active cell's sorter is edram, 0: heap (same ports) */
+    c5_rq edram;             /* the clock-level sorter (opts.queue_model C5_QUEUE_CYCLE) */
+    c5_rqh heap;             /* its equivalent model (the default) */
+    uint8_t (*slot)[C5_PACKET_BYTES]; /* eDRAM packet store, indexed by the sorter's payload */
+    uint32_t *slot_shadow;   /* beside each eDRAM packet: its instrument node */
+    c5_tree_demand demand;   /* the Cell Tree with unbounded RAM, measured beside the DSP's */
+    int group[3], ngroup[3]; /* tree_group: cells a group holds per axis, groups per axis */
+    int sgroup[3], nsgroup[3]; /* the same for schedule_group */
+    int cur_group;           /* the scheduled group being worked off, -1: none */
+    /* Following an external schedule of cells under the certificate (docs/cell-tree.md, "The
+     * certificate"): Max Work's shadow on the frame's tree, and the loads the frame may make
+     * beyond Max Work's. */
+    int certify;
+    c5_mw_shadow shadow;
+    int64_t budget;
+    uint64_t queued;         /* rays in the SDRAM queues (progress) */
+    uint32_t *free_slots;
+    uint32_t n_free;
+    uint32_t seq;            /* FIFO key */
+    uint64_t *fb;            /* frame buffer, frame_acc UQ20.12 per channel */
+    c5_board_stats *st;
+    c5_ctree *tree;          /* opts->tree or own_tree */
+    c5_ctree *own_tree;
+    c5_sdram_tree *sdram;    /* opts->sdram_tree: the DSP's tree is there instead of in tree */
+    int oom;
+    /* Several boards (opts.link): packets for other boards' cells, waiting for the exchange;
+     * while eye_probe is set, the set-up only records each pixel's first cell in px_owner. */
+    uint8_t (*out_pk)[C5_PACKET_BYTES];
+    uint16_t *out_dest;
+    size_t n_out, cap_out;
+    int eye_probe;
+    uint16_t *px_owner;      /* [pixels]: the board that generates the pixel's eye ray; UINT16_MAX: unset */
+} c5_bd;
+
+static inline size_t c5_bd_queued_in(const c5_bd *b, int c) { return b->q[c].n - b->q[c].head; }
+
+/* board.c */
+/* The group of `cell` when groups hold g[a] cells and there are ng[a] a axis. */
+int c5_bd_group_of(const c5_bd *b, int cell, const int g[3], const int ng[3]);
+/* The DSP tags a ray with its Cell Tree node and queues it in SDRAM; arrival: it comes from
+ * another cell (a spill of the active cell's own ray is not an arrival). */
+void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival);
+/* The DSP's eye rays, pixel by pixel, through the processor's set-up unit. */
+int c5_bd_generate_eye_rays(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err);
+
+/* dsp/frame_sched.c: the DSP's choice of the next cell during the frame. */
+/* The queues the set-up left against the previous frame's (stale_plan.h): 1 the same rays in
+ * the same cells, 0 no cell in common. */
+double c5_bd_start_overlap(c5_bd *b);
+/* The frame's budget, after the set-up (ledger.h). */
+void c5_bd_set_budget(c5_bd *b);
+/* The certificate's shadow cannot go on: Max Work on the board's queues chooses the rest. */
+void c5_bd_certificate_lost(c5_bd *b);
+/* Which cell to load next, or -1 when every queue is empty. */
+int c5_bd_schedule(c5_bd *b, int *sched_pos);
+
+/* board_link.c: the board's end of the link between boards (opts.link). */
+/* A ray the processor hands on: during the eye-ray probe records the pixel's owner; a ray for
+ * another board's cell goes into the out-box. 1: taken here. */
+int c5_bd_link_enqueue(c5_bd *b, const c5_bray *r);
+/* Which board generates each pixel's eye ray (px_owner). */
+int c5_bd_eye_owners(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err);
+/* The next cell to load, exchanging with the other boards while this one's queues are empty.
+ * -1: the frame is over, -2: an error (err set). */
+int c5_bd_next_cell(c5_bd *b, int *sched_pos, c5_err *err);
+
+/* board_stats.c: the frame's statistics from the processor, the queues and the trees. */
+void c5_bd_collect_stats(c5_bd *b);
+
+#endif
