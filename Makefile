@@ -227,7 +227,7 @@ REF_SO := $(BUILD)/libc5ref.so
 # REF_MODEL_SRC: the model sources the references call into and what they use (the link
 # fails on anything missing).
 REF_MODEL_SRC := rtl_model/proc/ray_queue.c rtl_model/dsp/cell_tree.c rtl_model/proc/processor.c rtl_model/proc/fixed.c rtl_model/mem/cells.c rtl_model/proc/geom.c \
-  rtl_model/proc/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/nrrd_precheck.c \
+  rtl_model/proc/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/voxel.c common/nrrd_precheck.c \
   common/generators.c common/tlp.c
 REF_SRC := $(wildcard fpga/ref/*.c) $(REF_MODEL_SRC)
 $(REF_SO): $(REF_SRC) $(wildcard fpga/ref/*.h $(MODEL_DIRS:%=%/*.h) common/*.h) $(LAYOUTS_H) $(REGS_H)
@@ -327,7 +327,7 @@ C5_SOVERSION := $(firstword $(subst ., ,$(C5_VERSION)))
 DRV_SONAME := libc5drv.so.$(C5_SOVERSION)
 DRV_SO     := $(BUILD)/libc5drv.so.$(C5_VERSION)
 DRV_STATIC := $(BUILD)/pic/libc5drv.a
-DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/voxsrc.c common/tlp.c common/volume.c common/nrrd_precheck.c \
+DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/voxsrc.c common/tlp.c common/volume.c common/voxel.c common/nrrd_precheck.c \
   common/generators.c common/tf.c common/camera.c rtl_model/mem/cells.c rtl_model/proc/regs.c rtl_model/model_limits.c \
   rtl_model/proc/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c \
   common/atomic_file.c

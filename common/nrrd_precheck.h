@@ -21,7 +21,7 @@
 #include <stddef.h>
 
 #include "err.h"
-#include "volume.h"
+#include "voxel.h"
 
 /* Teem formats some messages, a header line included, into a 1025-byte stack buffer
  * (biff's _HACK_STRLEN, with vsprintf); 400 leaves room for two copies of a line and

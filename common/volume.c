@@ -15,56 +15,7 @@
 #include <teem/nrrd.h>
 
 #include "nrrd_precheck.h"
-
-/* ---- dims ------------------------------------------------------------------------ */
-
-/* Overflow-safe a*b: 0, or -1 when the product does not fit a size_t. */
-static int mul_size(size_t a, size_t b, size_t *r)
-{
-    if (a != 0 && b > SIZE_MAX / a)
-        return -1;
-    *r = a * b;
-    return 0;
-}
-
-static int dims_overflow(const size_t dims[3], size_t *count)
-{
-    size_t n = 1;
-    for (int i = 0; i < 3; i++)
-        if (mul_size(n, dims[i], &n) != 0)
-            return -1;
-    *count = n;
-    return 0;
-}
-
-static int dims_in_range(const size_t dims[3])
-{
-    for (int i = 0; i < 3; i++)
-        if (dims[i] < 1 || dims[i] > C5_VOLUME_MAX_DIM)
-            return 0;
-    return 1;
-}
-
-int c5_dims_product(const size_t dims[3], size_t *count)
-{
-    size_t n;
-    if (!dims_in_range(dims) || dims_overflow(dims, &n) != 0 || n > C5_VOLUME_MAX_VOXELS)
-        return -1;
-    *count = n;
-    return 0;
-}
-
-int c5_dims_fail(const char *path, const size_t d[3], c5_err *err)
-{
-    size_t n = 0;
-    if (dims_overflow(d, &n) != 0)
-        return c5_fail(err, "%s: dims %zux%zux%zu overflow", path, d[0], d[1], d[2]);
-    if (!dims_in_range(d))
-        return c5_fail(err, "%s: dims %zux%zux%zu: every dim must be 1..%u", path, d[0], d[1],
-                       d[2], C5_VOLUME_MAX_DIM);
-    return c5_fail(err, "%s: dims %zux%zux%zu: %zu voxels exceed the limit of %zu", path, d[0],
-                   d[1], d[2], n, (size_t)C5_VOLUME_MAX_VOXELS);
-}
+#include "voxel.h"
 
 static size_t voxel_size(c5_voxel_type t) { return t == C5_VOX_U16 ? 2 : 1; }
 
@@ -145,26 +96,6 @@ int c5_scivis_name(const char *path, size_t dims[3], c5_voxel_type *type)
 
 /* ---- raw ------------------------------------------------------------------------- */
 
-int c5_open_regular(const char *path, const char *where, long long *size, c5_err *err)
-{
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0)
-        return c5_fail(err, "%s: cannot open: %s", where, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        c5_fail(err, "%s: cannot stat: %s", where, strerror(errno));
-        close(fd);
-        return -1;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        c5_fail(err, "%s: not a regular file", where);
-        close(fd);
-        return -1;
-    }
-    *size = (long long)st.st_size;
-    return fd;
-}
-
 static FILE *open_regular(const char *path, long long *size, c5_err *err)
 {
     int fd = c5_open_regular(path, path, size, err);
@@ -234,7 +165,7 @@ int c5_volume_load_raw(const char *path, const c5_raw_spec *spec, c5_volume *out
         fclose(f);
         return -1;
     }
-    if (c5_dims_product(dims, &count) != 0 || mul_size(count, voxel_size(type), &bytes) != 0) {
+    if (c5_dims_product(dims, &count) != 0 || c5_mul_size(count, voxel_size(type), &bytes) != 0) {
         fclose(f);
         return c5_dims_fail(path, dims, err);
     }
@@ -514,7 +445,7 @@ static int raw_open(const char *path, const c5_raw_spec *spec, c5_volume_file *o
         close(fd);
         return -1;
     }
-    if (c5_dims_product(out->dims, &count) != 0 || mul_size(count, voxel_size(out->type), &bytes) != 0) {
+    if (c5_dims_product(out->dims, &count) != 0 || c5_mul_size(count, voxel_size(out->type), &bytes) != 0) {
         close(fd);
         return c5_dims_fail(path, out->dims, err);
     }
