@@ -13,6 +13,7 @@
 #include "dsp_cost.h"
 #include "dsp_sched.h"
 #include "progress.h"
+#include "sched_report.h"
 
 static const char usage_text[] =
     "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size N|WxH]\n"
@@ -722,7 +723,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
     row->board_s_maxwork = mw.board_s;
-    c5_dsp_sched_opts so = {.rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
+    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
                             .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]},
                             .local_window = a->local_window >= 3 ? (int)a->local_window : -1,
                             .walk_steps = (int)a->local_walk};

@@ -10,6 +10,7 @@
 #include "dsp_sched.h"
 #include "harness.h"
 #include "scene_load.h"
+#include "sched_report.h"
 
 /* Figure 3's trace (test_cell_tree.c) on the SDRAM tree: the same nodes, and the index a packet
  * carries names its node within the cell it is queued for. */
@@ -166,7 +167,7 @@ TEST(sdram_tree_on_the_board_is_the_onchip_tree)
     CHECK(same);
     CHECK(rays_sdram > 0 && rays_sdram == rays_onchip);
     /* The DSP's schedule by the paper's rule is the same from either RAM. */
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES};
     c5_dsp_sched_result ra, rb;
     c5_err err;
     CHECK_INT(c5_dsp_schedule(&onchip, &so, &ra, &err), 0);
@@ -212,7 +213,7 @@ TEST(sdram_tree_overflow_on_the_board)
     CHECK(!memcmp(a.rgb, b.rgb, sizeof(float) * 3 * (size_t)a.w * (size_t)a.h));
     CHECK_INT(sb.tree_overflow, 1);
     CHECK(sb.tree_nodes <= 51);
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_WINDOW};
+    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_WINDOW};
     c5_dsp_sched_result r;
     c5_err err;
     CHECK_INT(c5_dsp_schedule_sdram(&s, &so, &r, &err), 0);

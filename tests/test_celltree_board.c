@@ -9,6 +9,7 @@
 #include "tree_analysis.h"
 #include "harness.h"
 #include "scene_load.h"
+#include "sched_report.h"
 
 static c5_scene scene;
 static c5_supervol grid;
@@ -89,7 +90,7 @@ TEST(celltree_same_tree_and_bits_whatever_the_scheduler)
     CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_MINWORK, .tree = &trees[1]}, &b, &sb) == 0);
     c5_dsp_sched_result r;
     c5_err err;
-    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){0}, &r, &err) == 0);
+    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){.report = c5_dsp_sched_report}, &r, &err) == 0);
     CHECK(r.next.len > 0);
     CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
                                     .schedule_len = r.next.len, .tree = &trees[2]}, &c, &sc) == 0);
@@ -129,7 +130,7 @@ TEST(celltree_own_schedule_covers_the_frame)
         c5_err err;
         /* The 27-cell tree without the local search and walk (tree_local_walk_random and
          * tree_bound_sandwich_random check those; here they cost a minute of CPU). */
-        c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES, .all_rules = 1, .exact_states = 200000,
+        c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES, .all_rules = 1, .exact_states = 200000,
                                 .exact_nodes = 4096, .local_window = k == 2 ? -1 : 0};
         CHECK(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0);
         CHECK(render(0, (c5_board_opts){.cells = {splits[k][0], splits[k][1], splits[k][2]},
@@ -191,7 +192,7 @@ TEST(celltree_overflow_keeps_the_frame_and_drops_the_schedule)
     CHECK(sb.tree_slots <= 12);
     c5_dsp_sched_result r;
     c5_err err;
-    CHECK(c5_dsp_schedule(&trees[1], &(c5_dsp_sched_opts){.exact_states = 1000, .exact_nodes = 64}, &r, &err) == 0);
+    CHECK(c5_dsp_schedule(&trees[1], &(c5_dsp_sched_opts){.report = c5_dsp_sched_report, .exact_states = 1000, .exact_nodes = 64}, &r, &err) == 0);
     CHECK(r.overflow && r.next.len == 0 && r.optimum == -1);
     /* Following an empty schedule is Max Work from the first fetch. */
     c5_board_stats sc;
@@ -256,7 +257,7 @@ TEST(celltree_over_groups_is_followed_group_by_group)
     free(id);
     c5_dsp_sched_result r;
     c5_err err;
-    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){0}, &r, &err) == 0);
+    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){.report = c5_dsp_sched_report}, &r, &err) == 0);
     CHECK(r.next.len > 0);
     c5_ctree_init(&trees[1], 0);
     c5_board_opts f = {.cells = {4, 4, 4}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
@@ -290,7 +291,7 @@ TEST(celltree_partial_schedule_of_an_overflowed_tree)
     CHECK(sa.tree_overflow);
     c5_dsp_sched_result r;
     c5_err err;
-    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){.partial = 1, .exact_states = 1000}, &r, &err) == 0);
+    CHECK(c5_dsp_schedule(&trees[0], &(c5_dsp_sched_opts){.report = c5_dsp_sched_report, .partial = 1, .exact_states = 1000}, &r, &err) == 0);
     CHECK(r.overflow && r.next.len > 0);
     CHECK(r.optimum == -1 && r.len_lookahead == 0); /* no bounds or other rules for a partial tree */
     CHECK(render(0, (c5_board_opts){.cells = {3, 3, 3}, .sched = C5_SCHED_EXTERNAL, .schedule = r.next.cells,
@@ -318,7 +319,7 @@ TEST(celltree_512_cells_scheduled_and_followed)
     CHECK(!trees[0].overflow && trees[0].nodes > 64);
     c5_dsp_sched_result r;
     c5_err err;
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES, .all_rules = 1, .exact_states = 1000, .exact_nodes = 4096,
+    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES, .all_rules = 1, .exact_states = 1000, .exact_nodes = 4096,
                             .split = {8, 8, 8}};
     CHECK_MSG(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0, "%s", err.msg);
     CHECK(r.next.len > 0);
@@ -390,7 +391,7 @@ TEST(celltree_fetch_log_warms_the_window_rule)
     free(id);
     c5_dsp_sched_result r;
     c5_err err;
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_WINDOW, .all_rules = 1, .warm = log, .warm_len = (int)mw.fetches};
+    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_WINDOW, .all_rules = 1, .warm = log, .warm_len = (int)mw.fetches};
     CHECK_MSG(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0, "%s", err.msg);
     CHECK(r.next.len > 0 && r.next.len <= r.len_paper && r.next.len <= (int)mw.fetches);
     CHECK_INT(r.next.warm, (int)mw.fetches < r.len_paper);

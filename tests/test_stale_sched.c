@@ -14,6 +14,7 @@
 #include "ledger.h"
 #include "rng.h"
 #include "scene_load.h"
+#include "sched_report.h"
 
 static c5_scene scene;
 static c5_supervol grid;
@@ -115,7 +116,7 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, uint64_t
         }
         c5_image_free(&a);
         c5_err err;
-        c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+        c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES};
         c5_dsp_sched_result next;
         c5_stale_plan now_plan;
         if (c5_dsp_schedule(tree, &so, &next, &err) != 0 ||
@@ -238,7 +239,7 @@ static int own_frame(const char *name, int size, uint32_t *node_rays, c5_image *
                      c5_dsp_sched_result *sch)
 {
     c5_err err;
-    c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES};
     if (load(name, size) != 0)
         return -1;
     c5_ctree_init(&trees[0], 0);
@@ -360,7 +361,7 @@ TEST(stale_replay_is_exact_on_the_own_tree)
             c5_err err;
             c5_dsp_sched_result sch;
             c5_stale_plan p;
-            c5_dsp_sched_opts so = {.rule = C5_SPLIT_MOST_LEAVES};
+            c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES};
             CHECK(render(&o, &img, &st) == 0);
             CHECK(c5_dsp_schedule(&trees[0], &so, &sch, &err) == 0);
             CHECK(c5_stale_plan_make(&trees[0], node_rays, sch.next.cells, sch.next.len, NULL, 0, &p, &err) == 0);

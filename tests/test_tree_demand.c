@@ -11,6 +11,7 @@
 #include "harness.h"
 #include "rng.h"
 #include "tree_demand.h"
+#include "sched_report.h"
 
 /* The same tag sequence through the DSP's tree and the instrument: the same answers (up to
  * numbering: the same node for the same (node, cell) question), nodes and slots, for five
@@ -99,7 +100,7 @@ TEST(demand_on_the_board)
     /* The instrument's sum of maxGen: the scheduler's where the tree fits, the same where it
      * does not, and at most any order of loads of the frame (Max Work's fetches). */
     c5_dsp_sched_result r;
-    CHECK(c5_dsp_schedule(&big, &(c5_dsp_sched_opts){.rule = C5_SPLIT_MOST_LEAVES}, &r, &err) == 0);
+    CHECK(c5_dsp_schedule(&big, &(c5_dsp_sched_opts){.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES}, &r, &err) == 0);
     CHECK(r.sum_maxgen > 0);
     CHECK_INT(sa.tree_demand_sum_maxgen, r.sum_maxgen);
     CHECK_INT(sb.tree_demand_sum_maxgen, r.sum_maxgen);

@@ -14,6 +14,7 @@
 #include "dsp_sched.h"
 #include "harness.h"
 #include "ray_queue.h"
+#include "sched_report.h"
 
 #define GOLDEN "vectors/golden"
 #define MAX_COLS 32
@@ -251,7 +252,7 @@ TEST(vectors_replay_sched)
         /* The tagging unit's overflow flag and the DSP's choice for such a tree, from the
          * config: the RAM image alone cannot tell a full tree from a frozen one. */
         t.overflow = config_is(names[k], "overflow", NULL);
-        c5_dsp_sched_opts o = {.rule = C5_SPLIT_MOST_LEAVES, .partial = config_is(names[k], "on_overflow", "partial")};
+        c5_dsp_sched_opts o = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES, .partial = config_is(names[k], "on_overflow", "partial")};
         c5_dsp_sched_result r;
         c5_err err;
         CHECK_MSG(c5_dsp_schedule(&t, &o, &r, &err) == 0, "%s", err.msg);

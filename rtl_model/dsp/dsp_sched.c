@@ -6,7 +6,6 @@
 #include "dsp_sched.h"
 #include "clock.h"
 #include "dsp_cost.h"
-#include "sched_report.h"
 
 void c5_dsp_sched_free(c5_dsp_sched_result *r)
 {
@@ -95,8 +94,8 @@ int c5_dsp_schedule(c5_ctree *t, const c5_dsp_sched_opts *o, c5_dsp_sched_result
     r->dsp_ops_export = (uint64_t)n * C5_OPS_NODE_READ;
     r->dsp_ops_writeback = (uint64_t)n * C5_OPS_NODE_WRITE;
     r->dsp_ops_schedule = r->dsp_ops_export + r->dsp_ops_rule + r->dsp_ops_writeback;
-    /* The report's: the other rules and the bounds (offline analysis, sched_report.c). */
-    rc = report ? c5_dsp_sched_report(&dt, o->rule ? o->rule : C5_SPLIT_MOST_LEAVES, o, r, err) : 0;
+    /* The report's: the other rules and the bounds (offline analysis, when handed in). */
+    rc = report && o->report ? o->report(&dt, o->rule ? o->rule : C5_SPLIT_MOST_LEAVES, o, r, err) : 0;
 done:
     free(parent);
     free(cell);
@@ -138,7 +137,7 @@ int c5_dsp_schedule_sdram(const c5_sdram_tree *t, const c5_dsp_sched_opts *o, c5
     r->dsp_ops_export = (uint64_t)t->slots * C5_OPS_SDRAM_NODE;
     r->dsp_ops_writeback = (uint64_t)n * C5_OPS_SDRAM_NODE;
     r->dsp_ops_schedule = r->dsp_ops_export + r->dsp_ops_rule + r->dsp_ops_writeback;
-    rc = c5_dsp_sched_report(&dt, o->rule ? o->rule : C5_SPLIT_MOST_LEAVES, o, r, err);
+    rc = o->report ? o->report(&dt, o->rule ? o->rule : C5_SPLIT_MOST_LEAVES, o, r, err) : 0;
 done:
     free(parent);
     free(cell);

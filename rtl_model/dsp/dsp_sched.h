@@ -25,7 +25,8 @@
 #define C5_DSP_WALK_STEPS 500 /* the steps scripts/optimum-study.sh and sched-rules.sh ask for */
 #define C5_DSP_WALK_SEED 1
 
-typedef struct {
+struct c5_dsp_sched_result;
+typedef struct c5_dsp_sched_opts {
     c5_split_rule rule; /* whose schedule the next frame follows; 0: C5_SPLIT_MOST_LEAVES */
     int all_rules;      /* also run the other rules, for their lengths (len_*); on trees with a
                            cell id >= C5_BOUND_MAX_CELLS (more than 64 cells) each under a cap of
@@ -61,9 +62,15 @@ typedef struct {
     /* The window rule resumes its sweeps there (c5_sched_window_resume; NULL: from the start):
      * where the DSP's refinement of the same tree stopped (c5_dsp_refine). */
     const c5_window_cursor *resume;
+    /* The offline report beside the schedule (analysis/sched_report.h, c5_dsp_sched_report:
+     * the other rules and the bounds above), run on the exported tree; NULL: none. The DSP
+     * computes none of it on the board, so the DSP's code does not depend on the analysis:
+     * the caller that wants the report hands it in. */
+    int (*report)(const c5_dep_tree *dt, c5_split_rule rule, const struct c5_dsp_sched_opts *o,
+                  struct c5_dsp_sched_result *r, c5_err *err);
 } c5_dsp_sched_opts;
 
-typedef struct {
+typedef struct c5_dsp_sched_result {
     int nodes, slots, overflow; /* the tree as found in the RAM */
     int lower_bound;            /* the best proven bound on the optimum (tree_sched.h) */
     int best_known;             /* the shortest schedule known: the optimum when found, else the

@@ -10,6 +10,7 @@
 #include "dsp_sched.h"
 #include "rng.h"
 #include "tree_image.h"
+#include "sched_report.h"
 
 static const c5_vfield fields[] = {
     {"step", 16, 1, "uint"},
@@ -27,7 +28,7 @@ static const c5_vblock block = {"sched",
 static int write_case(c5_vset *s, const char *source, const char *scene, c5_ctree *t, int partial)
 {
     c5_vec_tree_image(s, block.name, source, scene, "in", t, 1);
-    c5_dsp_sched_opts o = {.rule = C5_SPLIT_MOST_LEAVES, .partial = partial};
+    c5_dsp_sched_opts o = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES, .partial = partial};
     c5_dsp_sched_result r;
     if (c5_dsp_schedule(t, &o, &r, s->err) != 0)
         return -1;
