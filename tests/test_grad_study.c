@@ -5,25 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtin_scenes.h"
 #include "generators.h"
 #include "grad_study.h"
 #include "harness.h"
-
-static int load_builtin(const char *name, int size, c5_scene *s, c5_supervol *sv)
-{
-    c5_err err;
-    if (c5_scene_parse(c5_builtin_scene_json(name), NULL, name, s, &err) != 0) {
-        printf("    %s\n", err.msg);
-        return -1;
-    }
-    s->render.width = s->render.height = size;
-    if (c5_supervol_build(s, sv, &err) != 0) {
-        printf("    %s\n", err.msg);
-        return -1;
-    }
-    return 0;
-}
+#include "scene_load.h"
 
 /* Edges over at least 6 voxels: the shell (0.9 of 255) rises through a smoothstep whose
  * steepest slope is 1.5 / width, so no voxel differs from its neighbour by more than
@@ -35,7 +20,7 @@ TEST(blobs_edges_are_band_limited)
     for (int n = 0; n < 2; n++) {
         static c5_scene s;
         c5_supervol sv;
-        CHECK(load_builtin(names[n], 16, &s, &sv) == 0);
+        CHECK(c5t_load_scene(names[n], 16, &s, &sv) == 0);
         int worst = 0;
         for (long k = 0; k < (long)sv.dims[2]; k++)
             for (long j = 0; j < (long)sv.dims[1]; j++)
@@ -91,7 +76,7 @@ TEST(grad_study_builtin_scenes_keep_no_rings)
         c5_supervol sv;
         c5_err err;
         c5_grad_study r;
-        CHECK(load_builtin(cases[n].name, 96, &s, &sv) == 0);
+        CHECK(c5t_load_scene(cases[n].name, 96, &s, &sv) == 0);
         CHECK_MSG(c5_grad_study_run(&s, &sv, 0, &r, &err) == 0, "%s", err.msg);
         printf("    %s: central %.2f dB / %.5f, spline %.2f / %.5f, board %.2f / %.5f\n", cases[n].name,
                r.psnr_db[C5_GS_CENTRAL], r.fine[C5_GS_CENTRAL], r.psnr_db[C5_GS_SPLINE], r.fine[C5_GS_SPLINE],
@@ -110,13 +95,11 @@ TEST(grad_study_refuses_a_volume_it_cannot_model)
     c5_supervol sv;
     c5_err err;
     c5_grad_study r;
-    CHECK_MSG(c5_scene_parse("{\"volumes\": [{\"generator\": \"ramp\", \"dims\": [8, 8, 8]}],"
-                             " \"transfer_function\": {\"opacity\": [[0, 0], [255, 1]],"
-                             " \"color\": [[0, 1, 1, 1], [255, 1, 1, 1]]},"
-                             " \"camera\": {\"eye\": [4, -20, 4], \"target\": [4, 4, 4]}}",
-                             NULL, "t", &s, &err) == 0 &&
-                  c5_supervol_build(&s, &sv, &err) == 0,
-              "%s", err.msg);
+    CHECK(c5t_load_scene("{\"volumes\": [{\"generator\": \"ramp\", \"dims\": [8, 8, 8]}],"
+                         " \"transfer_function\": {\"opacity\": [[0, 0], [255, 1]],"
+                         " \"color\": [[0, 1, 1, 1], [255, 1, 1, 1]]},"
+                         " \"camera\": {\"eye\": [4, -20, 4], \"target\": [4, 4, 4]}}",
+                         0, &s, &sv) == 0);
     CHECK(!c5_grad_study_applies(&s, &sv));
     CHECK(c5_grad_study_run(&s, &sv, 0, &r, &err) == -1 && strstr(err.msg, "gradient study needs"));
     c5_supervol_free(&sv);
