@@ -73,17 +73,9 @@ static int check_max(double v, double max, const char *what, c5_err *err)
     return 0;
 }
 
-int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts *o, c5_frame_regs *r, c5_err *err)
+/* The limits the ray packet's fields put on the frame, and the run-time datapath widths. */
+static int packet_limits(const c5_scene *s, const c5_board_opts *o, int cells, c5_frame_regs *r, c5_err *err)
 {
-    memset(r, 0, sizeof *r);
-    int cells = 1;
-    for (int a = 0; a < 3; a++)
-        cells *= o->cells[a] > 1 ? o->cells[a] : 1;
-    r->st = c5_regs_stages(s, sv, cells);
-    if (o->all_stages) {
-        r->st.gradients = !c5_supervol_empty(sv) && s->render.shading; /* computed even without lights */
-        r->st.shadow = r->st.reflect = r->st.refract = 1;
-    }
     if (s->render.width > 512 || s->render.height > 512)
         return c5_fail(err, "image %dx%d: the ray packet's destination (9+9 bits) holds images up to 512x512",
                        s->render.width, s->render.height);
@@ -102,10 +94,14 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
                                c5_width_name((c5_width_id)i), w, shipped);
             r->nsh[i] = shipped - w;
         }
+    return 0;
+}
 
-    r->has_volume = !c5_supervol_empty(sv);
-    double smin = r->has_volume ? c5_supervol_min_spacing(sv) : 1;
-    double step = r->has_volume ? c5_render_step(s, sv) : 1;
+/* The grid's registers: dims, step and scales per axis, the transfer-function table; with no
+ * grid, the unit scales the hit unit needs. */
+static int grid_regs(const c5_scene *s, const c5_supervol *sv, const c5_board_opts *o, double smin, double step,
+                     c5_frame_regs *r, c5_err *err)
+{
     if (r->has_volume) {
         double sp[3] = {sv->spacing.x, sv->spacing.y, sv->spacing.z}, diag = 0;
         for (int a = 0; a < 3; a++) {
@@ -159,16 +155,11 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
             r->vscale[a] = (int64_t)1 << 20;
         }
     }
-    if (check_max(s->tf.ambient, 16, "shading.ambient", err) || check_max(s->tf.diffuse, 16, "shading.diffuse", err) ||
-        check_max(s->tf.specular, 16, "shading.specular", err))
-        return -1;
-    r->ka = c5_regs_fx(s->tf.ambient, 12, 0, 65535);
-    r->kd = c5_regs_fx(s->tf.diffuse, 12, 0, 65535);
-    r->ks = c5_regs_fx(s->tf.specular, 12, 0, 65535);
-    for (int i = 0; i <= 1 << C5_POW_BITS; i++)
-        r->pow_tab[i] = (int32_t)c5_regs_fx(pow(ldexp(i, -C5_POW_BITS), s->tf.specular_power), 15, 0, C5_ONE15);
-    r->a_max = c5_regs_fx(s->render.max_opacity, 15, 1, C5_ONE15);
+    return 0;
+}
 
+static int light_regs(const c5_scene *s, const c5_supervol *sv, c5_frame_regs *r, c5_err *err)
+{
     r->n_lights = s->n_lights;
     for (int i = 0; i < s->n_lights; i++) {
         const c5_light *l = &s->lights[i];
@@ -185,6 +176,11 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
             c5_regs_unit14(v3_scale(l->direction, -1), lr->dir);
         }
     }
+    return 0;
+}
+
+static int surface_regs(const c5_scene *s, const c5_supervol *sv, double smin, c5_frame_regs *r, c5_err *err)
+{
     r->n_surfaces = s->n_surfaces;
     for (int i = 0; i < s->n_surfaces; i++) {
         const c5_surface *f = &s->surfaces[i];
@@ -215,6 +211,39 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
         q->eta_in = c5_regs_fx(1 / m->ior, 28, 0, (int64_t)16 << 28);
         q->eta_out = c5_regs_fx(m->ior, 28, 0, (int64_t)16 << 28);
     }
+    return 0;
+}
+
+int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts *o, c5_frame_regs *r, c5_err *err)
+{
+    memset(r, 0, sizeof *r);
+    int cells = 1;
+    for (int a = 0; a < 3; a++)
+        cells *= o->cells[a] > 1 ? o->cells[a] : 1;
+    r->st = c5_regs_stages(s, sv, cells);
+    if (o->all_stages) {
+        r->st.gradients = !c5_supervol_empty(sv) && s->render.shading; /* computed even without lights */
+        r->st.shadow = r->st.reflect = r->st.refract = 1;
+    }
+    if (packet_limits(s, o, cells, r, err) != 0)
+        return -1;
+    r->has_volume = !c5_supervol_empty(sv);
+    double smin = r->has_volume ? c5_supervol_min_spacing(sv) : 1;
+    double step = r->has_volume ? c5_render_step(s, sv) : 1;
+    if (grid_regs(s, sv, o, smin, step, r, err) != 0)
+        return -1;
+    if (check_max(s->tf.ambient, 16, "shading.ambient", err) || check_max(s->tf.diffuse, 16, "shading.diffuse", err) ||
+        check_max(s->tf.specular, 16, "shading.specular", err))
+        return -1;
+    r->ka = c5_regs_fx(s->tf.ambient, 12, 0, 65535);
+    r->kd = c5_regs_fx(s->tf.diffuse, 12, 0, 65535);
+    r->ks = c5_regs_fx(s->tf.specular, 12, 0, 65535);
+    for (int i = 0; i <= 1 << C5_POW_BITS; i++)
+        r->pow_tab[i] = (int32_t)c5_regs_fx(pow(ldexp(i, -C5_POW_BITS), s->tf.specular_power), 15, 0, C5_ONE15);
+    r->a_max = c5_regs_fx(s->render.max_opacity, 15, 1, C5_ONE15);
+
+    if (light_regs(s, sv, r, err) != 0 || surface_regs(s, sv, smin, r, err) != 0)
+        return -1;
     r->min_w = c5_regs_fx(s->render.min_weight, 15, 0, C5_ONE15);
     r->min_rgb = c5_regs_fx(s->render.min_weight, 12, 0, C5_RGB_MAX);
     r->max_bounces = s->render.max_bounces;
