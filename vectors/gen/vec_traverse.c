@@ -124,13 +124,13 @@ static void at(int64_t p[3], double x, double y, double z)
  * random grids and cells (a tenth anywhere near the grid; lifetimes 0, small, any and
  * unbounded); then the largest steps the frame set-up makes, 1,023- and 1-voxel axes with a
  * step to the largest SQ10.15 position, a step onto the grid's corner. */
-static int directed(c5_vset *s)
+static const box GRID_W = {{0, 0, 0}, {40, 33, 20}, {40, 33, 20}};
+static const box CELL_B = {{5, 9, 3}, {21, 26, 13}, {40, 33, 20}};
+
+/* The grid's and cell B's faces, lifetimes, leaps and the step vectors' extreme codes. */
+static void geometry_cases(c5_vfile *f)
 {
-    c5_vfile *f = c5_vfile_open(s, &block, "directed", NULL, NULL);
-    if (!f)
-        return -1;
-    const box W = {{0, 0, 0}, {40, 33, 20}, {40, 33, 20}};
-    const box B = {{5, 9, 3}, {21, 26, 13}, {40, 33, 20}};
+    const box W = GRID_W, B = CELL_B;
     const uint32_t NONE = C5_LIFE_NONE;
     const int64_t S1[3] = {3000, -1200, 700};
     int64_t p[3], q[3];
@@ -197,6 +197,12 @@ static int directed(c5_vset *s)
     at(q, 20.5, 20.5, 12.5);
     vec(f, &W, q, Smax, NONE, 0, NULL);
     vec(f, &W, q, Smax, NONE, 1, NULL);
+}
+
+/* Random steps in random grids and cells. */
+static void random_cases(c5_vfile *f, const c5_vset *s)
+{
+    int64_t q[3];
     uint64_t rng = s->seed ^ 0x7472617665ull; /* "trave" */
     for (long i = 0; i < s->count; i++) {
         box b;
@@ -238,6 +244,14 @@ static int directed(c5_vset *s)
         int empty = in_grid && (c5_splitmix64(&rng) & 1);
         vec(f, &b, q, S, life, empty, NULL);
     }
+}
+
+/* The largest steps the frame set-up makes, the largest grid's axes, the grid's corner. */
+static void extreme_cases(c5_vfile *f)
+{
+    const box W = GRID_W;
+    const uint32_t NONE = C5_LIFE_NONE;
+    int64_t p[3], q[3];
     /* Appended after the random cases, which keep their lines. The largest step component
      * the frame set-up makes: step_k below 7.99 (regs.c refuses step / spacing >= 7.99) is
      * at most round(7.99 2^20), times a unit component of +-1: |S| = 261816 (7.99 voxels). */
@@ -274,6 +288,16 @@ static int directed(c5_vset *s)
     at(q, 2, 2, 2);
     vec(f, &W, q, Scorner, 100, 0, p);  /* pos' exactly 0 on every axis: the grid's corner */
     vec(f, &W, p, Scorner, 99, 0, NULL); /* the sample there; pos' one step outside */
+}
+
+static int directed(c5_vset *s)
+{
+    c5_vfile *f = c5_vfile_open(s, &block, "directed", NULL, NULL);
+    if (!f)
+        return -1;
+    geometry_cases(f);
+    random_cases(f, s);
+    extreme_cases(f);
     c5_vfile_set(f, "config", config());
     c5_vfile_close(f);
     return 0;
