@@ -1,38 +1,52 @@
 /* --boards and friends; the per-board report. */
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "boards_cli.h"
 #include "cli.h"
 
-int c5_boards_option(int argc, char **argv, int *i, c5_boards_args *b, c5_err *err)
+static int assign_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
-    const char *o = argv[*i];
-    if (strcmp(o, "--boards") && strcmp(o, "--assign") && strcmp(o, "--link-bw") && strcmp(o, "--link-latency"))
-        return 0;
-    if (*i + 1 >= argc)
-        return c5_fail(err, "%s: missing value", o);
-    const char *v = argv[++*i];
-    b->given = 1;
-    if (!strcmp(o, "--boards"))
-        return c5_cli_int(o, v, 1, C5_MB_MAX_BOARDS, &b->boards, err) ? -1 : 1;
-    if (!strcmp(o, "--assign")) {
-        if (!(b->mo.assign = c5_assign_parse(v)))
-            return c5_fail(err, "--assign: expected kd, slab, mod or tree, got '%s'", v);
-        return 1;
-    }
-    double x;
-    if (!strcmp(o, "--link-bw")) {
-        if (c5_cli_double(o, v, 0.001, 1e9, &x, err))
-            return -1;
-        b->mo.link_bw = x * 1e6;
-        return 1;
-    }
-    if (c5_cli_double(o, v, 0, 1e9, &x, err))
-        return -1;
-    b->mo.link_latency_s = x > 0 ? x * 1e-6 : -1;
-    return 1;
+    c5_mb_opts *mo = field;
+    if (!(mo->assign = c5_assign_parse(v)))
+        return c5_fail(err, "%s: expected kd, slab, mod or tree, got '%s'", o->name, v);
+    return 0;
 }
+
+static int link_bw_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    double x;
+    if (c5_cli_double(o->name, v, 0.001, 1e9, &x, err))
+        return -1;
+    ((c5_mb_opts *)field)->link_bw = x * 1e6;
+    return 0;
+}
+
+static int link_latency_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    double x;
+    if (c5_cli_double(o->name, v, 0, 1e9, &x, err))
+        return -1;
+    ((c5_mb_opts *)field)->link_latency_s = x > 0 ? x * 1e-6 : -1;
+    return 0;
+}
+
+#define GIVEN C5_SEEN(c5_boards_args, given)
+const c5_opt c5_boards_opts[] = {
+    {"--boards", "N", c5_opt_long, offsetof(c5_boards_args, boards), 1, C5_MB_MAX_BOARDS, GIVEN,
+     "rtl only: N boards share the super volume, one MPI rank each: run as 'mpirun -np N cube5 ... --boards N' "
+     "(docs/multi-board.md); the image is the same bits for any N"},
+    {"--assign", "R", assign_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
+     "how cells go to boards: kd (default, a k-d split), slab, mod (scattered), or tree (from the previous frame's "
+     "rays between cells; kd in frame 0)"},
+    {"--link-bw", "MB/S", link_bw_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
+     "inter-board link bandwidth each way per board (default 125: Gigabit Ethernet)"},
+    {"--link-latency", "US", link_latency_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
+     "inter-board latency per exchange round in us (default 50)"},
+    {0},
+};
+#undef GIVEN
 
 /* One board: the collectives of a job of one. */
 static int one_alltoall(void *ctx, const uint8_t (*out)[C5_PACKET_BYTES], const uint16_t *dest, size_t n_out,

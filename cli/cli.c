@@ -230,42 +230,13 @@ void c5_cli_stages_text(const c5_board_stages *st, char *buf, size_t len)
         snprintf(buf, len, "eye rays only");
 }
 
-int c5_cli_help(int argc, char **argv, const char *usage)
-{
-    for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            fputs(usage, stdout);
-            return 1;
-        }
-    return 0;
-}
-
-int c5_cli_scene_arg(const char *cmd, const char *arg, const char **scene_arg, int *have_scene, c5_err *err)
-{
-    if (arg[0] == '-')
-        return c5_fail(err, "unknown option '%s' (see 'cube5 %s --help')", arg, cmd);
-    if (*have_scene)
-        return c5_fail(err, "unexpected argument '%s': one scene at a time", arg);
-    *scene_arg = arg;
-    *have_scene = 1;
-    return 0;
-}
-
-int c5_cli_add_volume(const char *v, const char **volumes, int *n, c5_err *err)
-{
-    if (*n == C5_MAX_VOLUMES)
-        return c5_fail(err, "--volume: at most %d", C5_MAX_VOLUMES);
-    volumes[(*n)++] = v;
-    return 0;
-}
-
-int c5_cli_scene_setup(const char *arg, const char *const *volumes, int n_volumes, int w, int h, c5_scene *s,
-                       char *label, size_t label_len, c5_err *err)
+int c5_cli_scene_setup(const char *arg, const c5_cli_volumes *volumes, int w, int h, c5_scene *s, char *label,
+                       size_t label_len, c5_err *err)
 {
     if (c5_cli_load_scene(arg, s, label, label_len, err) != 0)
         return -1;
-    for (int i = 0; i < n_volumes; i++)
-        if (c5_cli_replace_volume(s, volumes[i], err) != 0)
+    for (int i = 0; volumes && i < volumes->n; i++)
+        if (c5_cli_replace_volume(s, volumes->path[i], err) != 0)
             return -1;
     if (w) {
         s->render.width = w;

@@ -6,6 +6,7 @@
 
 #include "board.h"
 #include "model_limits.h"
+#include "opt_table.h"
 #include "err.h"
 #include "scene.h"
 #include "supervol.h"
@@ -42,18 +43,18 @@ const char *c5_cli_queue_key_name(c5_queue_key key);
 
 /* A built-in scene name or a .json file. `label` receives "built-in scene NAME" or the path. */
 int c5_cli_load_scene(const char *arg, c5_scene *s, char *label, size_t label_len, c5_err *err);
+/* The "--volume [I=]FILE" options of a command, in order, for c5_cli_replace_volume. */
+typedef struct {
+    const char *path[C5_MAX_VOLUMES];
+    int n;
+} c5_cli_volumes;
 /* "--volume [I=]FILE": replaces the source of volume I (default 0) with the file. */
 int c5_cli_replace_volume(c5_scene *s, const char *arg, c5_err *err);
 /* The scene a command works on: loaded, its volumes replaced, its image size w x h (0: the
  * scene's). */
-int c5_cli_scene_setup(const char *arg, const char *const *volumes, int n_volumes, int w, int h, c5_scene *s,
-                       char *label, size_t label_len, c5_err *err);
+int c5_cli_scene_setup(const char *arg, const c5_cli_volumes *volumes, int w, int h, c5_scene *s, char *label,
+                       size_t label_len, c5_err *err);
 
-/* An argument that is none of the command's options: the scene, once; else an error that
- * names the option or the extra argument (and `cube5 CMD --help`). */
-int c5_cli_scene_arg(const char *cmd, const char *arg, const char **scene_arg, int *have_scene, c5_err *err);
-/* Collects "--volume [I=]FILE" (at most C5_MAX_VOLUMES) for c5_cli_replace_volume. */
-int c5_cli_add_volume(const char *v, const char **volumes, int *n, c5_err *err);
 
 /* Output safety (cli/outputs.c): every file a command reads, and the refusal, with exit 2
  * before anything is written, of an output that is one of them (by device and inode, so
@@ -77,10 +78,10 @@ int c5_cli_check_distinct_frames(const char *out, int n, const char *out_opt, co
 /* OUT for frame i of n: OUT itself when n == 1, else BASE_0007.EXT. */
 void c5_cli_frame_path(const char *out, int i, int n, char *buf, size_t len);
 
-/* 1 (after printing usage to stdout) when any argument is --help or -h. */
-int c5_cli_help(int argc, char **argv, const char *usage);
-
+/* The commands, and their option tables (for `cube5 help --man`). */
 typedef int (*c5_cmd_fn)(int argc, char **argv);
+extern const c5_cmd_spec c5_spec_cast, c5_spec_compare, c5_spec_render, c5_spec_schedule, c5_spec_scenes,
+    c5_spec_sweep, c5_spec_vectors;
 int c5_cmd_cast(int argc, char **argv);
 int c5_cmd_compare(int argc, char **argv);
 int c5_cmd_render(int argc, char **argv);

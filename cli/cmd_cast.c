@@ -4,6 +4,7 @@
  * scene (its grid and transfer function). */
 #include <jansson.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,67 +20,72 @@
 #include "clock.h"
 #include "progress.h"
 
-static const char USAGE[] =
-    "usage: cube5 cast VOLUME|SCENE [-o OUT] [--views N] [--size N] [--mode MODE] [--threads N]\n"
-    "                  [--shading on|off] [--json] [--progress] [options]\n"
-    "\n"
-    "Renders the peer benchmark's views (../shared/bench/peer-vtk conventions: SplitMix64 cameras\n"
-    "around the volume, 30-degree perspective, its transfer-function files) with the streaming-\n"
-    "model ray caster and reports frames per second as the median over the views.\n"
-    "\n"
-    "VOLUME is a uint8 .raw file (dims from an Open SciVis name NAME_XxYxZ_uint8.raw, or --dims),\n"
-    "a .nrrd/.nhdr file, or phantom:ml:N / phantom:shell:N (render_vtk.py's synthetic volumes).\n"
-    "SCENE is a built-in scene or a scene .json: its grid and transfer function are cast.\n"
-    "\n"
-    "  -o OUT             write the first view (.png or .exr)\n"
-    "  --views N          views 1..1000 (default 24)\n"
-    "  --size N|NxN       image N x N, 1..4096 (default 256; square, as the peer's views)\n"
-    "  --mode M           plain | ess | approx | approx+refine (default approx: with sub-bricks\n"
-    "                     the refining hash drops no sample they keep, docs/caster.md)\n"
-    "  --threads N        worker threads 1..64 (default 2)\n"
-    "  --producer on|off|auto  the calling thread produces tiles for the workers' buffers; off:\n"
-    "                     the workers produce all their tiles (default auto: on while there are\n"
-    "                     fewer workers than CPUs)\n"
-    "  --shading on|off   headlight Blinn-Phong (default off)\n"
-    "  --k N              approximation interval 1,2,4,8,16 (default: Proposition 1 per view)\n"
-    "  --prefetch P       cells: the cache lines of each sample's cell, a batch of samples\n"
-    "                     ahead (default; on is the same); bricks: the paper's, the whole next\n"
-    "                     brick along each ray on entering a brick; off\n"
-    "  --sub-bricks on|off skipping modes: drop samples in 4^3-cell sub-bricks the TF leaves\n"
-    "                     empty (default on)\n"
-    "  --queue-depth N    tasks each worker's buffer holds, 1..1024 (default 4, the paper's)\n"
-    "  --self-produce on|off  a worker with an empty buffer produces its next tile itself\n"
-    "                     instead of waiting for the producer thread (default on)\n"
-    "  --distance F       eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)\n"
-    "  --tf NAME|FILE     default | ml | a TF file of the peer's format (default: default, or the\n"
-    "                     scene's transfer function)\n"
-    "  --step S           sample distance in voxels (times the smallest spacing; default 1)\n"
-    "  --seed N           camera stream seed (default 1)\n"
-    "  --repeats N        passes over the views; the median of the per-pass medians (default 1)\n"
-    "  --dims XxYxZ       dims of a raw file whose name does not give them\n"
-    "  --spacing X,Y,Z    voxel spacing (default 1,1,1, or the NRRD header's)\n"
-    "  --save-raw FILE    write the voxels cast as raw uint8 (for the peer: render_vtk.py --raw)\n"
-    "  --json             the figures as JSON on stdout\n" C5_PROGRESS_HELP;
-
 typedef struct {
     const char *input, *out, *tf, *save_raw;
-    int views, size, threads, producer, shading, k, sub_bricks, self_produce, queue_depth, repeats, json;
+    long views, threads, queue_depth, repeats, seed;
+    int size, producer, shading, k, sub_bricks, self_produce, json;
     c5_cast_prefetch prefetch;
     c5_cast_mode mode;
     double distance, step;
-    long seed;
     size_t dims[3];
     double spacing[3];
     int has_dims, has_spacing;
 } args;
 
-static int on_off(const char *opt, const char *v, int *out, c5_err *err)
+static int on_off(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
     if (!strcmp(v, "on") || !strcmp(v, "off")) {
-        *out = !strcmp(v, "on");
+        *(int *)field = !strcmp(v, "on");
         return 0;
     }
-    return c5_fail(err, "%s: expected on or off, got '%s'", opt, v);
+    return c5_fail(err, "%s: expected on or off, got '%s'", o->name, v);
+}
+
+static int producer_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    if (!strcmp(v, "auto")) {
+        *(int *)field = -1;
+        return 0;
+    }
+    if (on_off(o, v, field, err))
+        return c5_fail(err, "%s: expected on, off or auto, got '%s'", o->name, v);
+    return 0;
+}
+
+static int size_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    int w, h;
+    if (c5_cli_size(o->name, v, &w, &h, err))
+        return -1;
+    if (w != h)
+        return c5_fail(err, "%s: the caster's views are square (the peer's); give N or NxN, got '%s'", o->name, v);
+    *(int *)field = w;
+    return 0;
+}
+
+static int k_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    long n;
+    if (c5_cli_int(o->name, v, 1, 16, &n, err))
+        return -1;
+    if (n & (n - 1))
+        return c5_fail(err, "%s: expected 1, 2, 4, 8 or 16, got '%s'", o->name, v);
+    *(int *)field = (int)n;
+    return 0;
+}
+
+static int mode_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    if (c5_cast_mode_parse(v, field))
+        return c5_fail(err, "%s: expected plain, ess, approx or approx+refine, got '%s'", o->name, v);
+    return 0;
+}
+
+static int prefetch_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    if (c5_cast_prefetch_parse(!strcmp(v, "on") ? "cells" : v, field))
+        return c5_fail(err, "%s: expected cells, bricks, off or on, got '%s'", o->name, v);
+    return 0;
 }
 
 static int parse_triple(const char *opt, const char *v, char sep, double out[3], c5_err *err)
@@ -95,6 +101,81 @@ static int parse_triple(const char *opt, const char *v, char sep, double out[3],
     return 0;
 }
 
+static int dims_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    double d[3];
+    size_t *dims = field;
+    if (parse_triple(o->name, v, 'x', d, err))
+        return -1;
+    for (int k = 0; k < 3; k++) {
+        if (d[k] != floor(d[k]) || d[k] > C5_VOLUME_MAX_DIM)
+            return c5_fail(err, "%s: expected whole numbers 1..%u, got '%s'", o->name, C5_VOLUME_MAX_DIM, v);
+        dims[k] = (size_t)d[k];
+    }
+    return 0;
+}
+
+static int spacing_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    return parse_triple(o->name, v, ',', field, err);
+}
+
+static const c5_opt opts[] = {
+    {"-o", "OUT", c5_opt_str, offsetof(args, out), 0, 0, 0, "write the first view (.png or .exr)"},
+    {"--views", "N", c5_opt_long, offsetof(args, views), 1, 1000, 0, "views 1..1000 (default 24)"},
+    {"--size", "N|NxN", size_opt, offsetof(args, size), 0, 0, 0,
+     "image N x N, 1..4096 (default 256; square, as the peer's views)"},
+    {"--mode", "M", mode_opt, offsetof(args, mode), 0, 0, 0,
+     "plain | ess | approx | approx+refine (default approx: with sub-bricks the refining hash drops no sample they "
+     "keep, docs/caster.md)"},
+    {"--threads", "N", c5_opt_long, offsetof(args, threads), 1, C5_CAST_MAX_WORKERS, 0,
+     "worker threads 1..64 (default 2)"},
+    {"--producer", "on|off|auto", producer_opt, offsetof(args, producer), 0, 0, 0,
+     "the calling thread produces tiles for the workers' buffers; off: the workers produce all their tiles (default "
+     "auto: on while there are fewer workers than CPUs)"},
+    {"--shading", "on|off", on_off, offsetof(args, shading), 0, 0, 0, "headlight Blinn-Phong (default off)"},
+    {"--k", "N", k_opt, offsetof(args, k), 0, 0, 0,
+     "approximation interval 1,2,4,8,16 (default: Proposition 1 per view)"},
+    {"--prefetch", "P", prefetch_opt, offsetof(args, prefetch), 0, 0, 0,
+     "cells: the cache lines of each sample's cell, a batch of samples ahead (default; on is the same); bricks: the "
+     "paper's, the whole next brick along each ray on entering a brick; off"},
+    {"--sub-bricks", "on|off", on_off, offsetof(args, sub_bricks), 0, 0, 0,
+     "skipping modes: drop samples in 4^3-cell sub-bricks the TF leaves empty (default on)"},
+    {"--queue-depth", "N", c5_opt_long, offsetof(args, queue_depth), 1, 1024, 0,
+     "tasks each worker's buffer holds, 1..1024 (default 4, the paper's)"},
+    {"--self-produce", "on|off", on_off, offsetof(args, self_produce), 0, 0, 0,
+     "a worker with an empty buffer produces its next tile itself instead of waiting for the producer thread "
+     "(default on)"},
+    {"--distance", "F", c5_opt_double, offsetof(args, distance), 1e-3, 1e6, 0,
+     "eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)"},
+    {"--tf", "NAME|FILE", c5_opt_str, offsetof(args, tf), 0, 0, 0,
+     "default | ml | a TF file of the peer's format (default: default, or the scene's transfer function)"},
+    {"--step", "S", c5_opt_double, offsetof(args, step), 1e-3, 1e3, 0,
+     "sample distance in voxels (times the smallest spacing; default 1)"},
+    {"--seed", "N", c5_opt_long, offsetof(args, seed), 0, 0x7fffffffL, 0, "camera stream seed (default 1)"},
+    {"--repeats", "N", c5_opt_long, offsetof(args, repeats), 1, 100, 0,
+     "passes over the views; the median of the per-pass medians (default 1)"},
+    {"--dims", "XxYxZ", dims_opt, offsetof(args, dims), 0, 0, C5_SEEN(args, has_dims),
+     "dims of a raw file whose name does not give them"},
+    {"--spacing", "X,Y,Z", spacing_opt, offsetof(args, spacing), 0, 0, C5_SEEN(args, has_spacing),
+     "voxel spacing (default 1,1,1, or the NRRD header's)"},
+    {"--save-raw", "FILE", c5_opt_str, offsetof(args, save_raw), 0, 0, 0,
+     "write the voxels cast as raw uint8 (for the peer: render_vtk.py --raw)"},
+    {"--json", NULL, c5_opt_flag, offsetof(args, json), 0, 0, 0, "the figures as JSON on stdout"},
+    {0},
+};
+
+const c5_cmd_spec c5_spec_cast = {
+    "cast", "VOLUME|SCENE",
+    "Renders the peer benchmark's views (../shared/bench/peer-vtk conventions: SplitMix64 cameras around the "
+    "volume, 30-degree perspective, its transfer-function files) with the streaming-model ray caster and reports "
+    "frames per second as the median over the views.\n\n"
+    "VOLUME is a uint8 .raw file (dims from an Open SciVis name NAME_XxYxZ_uint8.raw, or --dims), a .nrrd/.nhdr "
+    "file, or phantom:ml:N / phantom:shell:N (render_vtk.py's synthetic volumes). SCENE is a built-in scene or a "
+    "scene .json: its grid and transfer function are cast.",
+    {{opts, 0}, {c5_progress_opts, 0}},
+};
+
 static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
     *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0,
@@ -102,102 +183,8 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
                 .sub_bricks = 1, .self_produce = 1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-        int takes = o[0] == '-' && strcmp(o, "--json") != 0;
-        if (takes && !v)
-            return c5_fail(err, "%s needs a value", o);
-        if (!strcmp(o, "--json"))
-            a->json = 1;
-        else if (!strcmp(o, "-o"))
-            a->out = v;
-        else if (!strcmp(o, "--views")) {
-            if (c5_cli_int(o, v, 1, 1000, &n, err))
-                return -1;
-            a->views = (int)n;
-        } else if (!strcmp(o, "--size")) {
-            int w, h;
-            if (c5_cli_size(o, v, &w, &h, err))
-                return -1;
-            if (w != h)
-                return c5_fail(err, "%s: the caster's views are square (the peer's); give N or NxN, got '%s'", o, v);
-            a->size = w;
-        } else if (!strcmp(o, "--threads")) {
-            if (c5_cli_int(o, v, 1, C5_CAST_MAX_WORKERS, &n, err))
-                return -1;
-            a->threads = (int)n;
-        } else if (!strcmp(o, "--k")) {
-            if (c5_cli_int(o, v, 1, 16, &n, err))
-                return -1;
-            if (n & (n - 1))
-                return c5_fail(err, "--k: expected 1, 2, 4, 8 or 16, got '%s'", v);
-            a->k = (int)n;
-        } else if (!strcmp(o, "--repeats")) {
-            if (c5_cli_int(o, v, 1, 100, &n, err))
-                return -1;
-            a->repeats = (int)n;
-        } else if (!strcmp(o, "--seed")) {
-            if (c5_cli_int(o, v, 0, 0x7fffffffL, &a->seed, err))
-                return -1;
-        } else if (!strcmp(o, "--mode")) {
-            if (c5_cast_mode_parse(v, &a->mode))
-                return c5_fail(err, "--mode: expected plain, ess, approx or approx+refine, got '%s'", v);
-        } else if (!strcmp(o, "--shading")) {
-            if (on_off(o, v, &a->shading, err))
-                return -1;
-        } else if (!strcmp(o, "--prefetch")) {
-            if (c5_cast_prefetch_parse(!strcmp(v, "on") ? "cells" : v, &a->prefetch))
-                return c5_fail(err, "--prefetch: expected cells, bricks, off or on, got '%s'", v);
-        } else if (!strcmp(o, "--queue-depth")) {
-            if (c5_cli_int(o, v, 1, 1024, &n, err))
-                return -1;
-            a->queue_depth = (int)n;
-        } else if (!strcmp(o, "--producer")) {
-            if (!strcmp(v, "auto"))
-                a->producer = -1;
-            else if (on_off(o, v, &a->producer, err))
-                return c5_fail(err, "--producer: expected on, off or auto, got '%s'", v);
-        } else if (!strcmp(o, "--self-produce")) {
-            if (on_off(o, v, &a->self_produce, err))
-                return -1;
-        } else if (!strcmp(o, "--sub-bricks")) {
-            if (on_off(o, v, &a->sub_bricks, err))
-                return -1;
-        } else if (!strcmp(o, "--distance")) {
-            if (c5_cli_double(o, v, 1e-3, 1e6, &a->distance, err))
-                return -1;
-        } else if (!strcmp(o, "--step")) {
-            if (c5_cli_double(o, v, 1e-3, 1e3, &a->step, err))
-                return -1;
-        } else if (!strcmp(o, "--tf"))
-            a->tf = v;
-        else if (!strcmp(o, "--save-raw"))
-            a->save_raw = v;
-        else if (!strcmp(o, "--dims")) {
-            double d[3];
-            if (parse_triple(o, v, 'x', d, err))
-                return -1;
-            for (int k = 0; k < 3; k++) {
-                if (d[k] != floor(d[k]) || d[k] > C5_VOLUME_MAX_DIM)
-                    return c5_fail(err, "--dims: expected whole numbers 1..%u, got '%s'", C5_VOLUME_MAX_DIM, v);
-                a->dims[k] = (size_t)d[k];
-            }
-            a->has_dims = 1;
-        } else if (!strcmp(o, "--spacing")) {
-            if (parse_triple(o, v, ',', a->spacing, err))
-                return -1;
-            a->has_spacing = 1;
-        } else if (o[0] == '-')
-            return c5_fail(err, "unknown option '%s' (see cube5 cast --help)", o);
-        else if (a->input)
-            return c5_fail(err, "unexpected argument '%s' (one VOLUME or SCENE)", o);
-        else {
-            a->input = o;
-            continue;
-        }
-        i += takes;
-    }
+    if (c5_opt_parse(&c5_spec_cast, argc, argv, a, &a->input, err) != 0)
+        return -1;
     if (!a->input)
         return c5_fail(err, "cast needs a VOLUME or SCENE (see cube5 cast --help)");
     if (a->producer == 0 && !a->self_produce)
@@ -300,7 +287,7 @@ static int load_input(const args *a, input *in, c5_err *err)
         c5_scene s;
         c5_supervol sv;
         char label[512];
-        if (c5_cli_scene_setup(a->input, NULL, 0, 0, 0, &s, label, sizeof label, err) ||
+        if (c5_cli_scene_setup(a->input, NULL, 0, 0, &s, label, sizeof label, err) ||
             c5_supervol_build(&s, &sv, err))
             return -1;
         if (c5_supervol_empty(&sv)) {
@@ -384,7 +371,7 @@ static int check_outputs(const args *a, c5_err *err)
 
 int c5_cmd_cast(int argc, char **argv)
 {
-    if (c5_cli_help(argc, argv, USAGE))
+    if (c5_opt_help(&c5_spec_cast, argc, argv))
         return 0;
     c5_err err;
     args a;
@@ -477,10 +464,10 @@ int c5_cmd_cast(int argc, char **argv)
                                       in.spacing[1], in.spacing[2]));
         json_object_update_new(
             j, json_pack("{s:s,s:i,s:b,s:b,s:s,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
-                         "threads", a.threads, "producer_thread", fig[0].st.producer, "shading", a.shading,
+                         "threads", (int)a.threads, "producer_thread", fig[0].st.producer, "shading", a.shading,
                          "prefetch", c5_cast_prefetch_name(a.prefetch), "sub_bricks", a.sub_bricks,
-                         "self_produce", a.self_produce, "size", a.size, "views", a.views,
-                         "distance_factor", a.distance, "step_voxels", a.step, "repeats", a.repeats, "seed",
+                         "self_produce", a.self_produce, "size", a.size, "views", (int)a.views,
+                         "distance_factor", a.distance, "step_voxels", a.step, "repeats", (int)a.repeats, "seed",
                          (json_int_t)a.seed));
         json_object_update_new(
             j, json_pack("{s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:i,s:i,s:o}", "fps_median", 1000 / ms_med, "ms_median",
@@ -499,7 +486,7 @@ int c5_cmd_cast(int argc, char **argv)
         free(text);
         json_decref(j);
     } else {
-        printf("%s %zux%zux%zu, %d views at %dx%d, mode %s, k %d..%d, %d worker%s, shading %s, prefetch %s, sub-bricks %s\n",
+        printf("%s %zux%zux%zu, %ld views at %dx%d, mode %s, k %d..%d, %ld worker%s, shading %s, prefetch %s, sub-bricks %s\n",
                in.name, in.dims[0], in.dims[1], in.dims[2], a.views, a.size, a.size, c5_cast_mode_name(a.mode), k_min,
                k_max, a.threads, a.threads == 1 ? "" : "s", a.shading ? "on" : "off", c5_cast_prefetch_name(a.prefetch),
                a.sub_bricks ? "on" : "off");

@@ -2,6 +2,7 @@
  * (docs/compare.md) and the cost of each, on stdout (text or --json). */
 #include <jansson.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,40 +16,54 @@
 #include "clock.h"
 #include "progress.h"
 
-static const char usage_text[] =
-    "usage: cube5 compare [SCENE|FILE.json] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
-    "                     [--size N|WxH] [--frame I] [--diff OUT.png] [--gain G] [--json]\n"
-    "                     [--volume [I=]FILE] [--threads N] [--ref-precision double|long]\n"
-    "                     [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S]\n"
-    "                     [--link-latency US] [--progress]\n\n"
-    "Renders one frame of a scene (default: 'default') with cref, the reference, and with the\n"
-    "bit-accurate board model, then prints how far the model's image is from cref's (PSNR,\n"
-    "RMSE, largest error, overall and per channel, and a histogram of the errors in 8-bit\n"
-    "steps) and what each cost. Definitions: docs/compare.md.\n\n"
-    "  --cells N|NxMxK   split the grid into NxNxN (or NxMxK) cells for the model (default 1,\n"
-    "                    or the fewest that keep a cell within 256 voxels a side)\n"
-    "  --queue-key K     morton (default) or fifo order of the model's ray queue\n"
-    "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
-    "  --frame I         frame I (from 0) of the scene's camera path (default 0)\n"
-    "  --diff OUT        write |model - cref| x G as an image: .png (clamped) or .exr (float)\n"
-    "  --gain G          G for --diff (default 16: one 8-bit step shows as 16)\n"
-    "  --json            print one JSON object instead of the text\n"
-    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
-    "  --threads N       cref's worker threads (default: one per CPU); the model uses one\n"
-    "  --ref-precision P cref in double (default) or long (long double; docs/stability.md)\n"
-    C5_BOARDS_HELP C5_PROGRESS_HELP;
-
 typedef struct {
     const char *scene_arg, *diff;
     long threads, frame;
-    int w, h, json, ref_long;
+    int size[2], json, ref_long;
     double gain;
-    const char *volumes[C5_MAX_VOLUMES];
-    int n_volumes;
+    c5_cli_volumes volumes;
     int cells[3];
     c5_queue_key key;
     c5_boards_args bd;
 } compare_args;
+
+static int precision_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    static const char *const names[] = {"double", "long", NULL};
+    return c5_opt_pick(o, v, names, 0, field, err);
+}
+
+static const c5_opt opts[] = {
+    {"--cells", "N|NxMxK", c5_opt_cells, offsetof(compare_args, cells), 0, 0, 0,
+     "split the grid into NxNxN (or NxMxK) cells for the model (default 1, or the fewest that keep a cell within "
+     "256 voxels a side)"},
+    {"--queue-key", "morton|fifo", c5_opt_queue_key, offsetof(compare_args, key), 0, 0, 0,
+     "order of the model's ray queue (default morton)"},
+    {"--size", "N|WxH", c5_opt_size, offsetof(compare_args, size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
+    {"--frame", "I", c5_opt_long, offsetof(compare_args, frame), 0, C5_MAX_FRAMES - 1, 0,
+     "frame I (from 0) of the scene's camera path (default 0)"},
+    {"--diff", "OUT", c5_opt_str, offsetof(compare_args, diff), 0, 0, 0,
+     "write |model - cref| x G as an image: .png (clamped) or .exr (float)"},
+    /* 1e-6..1e6: at 1e6 an error of 1e-6 is white already; below 1e-6 no error in [0,1] shows. */
+    {"--gain", "G", c5_opt_double, offsetof(compare_args, gain), 1e-6, 1e6, 0,
+     "G for --diff (default 16: one 8-bit step shows as 16)"},
+    {"--json", NULL, c5_opt_flag, offsetof(compare_args, json), 0, 0, 0, "print one JSON object instead of the text"},
+    {"--volume", "[I=]FILE", c5_opt_volume, offsetof(compare_args, volumes), 0, 0, 0,
+     "replace volume I (default 0) by a raw or NRRD file"},
+    {"--threads", "N", c5_opt_long, offsetof(compare_args, threads), 1, 256, 0,
+     "cref's worker threads (default: one per CPU); the model uses one"},
+    {"--ref-precision", "double|long", precision_opt, offsetof(compare_args, ref_long), 0, 0, 0,
+     "cref in double (default) or long (long double; docs/stability.md)"},
+    {0},
+};
+
+const c5_cmd_spec c5_spec_compare = {
+    "compare", "[SCENE|FILE.json]",
+    "Renders one frame of a scene (default: 'default') with cref, the reference, and with the bit-accurate board "
+    "model, then prints how far the model's image is from cref's (PSNR, RMSE, largest error, overall and per "
+    "channel, and a histogram of the errors in 8-bit steps) and what each cost. Definitions: docs/compare.md.",
+    {{opts, 0}, {c5_boards_opts, offsetof(compare_args, bd)}, {c5_progress_opts, 0}},
+};
 
 static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
 {
@@ -57,51 +72,7 @@ static int parse_args(int argc, char **argv, compare_args *a, c5_err *err)
     a->gain = C5_DIFF_GAIN;
     a->cells[0] = a->cells[1] = a->cells[2] = 0; /* the automatic split */
     a->key = C5_KEY_MORTON;
-    int have_scene = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        int bo = c5_boards_option(argc, argv, &i, &a->bd, err);
-        if (bo < 0)
-            return -1;
-        if (bo)
-            continue;
-        if (!strcmp(o, "--cells") || !strcmp(o, "--queue-key") || !strcmp(o, "--size") || !strcmp(o, "--frame") ||
-            !strcmp(o, "--diff") || !strcmp(o, "--gain") || !strcmp(o, "--volume") || !strcmp(o, "--threads") ||
-            !strcmp(o, "--ref-precision")) {
-            if (i + 1 >= argc)
-                return c5_fail(err, "%s: missing value", o);
-            const char *v = argv[++i];
-            if (!strcmp(o, "--cells") && c5_cli_cells(o, v, a->cells, err))
-                return -1;
-            else if (!strcmp(o, "--queue-key") && c5_cli_queue_key(o, v, &a->key, err))
-                return -1;
-            else if (!strcmp(o, "--size") && c5_cli_size(o, v, &a->w, &a->h, err))
-                return -1;
-            else if (!strcmp(o, "--frame") && c5_cli_int(o, v, 0, C5_MAX_FRAMES - 1, &a->frame, err))
-                return -1;
-            /* 1e-6..1e6: at 1e6 an error of 1e-6 is white already; below 1e-6 no error in [0,1] shows. */
-            else if (!strcmp(o, "--gain") && c5_cli_double(o, v, 1e-6, 1e6, &a->gain, err))
-                return -1;
-            else if (!strcmp(o, "--threads") && c5_cli_int(o, v, 1, 256, &a->threads, err))
-                return -1;
-            else if (!strcmp(o, "--diff"))
-                a->diff = v;
-            else if (!strcmp(o, "--ref-precision")) {
-                if (strcmp(v, "double") && strcmp(v, "long"))
-                    return c5_fail(err, "%s: '%s' is not double or long", o, v);
-                a->ref_long = !strcmp(v, "long");
-            }
-            else if (!strcmp(o, "--volume")) {
-                if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
-                    return -1;
-            }
-        } else if (!strcmp(o, "--json")) {
-            a->json = 1;
-        } else if (c5_cli_scene_arg("compare", o, &a->scene_arg, &have_scene, err) != 0) {
-            return -1;
-        }
-    }
-    return 0;
+    return c5_opt_parse(&c5_spec_compare, argc, argv, a, &a->scene_arg, err);
 }
 
 /* What the two runs produced. Host times are measured here, around each call, so that both
@@ -223,7 +194,7 @@ static void result_free(compare_result *r)
 
 int c5_cmd_compare(int argc, char **argv)
 {
-    if (c5_cli_help(argc, argv, usage_text))
+    if (c5_opt_help(&c5_spec_compare, argc, argv))
         return 0;
     compare_args a;
     c5_err err;
@@ -235,7 +206,7 @@ int c5_cmd_compare(int argc, char **argv)
     memset(&r, 0, sizeof r);
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err) != 0 ||
-        c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
+        c5_cli_scene_setup(a.scene_arg, &a.volumes, a.size[0], a.size[1], &s, label, sizeof label, &err) != 0)
         goto fail;
     int frames = c5_scene_frames(&s);
     if (a.frame >= frames) {
@@ -261,7 +232,7 @@ int c5_cmd_compare(int argc, char **argv)
     bopts.progress_ctx = &pf;
     /* Several boards: the model first (every board), then cref on board 0 alone. */
     double tm = c5_now_s();
-    if (a.bd.given && c5_mb_render(&s, &sv, (int)a.frame, &bopts, &a.bd.mo, &a.bd.t, &r.test, &r.mb, &err) != 0) {
+    if (a.bd.given && c5_mb_render(&s, &sv, (int)a.frame, &bopts, NULL, &a.bd.mo, &a.bd.t, &r.test, &r.mb, &err) != 0) {
         if (a.bd.mpi)
             c5_mpi_fail(&a.bd.t, err.msg, C5_EXIT_RUNTIME);
         goto fail;

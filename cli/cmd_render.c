@@ -1,6 +1,7 @@
 /* cube5 render: one scene through cref or the board model, a summary on stdout (text or --json). */
 #include <jansson.h>
 #include <zlib.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,46 +14,11 @@
 #include "frame_vcd.h"
 #include "progress.h"
 
-static const char usage_text[] =
-    "usage: cube5 render [SCENE|FILE.json] [-o OUT] [--threads N] [--frames N]\n"
-    "                    [--size N|WxH] [--volume [I=]FILE] [--json] [--progress]\n"
-    "                    [--model cref|rtl] [--cells N|NxMxK] [--queue-key morton|fifo]\n"
-    "                    [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n"
-    "                    [--vcd FILE [--vcd-cycles N] [--vcd-from C]]\n\n"
-    "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file\n"
-    "with cref, the double-precision reference renderer, or with the bit-accurate board model.\n\n"
-    "  -o OUT            write the image: .png (8-bit, clamped) or .exr (float); with\n"
-    "                    several frames, OUT_0000.png, OUT_0001.png, ...\n"
-    "  --threads N       cref only: worker threads (default: one per CPU); the image is\n"
-    "                    the same\n"
-    "  --frames N        frames along the scene's camera path (default: the scene's)\n"
-    "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
-    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
-    "  --model M         cref (default) or rtl: the board model (rtl_model/board.h),\n"
-    "                    which also reports board cycles, fetches and the stages that ran\n"
-    "  --cells N|NxMxK   rtl only: split the grid into NxNxN (or NxMxK) cells (default 1,\n"
-    "                    or the fewest that keep a cell within 256 voxels a side)\n"
-    "  --queue-key K     rtl only: morton (default) or fifo order of the ray queue\n"
-    "  --host-bw MB/S    rtl only: host/disk -> RDRAM bandwidth of a cell fetch (default 132)\n"
-    "  --host-latency MS rtl only: latency of a cell fetch in ms (default 1)\n"
-    "  --vcd FILE        rtl only, one frame, one board: the waveform of the frame's\n"
-    "                    cycle-level parts, scopes ray_queue (the eDRAM sorter, ports of\n"
-    "                    fpga/rtl/ray_queue.vhd) and ray_bus (packets between processor and\n"
-    "                    DSP), on the testbenches' 10 ns clock, to load beside GHDL's --vcd\n"
-    "                    in GTKWave (docs/vectors.md)\n"
-    "  --vcd-cycles N    the sorter's cycles in FILE (default 1000000); a longer frame is\n"
-    "                    cut there (said on stderr and in FILE's header)\n"
-    "  --vcd-from C      FILE starts at the sorter's cycle C (default 0)\n" C5_BOARDS_HELP
-    "  --json            print one JSON object instead of the text summary; each frame\n"
-    "                    has \"crc32\", a CRC-32 of its float RGB pixels, and with rtl\n"
-    "                    \"board\", the model's counters\n" C5_PROGRESS_HELP;
-
 typedef struct {
     const char *scene_arg, *out;
     long threads, frames;
-    int w, h, json;
-    const char *volumes[C5_MAX_VOLUMES];
-    int n_volumes;
+    int size[2], json;
+    c5_cli_volumes volumes;
     int rtl;                 /* --model rtl */
     int cells[3], have_cells;
     c5_queue_key key;
@@ -67,6 +33,59 @@ typedef struct {
 
 #define VCD_CYCLES_DEFAULT 1000000
 
+static int model_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    static const char *const names[] = {"cref", "rtl", NULL};
+    return c5_opt_pick(o, v, names, 0, field, err);
+}
+
+#define SEEN(f) C5_SEEN(render_args, f)
+static const c5_opt opts[] = {
+    {"-o", "OUT", c5_opt_str, offsetof(render_args, out), 0, 0, 0,
+     "write the image: .png (8-bit, clamped) or .exr (float); with several frames, OUT_0000.png, OUT_0001.png, ..."},
+    {"--threads", "N", c5_opt_long, offsetof(render_args, threads), 1, 256, 0,
+     "cref only: worker threads (default: one per CPU); the image is the same"},
+    {"--frames", "N", c5_opt_long, offsetof(render_args, frames), 1, C5_MAX_FRAMES, 0,
+     "frames along the scene's camera path (default: the scene's)"},
+    {"--size", "N|WxH", c5_opt_size, offsetof(render_args, size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
+    {"--volume", "[I=]FILE", c5_opt_volume, offsetof(render_args, volumes), 0, 0, 0,
+     "replace volume I (default 0) by a raw or NRRD file"},
+    {"--model", "cref|rtl", model_opt, offsetof(render_args, rtl), 0, 0, 0,
+     "cref (default), the double-precision reference renderer, or rtl: the board model (rtl_model/board.h), which "
+     "also reports board cycles, fetches and the stages that ran"},
+    {"--cells", "N|NxMxK", c5_opt_cells, offsetof(render_args, cells), 0, 0, SEEN(have_cells),
+     "rtl only: split the grid into NxNxN (or NxMxK) cells (default 1, or the fewest that keep a cell within 256 "
+     "voxels a side)"},
+    {"--queue-key", "morton|fifo", c5_opt_queue_key, offsetof(render_args, key), 0, 0, SEEN(have_key),
+     "rtl only: order of the ray queue (default morton)"},
+    {"--host-bw", "MB/S", c5_opt_double, offsetof(render_args, host_mbs), 0.001, 1e6, SEEN(have_host),
+     "rtl only: host/disk -> RDRAM bandwidth of a cell fetch (default 132)"},
+    {"--host-latency", "MS", c5_opt_double, offsetof(render_args, host_ms), 0, 1e5, SEEN(have_host),
+     "rtl only: latency of a cell fetch in ms (default 1)"},
+    {"--vcd", "FILE", c5_opt_str, offsetof(render_args, vcd), 0, 0, 0,
+     "rtl only, one frame, one board: the waveform of the frame's cycle-level parts, scopes ray_queue (the eDRAM "
+     "sorter, ports of fpga/rtl/ray_queue.vhd) and ray_bus (packets between processor and DSP), on the "
+     "testbenches' 10 ns clock, to load beside GHDL's --vcd in GTKWave (docs/vectors.md)"},
+    /* 10^9 cycles is 10 s of the board: far beyond a frame, and the times stay within 64 bits in fs. */
+    {"--vcd-cycles", "N", c5_opt_long, offsetof(render_args, vcd_cycles), 1, 1000000000L, SEEN(have_vcd_window),
+     "the sorter's cycles in FILE (default 1000000); a longer frame is cut there (said on stderr and in FILE's "
+     "header)"},
+    {"--vcd-from", "C", c5_opt_long, offsetof(render_args, vcd_from), 0, 1000000000L, SEEN(have_vcd_window),
+     "FILE starts at the sorter's cycle C (default 0)"},
+    {"--json", NULL, c5_opt_flag, offsetof(render_args, json), 0, 0, 0,
+     "print one JSON object instead of the text summary; each frame has \"crc32\", a CRC-32 of its float RGB "
+     "pixels, and with rtl \"board\", the model's counters"},
+    {0},
+};
+#undef SEEN
+
+const c5_cmd_spec c5_spec_render = {
+    "render", "[SCENE|FILE.json]",
+    "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file with cref, the "
+    "double-precision reference renderer, or with the bit-accurate board model.",
+    {{opts, 0}, {c5_boards_opts, offsetof(render_args, bd)}, {c5_progress_opts, 0}},
+};
+
 static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
 {
     memset(a, 0, sizeof *a);
@@ -75,71 +94,8 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
     a->key = C5_KEY_MORTON;
     a->host_ms = -1;
     a->vcd_cycles = VCD_CYCLES_DEFAULT;
-    int have_scene = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        int has_val = i + 1 < argc, bo = c5_boards_option(argc, argv, &i, &a->bd, err);
-        if (bo < 0)
-            return -1;
-        if (bo)
-            continue;
-        if (!strcmp(o, "-o") || !strcmp(o, "--threads") || !strcmp(o, "--frames") || !strcmp(o, "--size") ||
-            !strcmp(o, "--volume") || !strcmp(o, "--model") || !strcmp(o, "--cells") || !strcmp(o, "--queue-key") ||
-            !strcmp(o, "--host-bw") || !strcmp(o, "--host-latency") || !strcmp(o, "--vcd") ||
-            !strcmp(o, "--vcd-cycles") || !strcmp(o, "--vcd-from")) {
-            if (!has_val)
-                return c5_fail(err, "%s: missing value", o);
-            const char *v = argv[++i];
-            if (!strcmp(o, "-o"))
-                a->out = v;
-            else if (!strcmp(o, "--threads") && c5_cli_int(o, v, 1, 256, &a->threads, err))
-                return -1;
-            else if (!strcmp(o, "--frames") && c5_cli_int(o, v, 1, C5_MAX_FRAMES, &a->frames, err))
-                return -1;
-            else if (!strcmp(o, "--size") && c5_cli_size(o, v, &a->w, &a->h, err))
-                return -1;
-            else if (!strcmp(o, "--vcd")) {
-                if (!*v)
-                    return c5_fail(err, "--vcd: expected a file name");
-                a->vcd = v;
-            } else if (!strcmp(o, "--vcd-cycles") || !strcmp(o, "--vcd-from")) {
-                /* 10^9 cycles is 10 s of the board: far beyond a frame, and the times stay
-                 * within 64 bits in fs. */
-                if (c5_cli_int(o, v, !strcmp(o, "--vcd-cycles"), 1000000000L,
-                               !strcmp(o, "--vcd-cycles") ? &a->vcd_cycles : &a->vcd_from, err))
-                    return -1;
-                a->have_vcd_window = 1;
-            }
-            else if (!strcmp(o, "--volume")) {
-                if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
-                    return -1;
-            } else if (!strcmp(o, "--model")) {
-                if (strcmp(v, "cref") && strcmp(v, "rtl"))
-                    return c5_fail(err, "--model: expected cref or rtl, got '%s'", v);
-                a->rtl = !strcmp(v, "rtl");
-            } else if (!strcmp(o, "--cells")) {
-                if (c5_cli_cells(o, v, a->cells, err))
-                    return -1;
-                a->have_cells = 1;
-            } else if (!strcmp(o, "--queue-key")) {
-                if (c5_cli_queue_key(o, v, &a->key, err))
-                    return -1;
-                a->have_key = 1;
-            } else if (!strcmp(o, "--host-bw")) {
-                if (c5_cli_double(o, v, 0.001, 1e6, &a->host_mbs, err))
-                    return -1;
-                a->have_host = 1;
-            } else if (!strcmp(o, "--host-latency")) {
-                if (c5_cli_double(o, v, 0, 1e5, &a->host_ms, err))
-                    return -1;
-                a->have_host = 1;
-            }
-        } else if (!strcmp(o, "--json")) {
-            a->json = 1;
-        } else if (c5_cli_scene_arg("render", o, &a->scene_arg, &have_scene, err) != 0) {
-            return -1;
-        }
-    }
+    if (c5_opt_parse(&c5_spec_render, argc, argv, a, &a->scene_arg, err) != 0)
+        return -1;
     /* Options of the other model are refused rather than ignored: a run that silently did
      * not do what was asked is worse than an error. */
     if (!a->rtl && (a->have_cells || a->have_key || a->have_host || a->bd.given))
@@ -327,7 +283,7 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
     opts.progress = c5_boards_leader(&a->bd) ? c5_progress_board : NULL;
     opts.progress_ctx = &pf;
     if (a->bd.given) {
-        if (c5_mb_render(s, sv, f, &opts, &a->bd.mo, &a->bd.t, img, mb, err) != 0)
+        if (c5_mb_render(s, sv, f, &opts, NULL, &a->bd.mo, &a->bd.t, img, mb, err) != 0)
             return -1;
         *board = mb->sum;
     } else if (c5_board_render(s, sv, f, &opts, img, board, err) != 0) {
@@ -339,7 +295,7 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
 
 int c5_cmd_render(int argc, char **argv)
 {
-    if (c5_cli_help(argc, argv, usage_text))
+    if (c5_opt_help(&c5_spec_render, argc, argv))
         return 0;
     render_args a;
     c5_err err;
@@ -348,7 +304,7 @@ int c5_cmd_render(int argc, char **argv)
     c5_supervol sv = {0};
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err) != 0 ||
-        c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
+        c5_cli_scene_setup(a.scene_arg, &a.volumes, a.size[0], a.size[1], &s, label, sizeof label, &err) != 0)
         goto fail;
     if (a.frames) {
         s.path.frames = (int)a.frames;

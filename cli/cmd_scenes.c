@@ -14,22 +14,25 @@ static int count_kind(const c5_scene *s, c5_surface_kind k)
     return n;
 }
 
+const c5_cmd_spec c5_spec_scenes = {
+    "scenes", NULL,
+    "Lists the built-in scenes (the JSON files of scenes/, compiled in). Any of them can be given to 'cube5 "
+    "render'; a scene's volume can be replaced by a real file with 'cube5 render SCENE --volume FILE'.",
+    {{0}},
+};
+
 int c5_cmd_scenes(int argc, char **argv)
 {
-    if (argc > 1) {
-        if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-            printf("usage: cube5 scenes\n\nLists the built-in scenes (the JSON files of scenes/, compiled in).\n"
-                   "Any of them can be given to 'cube5 render'; a scene's volume can be replaced\n"
-                   "by a real file with 'cube5 render SCENE --volume FILE'.\n");
-            return 0;
-        }
-        fprintf(stderr, "cube5: error: scenes: unexpected argument '%s'\n", argv[1]);
-        return 2;
+    c5_err err;
+    if (c5_opt_help(&c5_spec_scenes, argc, argv))
+        return 0;
+    if (c5_opt_parse(&c5_spec_scenes, argc, argv, NULL, NULL, &err) != 0) {
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
+        return C5_EXIT_INPUT;
     }
     int bad = 0;
     for (const c5_builtin_scene *b = c5_builtin_scenes; b->name; b++) {
         static c5_scene s;
-        c5_err err;
         if (c5_scene_parse(b->json, NULL, b->name, &s, &err) != 0) {
             fprintf(stderr, "cube5: error: %s\n", err.msg);
             bad = 1;

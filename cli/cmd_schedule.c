@@ -1,6 +1,7 @@
 /* cube5 schedule: the Cell Tree across the frames of an animation against Max Work
  * (docs/cell-tree.md), per frame on stdout (text or --json). */
 #include <jansson.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,97 +16,157 @@
 #include "progress.h"
 #include "sched_report.h"
 
-static const char usage_text[] =
-    "usage: cube5 schedule [SCENE|FILE.json] [--cells N|NxMxK] [--frames N] [--size N|WxH]\n"
-    "                      [--split paper|lookahead|rollout|bounded|window] [--exact-states N]\n"
-    "                      [--local-window N] [--local-walk N] [--tree-nodes N]\n"
-    "                      [--tree-ram auto|onchip|sdram] [--tree-group G|auto]\n"
-    "                      [--on-overflow maxwork|partial]\n"
-    "                      [--still] [--orbit DEG] [--jumps SEED[:EVERY|:pPROB]] [--dolly F]\n"
-    "                      [--stale-check on|off] [--volume [I=]FILE] [--json] [--progress]\n"
-    "                      [--boards N] [--assign kd|slab|mod|tree] [--link-bw MB/S] [--link-latency US]\n\n"
-    "Renders each frame of a scene (default: 'default') on the board model twice: with the\n"
-    "online Max Work scheduler, and as the board runs with the Cell Tree: following the\n"
-    "schedule the DSP made from the previous frame's tree (Max Work in the first frame, and\n"
-    "after an overflow of the DSP RAM). Per frame: rays, the tree's nodes and bytes, the cell\n"
-    "fetches of each, the lower bound and the exact optimum of the frame's own tree (when the\n"
-    "search fits its budget), the peels and the cost of building and scheduling. The two\n"
-    "images of a frame must be the same bits; a difference is reported as an error.\n"
-    "docs/cell-tree.md.\n\n"
-    "  --cells N|NxMxK   split into NxNxN (or NxMxK) cells; default 2: memory holds 1/8\n"
-    "  --frames N        frames (default: the camera path's, or 2 for a still camera, so\n"
-    "                    that frame 1 follows frame 0's tree); a path is spread over N frames\n"
-    "  --still           every frame from the path's first camera: the next frame repeats\n"
-    "                    this one, so only the scheduling differs (the paper's Figure 6)\n"
-    "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
-    "  --split R         rule of the schedule the board follows: window (default: the\n"
-    "                    paper's schedule, or the frame's own fetches when fewer, shortened\n"
-    "                    window by window within the DSP's budget of counted operations),\n"
-    "                    paper (split peels take the cell with most leaf nodes), lookahead or\n"
-    "                    rollout (ours), or bounded (the rollout within that budget, else the\n"
-    "                    paper's); docs/cell-tree.md. The lengths of all are reported, with\n"
-    "                    the DSP's operations per frame at 255 MIPS\n"
-    "  --exact-states N  state budget of the exact optimum (default 200000; 0: not computed);\n"
-    "                    when it gives up: the best proven bound and the best schedule found\n"
-    "  --local-window N  the best schedule found is shortened by windows of 2N/3, then N\n"
-    "                    loads solved exactly (default 45; 0, or 3..1000; 0: not, the beam\n"
-    "                    search's and the window rule's, much faster on 27-cell trees)\n"
-    "  --local-walk N    then N steps of the local walk (default 0: none; 0..100000;\n"
-    "                    scripts/optimum-study.sh runs 500: minutes a 27-cell tree)\n"
-    "  --tree-nodes N    DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)\n"
-    "  --tree-ram auto|onchip|sdram\n"
-    "                    where the DSP keeps the Cell Tree: the 96 KB on chip, or 16 MiB of its\n"
-    "                    SDRAM (16-byte nodes; the packet carries the node's index among its\n"
-    "                    cell's nodes; a scheduling budget of 10% of the frame's board time).\n"
-    "                    auto (default): on chip up to 64 cells, in SDRAM beyond and after a\n"
-    "                    frame whose tree overflowed the on-chip RAM. docs/cell-tree.md\n"
-    "  --tree-group G|auto\n"
-    "                    the Cell Tree over groups of GxGxG cells; the next frame works off each\n"
-    "                    scheduled group, Max Work within it. auto (default): over cells, groups\n"
-    "                    doubled per axis after a frame whose tree overflowed the RAM it stays in\n"
-    "  --on-overflow maxwork|partial\n"
-    "                    a tree that outgrew the RAM: no schedule, the next frame runs Max Work\n"
-    "                    (default), or the schedule of the part it holds, then Max Work\n"
-    "  --orbit DEG       camera motion: the eye turns DEG degrees a frame about the target\n"
-    "                    around the camera's up axis (0: still), from the path's first camera\n"
-    "  --jumps SEED[:EVERY|:pPROB]\n"
-    "                    camera motion: cuts to a random view (an eye on the sphere about the\n"
-    "                    target), every EVERY frames (default 4) or with probability PROB a frame\n"
-    "  --dolly F         camera motion: the eye's distance to the target times F a frame\n"
-    "                    (0.5..2; below 1 the eye moves in past surfaces). With any motion,\n"
-    "                    --frames defaults to 8\n"
-    "  --stale-check on|off\n"
-    "                    on (default): the board follows the schedule under its certificate\n"
-    "                    (Max Work's shadow on the growing tree): never past Max Work plus the\n"
-    "                    path's bank and one allowance; off: it follows the schedule to its end\n"
-    "                    (the paper's board). docs/cell-tree.md, \"The certificate\"\n"
-    "  --json            one JSON object instead of the text\n"
-    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n" C5_BOARDS_HELP
-    "                    each board schedules its own cells from its own Cell Tree; the tree\n"
-    "                    columns are board 0's, \"boards\" lines (JSON \"multi_board\") add up\n"
-    "                    every board's fetches and lower bounds\n" C5_PROGRESS_HELP;
-
 #define EXACT_STATES_DEFAULT 200000
 #define EXACT_NODES_MAX 4096
 #define FETCH_LOG_MAX 65536 /* fetches of a frame kept for the window rule's warm start */
 
 typedef struct {
     const char *scene_arg;
-    int cells[3], w, h, json, still;
+    int cells[3], size[2], json, still;
     long frames, exact_states, tree_nodes, local_window, local_walk;
     int partial; /* --on-overflow partial */
     long group;  /* --tree-group G: the tree over groups of GxGxG cells; 0: auto (c5_dsp_next_group) */
-    c5_split_rule rule;
+    int rule;         /* --split: a c5_split_rule */
     c5_motion motion; /* --orbit, --jumps, --dolly */
     int moving;       /* one of them given (--orbit 0 too: the path's first camera, still) */
     int stale_off;    /* --stale-check off */
     int tree_ram;     /* --tree-ram: TREE_RAM_AUTO (c5_dsp_tree_in_sdram), _ONCHIP or _SDRAM */
-    const char *volumes[C5_MAX_VOLUMES];
-    int n_volumes;
+    c5_cli_volumes volumes;
     c5_boards_args bd;
 } sched_args;
 
 enum { TREE_RAM_AUTO, TREE_RAM_ONCHIP, TREE_RAM_SDRAM };
+
+static int local_window_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    long *n = field;
+    if (c5_cli_int(o->name, v, 0, 1000, n, err))
+        return -1;
+    if (*n > 0 && *n < 3)
+        return c5_fail(err, "%s: %ld is too small for a window (0, or 3..1000)", o->name, *n);
+    return 0;
+}
+
+static int group_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    if (!strcmp(v, "auto")) {
+        *(long *)field = 0;
+        return 0;
+    }
+    return c5_cli_int(o->name, v, 1, C5_CLI_MAX_CELLS, field, err);
+}
+
+static int orbit_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    return c5_motion_parse_orbit(o->name, v, field, err);
+}
+
+static int jumps_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    return c5_motion_parse_jumps(o->name, v, field, err);
+}
+
+static int dolly_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    return c5_motion_parse_dolly(o->name, v, field, err);
+}
+
+static int split_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    static const char *const names[] = {"paper", "lookahead", "rollout", "bounded", "window", NULL};
+    return c5_opt_pick(o, v, names, C5_SPLIT_MOST_LEAVES, field, err);
+}
+
+static int tree_ram_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    static const char *const names[] = {"auto", "onchip", "sdram", NULL}; /* TREE_RAM_* */
+    return c5_opt_pick(o, v, names, TREE_RAM_AUTO, field, err);
+}
+
+static int overflow_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    static const char *const names[] = {"maxwork", "partial", NULL};
+    return c5_opt_pick(o, v, names, 0, field, err);
+}
+
+static int check_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    static const char *const names[] = {"on", "off", NULL};
+    return c5_opt_pick(o, v, names, 0, field, err);
+}
+
+#define OFF(f) offsetof(sched_args, f)
+#define MOVING C5_SEEN(sched_args, moving)
+static const c5_opt opts[] = {
+    {"--cells", "N|NxMxK", c5_opt_cells, OFF(cells), 0, 0, 0,
+     "split into NxNxN (or NxMxK) cells; default 2: memory holds 1/8"},
+    {"--frames", "N", c5_opt_long, OFF(frames), 1, C5_MAX_FRAMES, 0,
+     "frames (default: the camera path's, or 2 for a still camera, so that frame 1 follows frame 0's tree); a path "
+     "is spread over N frames"},
+    {"--still", NULL, c5_opt_flag, OFF(still), 0, 0, 0,
+     "every frame from the path's first camera: the next frame repeats this one, so only the scheduling differs "
+     "(the paper's Figure 6)"},
+    {"--size", "N|WxH", c5_opt_size, OFF(size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
+    {"--split", "R", split_opt, OFF(rule), 0, 0, 0,
+     "rule of the schedule the board follows: window (default: the paper's schedule, or the frame's own fetches "
+     "when fewer, shortened window by window within the DSP's budget of counted operations), paper (split peels "
+     "take the cell with most leaf nodes), lookahead or rollout (ours), or bounded (the rollout within that budget, "
+     "else the paper's); docs/cell-tree.md. The lengths of all are reported, with the DSP's operations per frame at "
+     "255 MIPS"},
+    {"--exact-states", "N", c5_opt_long, OFF(exact_states), 0, 100000000, 0,
+     "state budget of the exact optimum (default 200000; 0: not computed); when it gives up: the best proven bound "
+     "and the best schedule found"},
+    {"--local-window", "N", local_window_opt, OFF(local_window), 0, 0, 0,
+     "the best schedule found is shortened by windows of 2N/3, then N loads solved exactly (default 45; 0, or "
+     "3..1000; 0: not, the beam search's and the window rule's, much faster on 27-cell trees)"},
+    {"--local-walk", "N", c5_opt_long, OFF(local_walk), 0, 100000, 0,
+     "then N steps of the local walk (default 0: none; 0..100000; scripts/optimum-study.sh runs 500: minutes a "
+     "27-cell tree)"},
+    {"--tree-nodes", "N", c5_opt_long, OFF(tree_nodes), 1, C5_TREE_MAX_SLOTS, 0,
+     "DSP RAM node slots, 1..8191 (default 8191: 96 KB of 12-byte nodes)"},
+    {"--tree-ram", "auto|onchip|sdram", tree_ram_opt, OFF(tree_ram), 0, 0, 0,
+     "where the DSP keeps the Cell Tree: the 96 KB on chip, or 16 MiB of its SDRAM (16-byte nodes; the packet "
+     "carries the node's index among its cell's nodes; a scheduling budget of 10% of the frame's board time). auto "
+     "(default): on chip up to 64 cells, in SDRAM beyond and after a frame whose tree overflowed the on-chip RAM. "
+     "docs/cell-tree.md"},
+    {"--tree-group", "G|auto", group_opt, OFF(group), 0, 0, 0,
+     "the Cell Tree over groups of GxGxG cells; the next frame works off each scheduled group, Max Work within it. "
+     "auto (default): over cells, groups doubled per axis after a frame whose tree overflowed the RAM it stays in"},
+    {"--on-overflow", "maxwork|partial", overflow_opt, OFF(partial), 0, 0, 0,
+     "a tree that outgrew the RAM: no schedule, the next frame runs Max Work (default), or the schedule of the part "
+     "it holds, then Max Work"},
+    {"--orbit", "DEG", orbit_opt, OFF(motion), 0, 0, MOVING,
+     "camera motion: the eye turns DEG degrees a frame about the target around the camera's up axis (0: still), "
+     "from the path's first camera"},
+    {"--jumps", "SEED[:EVERY|:pPROB]", jumps_opt, OFF(motion), 0, 0, MOVING,
+     "camera motion: cuts to a random view (an eye on the sphere about the target), every EVERY frames (default 4) "
+     "or with probability PROB a frame"},
+    {"--dolly", "F", dolly_opt, OFF(motion), 0, 0, MOVING,
+     "camera motion: the eye's distance to the target times F a frame (0.5..2; below 1 the eye moves in past "
+     "surfaces). With any motion, --frames defaults to 8"},
+    {"--stale-check", "on|off", check_opt, OFF(stale_off), 0, 0, 0,
+     "on (default): the board follows the schedule under its certificate (Max Work's shadow on the growing tree): "
+     "never past Max Work plus the path's bank and one allowance; off: it follows the schedule to its end (the "
+     "paper's board). docs/cell-tree.md, \"The certificate\""},
+    {"--json", NULL, c5_opt_flag, OFF(json), 0, 0, 0, "one JSON object instead of the text"},
+    {"--volume", "[I=]FILE", c5_opt_volume, OFF(volumes), 0, 0, 0, "replace volume I (default 0) by a raw or NRRD file"},
+    {0},
+};
+#undef MOVING
+
+const c5_cmd_spec c5_spec_schedule = {
+    "schedule", "[SCENE|FILE.json]",
+    "Renders each frame of a scene (default: 'default') on the board model twice: with the online Max Work "
+    "scheduler, and as the board runs with the Cell Tree: following the schedule the DSP made from the previous "
+    "frame's tree (Max Work in the first frame, and after an overflow of the DSP RAM). Per frame: rays, the tree's "
+    "nodes and bytes, the cell fetches of each, the lower bound and the exact optimum of the frame's own tree (when "
+    "the search fits its budget), the peels and the cost of building and scheduling. The two images of a frame must "
+    "be the same bits; a difference is reported as an error. docs/cell-tree.md.\n\n"
+    "With --boards N, each board schedules its own cells from its own Cell Tree; the tree columns are board 0's, "
+    "\"boards\" lines (JSON \"multi_board\") add up every board's fetches and lower bounds.",
+    {{opts, 0}, {c5_boards_opts, OFF(bd)}, {c5_progress_opts, 0}},
+};
+#undef OFF
 
 static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
 {
@@ -116,91 +177,8 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
     a->exact_states = EXACT_STATES_DEFAULT;
     a->local_window = C5_DSP_LOCAL_WINDOW;
     a->tree_nodes = C5_TREE_MAX_SLOTS;
-    int have_scene = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        int bo = c5_boards_option(argc, argv, &i, &a->bd, err);
-        if (bo < 0)
-            return -1;
-        if (bo)
-            continue;
-        if (!strcmp(o, "--cells") || !strcmp(o, "--frames") || !strcmp(o, "--size") || !strcmp(o, "--split") ||
-            !strcmp(o, "--exact-states") || !strcmp(o, "--local-window") || !strcmp(o, "--local-walk") || !strcmp(o, "--tree-nodes") ||
-            !strcmp(o, "--volume") || !strcmp(o, "--on-overflow") || !strcmp(o, "--tree-group") || !strcmp(o, "--orbit") ||
-            !strcmp(o, "--jumps") || !strcmp(o, "--dolly") || !strcmp(o, "--stale-check") || !strcmp(o, "--tree-ram")) {
-            if (i + 1 >= argc)
-                return c5_fail(err, "%s: missing value", o);
-            const char *v = argv[++i];
-            if (!strcmp(o, "--orbit") || !strcmp(o, "--jumps") || !strcmp(o, "--dolly"))
-                a->moving = 1;
-            if (!strcmp(o, "--cells") && c5_cli_cells(o, v, a->cells, err))
-                return -1;
-            else if (!strcmp(o, "--frames") && c5_cli_int(o, v, 1, C5_MAX_FRAMES, &a->frames, err))
-                return -1;
-            else if (!strcmp(o, "--size") && c5_cli_size(o, v, &a->w, &a->h, err))
-                return -1;
-            else if (!strcmp(o, "--exact-states") && c5_cli_int(o, v, 0, 100000000, &a->exact_states, err))
-                return -1;
-            else if (!strcmp(o, "--local-window") && c5_cli_int(o, v, 0, 1000, &a->local_window, err))
-                return -1;
-            else if (!strcmp(o, "--local-walk") && c5_cli_int(o, v, 0, 100000, &a->local_walk, err))
-                return -1;
-            else if (!strcmp(o, "--local-window") && a->local_window > 0 && a->local_window < 3)
-                return c5_fail(err, "--local-window: %ld is too small for a window (0, or 3..1000)", a->local_window);
-            else if (!strcmp(o, "--tree-nodes") && c5_cli_int(o, v, 1, C5_TREE_MAX_SLOTS, &a->tree_nodes, err))
-                return -1;
-            else if (!strcmp(o, "--tree-group") && strcmp(v, "auto") &&
-                     c5_cli_int(o, v, 1, C5_CLI_MAX_CELLS, &a->group, err))
-                return -1;
-            else if (!strcmp(o, "--orbit") && c5_motion_parse_orbit(o, v, &a->motion, err))
-                return -1;
-            else if (!strcmp(o, "--jumps") && c5_motion_parse_jumps(o, v, &a->motion, err))
-                return -1;
-            else if (!strcmp(o, "--dolly") && c5_motion_parse_dolly(o, v, &a->motion, err))
-                return -1;
-            else if (!strcmp(o, "--tree-ram")) {
-                if (!strcmp(v, "auto"))
-                    a->tree_ram = TREE_RAM_AUTO;
-                else if (!strcmp(v, "onchip"))
-                    a->tree_ram = TREE_RAM_ONCHIP;
-                else if (!strcmp(v, "sdram"))
-                    a->tree_ram = TREE_RAM_SDRAM;
-                else
-                    return c5_fail(err, "--tree-ram: '%s' is not auto, onchip or sdram", v);
-            } else if (!strcmp(o, "--stale-check")) {
-                if (strcmp(v, "on") && strcmp(v, "off"))
-                    return c5_fail(err, "--stale-check: '%s' is not on or off", v);
-                a->stale_off = !strcmp(v, "off");
-            } else if (!strcmp(o, "--on-overflow")) {
-                if (strcmp(v, "maxwork") && strcmp(v, "partial"))
-                    return c5_fail(err, "--on-overflow: '%s' is not maxwork or partial", v);
-                a->partial = !strcmp(v, "partial");
-            } else if (!strcmp(o, "--split")) {
-                if (!strcmp(v, "paper"))
-                    a->rule = C5_SPLIT_MOST_LEAVES;
-                else if (!strcmp(v, "lookahead"))
-                    a->rule = C5_SPLIT_LOOKAHEAD;
-                else if (!strcmp(v, "rollout"))
-                    a->rule = C5_SPLIT_ROLLOUT;
-                else if (!strcmp(v, "bounded"))
-                    a->rule = C5_SPLIT_BOUNDED;
-                else if (!strcmp(v, "window"))
-                    a->rule = C5_SPLIT_WINDOW;
-                else
-                    return c5_fail(err, "--split: '%s' is not a rule (paper, lookahead, rollout, bounded or window)",
-                                   v);
-            } else if (!strcmp(o, "--volume")) {
-                if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
-                    return -1;
-            }
-        } else if (!strcmp(o, "--json")) {
-            a->json = 1;
-        } else if (!strcmp(o, "--still")) {
-            a->still = 1;
-        } else if (c5_cli_scene_arg("schedule", o, &a->scene_arg, &have_scene, err) != 0) {
-            return -1;
-        }
-    }
+    if (c5_opt_parse(&c5_spec_schedule, argc, argv, a, &a->scene_arg, err) != 0)
+        return -1;
     if (a->still && a->moving)
         return c5_fail(err, "--still: a still camera cannot also move (--orbit, --jumps, --dolly)");
     return 0;
@@ -231,11 +209,11 @@ typedef struct {
 
 /* One render of the frame: the board, or every board (the summed counters into st). */
 static int model(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f, const c5_board_opts *o,
-                 c5_image *img, c5_board_stats *st, c5_mb_stats *mb, c5_err *err)
+                 const c5_board_out *keep, c5_image *img, c5_board_stats *st, c5_mb_stats *mb, c5_err *err)
 {
     if (!a->bd.given)
-        return c5_board_render(s, sv, f, o, img, st, err);
-    if (c5_mb_render(s, sv, f, o, &a->bd.mo, &a->bd.t, img, mb, err) != 0)
+        return c5_board_render_keep(s, sv, f, o, keep, img, st, err);
+    if (c5_mb_render(s, sv, f, o, keep, &a->bd.mo, &a->bd.t, img, mb, err) != 0)
         return -1;
     *st = mb->sum;
     return 0;
@@ -660,8 +638,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         free(node_rays);
         return c5_fail(err, "out of memory");
     }
-    o.start_counts = row->start;
-    o.node_rays = node_rays;
+    c5_board_out keep = {.start_counts = row->start, .node_rays = node_rays};
     memcpy(o.cells, a->cells, sizeof o.cells);
     c5_progress_frame pf = {prog, f, f};
     o.progress = c5_progress_board;
@@ -669,8 +646,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     /* The fetches of the render whose tree the DSP schedules: a schedule of that tree, for the
      * window rule to start from (a tree over cells only: the log holds cells). */
     int *log = g > 1 ? NULL : malloc(sizeof *log * FETCH_LOG_MAX);
-    o.fetch_log = log;
-    o.fetch_log_cap = log ? FETCH_LOG_MAX : 0;
+    keep.fetch_log = log;
+    keep.fetch_log_cap = log ? FETCH_LOG_MAX : 0;
     c5_ctree_init(&trees[0], (uint32_t)a->tree_nodes);
     int rc = -1;
     /* The tree in the DSP's SDRAM: each run builds its own; the last run's is scheduled. */
@@ -682,7 +659,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         goto done;
     }
     o.sdram_tree = sdt;
-    if (model(a, s, sv, f, &o, &mw_img, &mw, row->mb_mw, err) != 0)
+    if (model(a, s, sv, f, &o, &keep, &mw_img, &mw, row->mb_mw, err) != 0)
         goto done;
     if (row->mb_ct)
         *row->mb_ct = *row->mb_mw;
@@ -697,7 +674,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.prev_start = prev_start;
         o.prev_start_len = prev_start ? ncells : 0;
         o.plan = prev_plan;
-        o.start_counts = NULL;
+        keep.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
         if (sdt) {
@@ -707,7 +684,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
                 goto done;
             }
         }
-        if (model(a, s, sv, f, &o, &ct_img, &row->ct, row->mb_ct, err) != 0)
+        if (model(a, s, sv, f, &o, &keep, &ct_img, &row->ct, row->mb_ct, err) != 0)
             goto done;
         if (!same_bits(&mw_img, &ct_img)) {
             c5_fail(err, "frame %d: the image under the Cell Tree schedule differs from Max Work's (a model bug)", f);
@@ -776,7 +753,7 @@ done:
 
 int c5_cmd_schedule(int argc, char **argv)
 {
-    if (c5_cli_help(argc, argv, usage_text))
+    if (c5_opt_help(&c5_spec_schedule, argc, argv))
         return 0;
     sched_args a;
     c5_err err;
@@ -787,7 +764,7 @@ int c5_cmd_schedule(int argc, char **argv)
     frame_row *rows = NULL;
     int frames = 0, rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err) != 0 ||
-        c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
+        c5_cli_scene_setup(a.scene_arg, &a.volumes, a.size[0], a.size[1], &s, label, sizeof label, &err) != 0)
         goto fail;
     int moving = a.moving;
     if (a.still || moving) { /* the path's first camera: the still view, or the motion's base */

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,78 +16,65 @@
 #include "progress.h"
 #include "sweep.h"
 
-static const char usage_text[] =
-    "usage: cube5 sweep [SCENE|FILE.json] [--knob NAME=V1,V2,...]... [--out DIR]\n"
-    "                   [--size N|WxH] [--threads N] [--volume [I=]FILE] [--json] [--progress]\n\n"
-    "Renders a scene over a range of one setting at a time (the others at the scene's values)\n"
-    "and puts each image's error against a converged reference (PSNR, RMSE, largest error, as\n"
-    "cube5 compare reports them) next to its cost (host wall time; modelled board time for the\n"
-    "board model). Writes DIR/sweep.csv and DIR/sweep.png (RMSE against time, log-log, the\n"
-    "Pareto front drawn; needs gnuplot).\n"
-    "Definitions and the reference: docs/sweep.md.\n\n"
-    "knobs (NAME=V1,V2,...; --knob may be given once per knob):\n"
-    "  step=V,...        sample step in voxels (the grid's smallest spacing), (0, 7.99): cref, model\n"
-    "  et=V,...          early-termination opacity, (0, 1]: cref, model\n"
-    "  bounces=N,...     reflect/refract generations, 0..15: cref, model\n"
-    "  width.NAME=B,...  fraction bits of a datapath signal, 1..shipped (pos, dir, value, rgba,\n"
-    "                    opacity, rgb, normal): model\n"
-    "  k=N,...           the streaming caster's approximation interval, 1, 2, 4, 8, 16: cast\n"
-    "  Without --knob: each knob over a few values around the scene's (docs/sweep.md).\n\n"
-    "  --out DIR         where sweep.csv and sweep.png go (default out/sweep_SCENE)\n"
-    "  --size N|WxH      image size instead of the scene's (N: NxN)\n"
-    "  --threads N       cref's threads and the caster's workers (default: one per CPU)\n"
-    "  --volume [I=]FILE replace volume I (default 0) by a raw or NRRD file\n"
-    "  --json            one JSON object on stdout instead of the table\n" C5_PROGRESS_HELP;
-
 typedef struct {
     const char *scene_arg, *out_dir;
-    const char *volumes[C5_MAX_VOLUMES];
-    int n_volumes, w, h, json;
+    c5_cli_volumes volumes;
+    int size[2], json;
     long threads;
     c5_sweep_knob knobs[C5_SWEEP_MAX_KNOBS];
     int n_knobs;
 } sweep_args;
 
+static int knob_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    sweep_args *a = field;
+    if (a->n_knobs == C5_SWEEP_MAX_KNOBS)
+        return c5_fail(err, "%s: at most %d knobs", o->name, C5_SWEEP_MAX_KNOBS);
+    c5_sweep_knob *k = &a->knobs[a->n_knobs];
+    if (c5_sweep_knob_parse(v, k, err) != 0)
+        return -1;
+    for (int j = 0; j < a->n_knobs; j++)
+        if (!strcmp(a->knobs[j].name, k->name))
+            return c5_fail(err, "%s %s: given twice (list all its values in one --knob)", o->name, k->name);
+    a->n_knobs++;
+    return 0;
+}
+
+static const c5_opt opts[] = {
+    {"--knob", "NAME=V1,V2,...", knob_opt, 0, 0, 0, 0, "a knob and its values (below); once per knob"},
+    {"--out", "DIR", c5_opt_str, offsetof(sweep_args, out_dir), 0, 0, 0,
+     "where sweep.csv and sweep.png go (default out/sweep_SCENE)"},
+    {"--size", "N|WxH", c5_opt_size, offsetof(sweep_args, size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
+    {"--threads", "N", c5_opt_long, offsetof(sweep_args, threads), 1, 256, 0,
+     "cref's threads and the caster's workers (default: one per CPU)"},
+    {"--volume", "[I=]FILE", c5_opt_volume, offsetof(sweep_args, volumes), 0, 0, 0,
+     "replace volume I (default 0) by a raw or NRRD file"},
+    {"--json", NULL, c5_opt_flag, offsetof(sweep_args, json), 0, 0, 0, "one JSON object on stdout instead of the table"},
+    {0},
+};
+
+const c5_cmd_spec c5_spec_sweep = {
+    "sweep", "[SCENE|FILE.json]",
+    "Renders a scene over a range of one setting at a time (the others at the scene's values) and puts each "
+    "image's error against a converged reference (PSNR, RMSE, largest error, as cube5 compare reports them) next to "
+    "its cost (host wall time; modelled board time for the board model). Writes DIR/sweep.csv and DIR/sweep.png "
+    "(RMSE against time, log-log, the Pareto front drawn; needs gnuplot). Definitions and the reference: "
+    "docs/sweep.md.\n\n"
+    "Knobs (NAME=V1,V2,...; without --knob, each knob over a few values around the scene's, docs/sweep.md):\n\n"
+    "  step=V,...        sample step in voxels (the grid's smallest spacing), (0, 7.99): cref, model\n"
+    "  et=V,...          early-termination opacity, (0, 1]: cref, model\n"
+    "  bounces=N,...     reflect/refract generations, 0..15: cref, model\n"
+    "  width.NAME=B,...  fraction bits of a datapath signal, 1..shipped (pos, dir, value, rgba,\n"
+    "                    opacity, rgb, normal): model\n"
+    "  k=N,...           the streaming caster's approximation interval, 1, 2, 4, 8, 16: cast",
+    {{opts, 0}, {c5_progress_opts, 0}},
+};
+
 static int parse_args(int argc, char **argv, sweep_args *a, c5_err *err)
 {
     memset(a, 0, sizeof *a);
     a->scene_arg = "default";
-    int have_scene = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        if (!strcmp(o, "--knob") || !strcmp(o, "--out") || !strcmp(o, "--size") || !strcmp(o, "--threads") ||
-            !strcmp(o, "--volume")) {
-            if (i + 1 >= argc)
-                return c5_fail(err, "%s: missing value", o);
-            const char *v = argv[++i];
-            if (!strcmp(o, "--knob")) {
-                if (a->n_knobs == C5_SWEEP_MAX_KNOBS)
-                    return c5_fail(err, "--knob: at most %d knobs", C5_SWEEP_MAX_KNOBS);
-                c5_sweep_knob *k = &a->knobs[a->n_knobs];
-                if (c5_sweep_knob_parse(v, k, err) != 0)
-                    return -1;
-                for (int j = 0; j < a->n_knobs; j++)
-                    if (!strcmp(a->knobs[j].name, k->name))
-                        return c5_fail(err, "--knob %s: given twice (list all its values in one --knob)", k->name);
-                a->n_knobs++;
-            } else if (!strcmp(o, "--out")) {
-                if (!*v)
-                    return c5_fail(err, "--out: empty folder name");
-                a->out_dir = v;
-            } else if (!strcmp(o, "--size")) {
-                if (c5_cli_size(o, v, &a->w, &a->h, err) != 0)
-                    return -1;
-            } else if (!strcmp(o, "--threads")) {
-                if (c5_cli_int(o, v, 1, 256, &a->threads, err) != 0)
-                    return -1;
-            } else if (c5_cli_add_volume(v, a->volumes, &a->n_volumes, err) != 0)
-                return -1;
-        } else if (!strcmp(o, "--json"))
-            a->json = 1;
-        else if (c5_cli_scene_arg("sweep", o, &a->scene_arg, &have_scene, err) != 0)
-            return -1;
-    }
-    return 0;
+    return c5_opt_parse(&c5_spec_sweep, argc, argv, a, &a->scene_arg, err);
 }
 
 /* One row of the sweep: a knob's value on one renderer. */
@@ -437,7 +425,7 @@ static void ref_progress(void *arg, const char *what, double s)
 
 int c5_cmd_sweep(int argc, char **argv)
 {
-    if (c5_cli_help(argc, argv, usage_text))
+    if (c5_opt_help(&c5_spec_sweep, argc, argv))
         return 0;
     static sweep_args a;
     static c5_scene s;
@@ -450,7 +438,7 @@ int c5_cmd_sweep(int argc, char **argv)
     sweep_progress prog = {{0}, 0};
     int rc = C5_EXIT_INPUT;
     if (parse_args(argc, argv, &a, &err) != 0 ||
-        c5_cli_scene_setup(a.scene_arg, a.volumes, a.n_volumes, a.w, a.h, &s, label, sizeof label, &err) != 0)
+        c5_cli_scene_setup(a.scene_arg, &a.volumes, a.size[0], a.size[1], &s, label, sizeof label, &err) != 0)
         goto fail;
     if (a.out_dir)
         snprintf(dir, sizeof dir, "%s", a.out_dir);

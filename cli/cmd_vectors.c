@@ -1,5 +1,6 @@
 /* cube5 vectors: golden vectors of every block for the VHDL (docs/vectors.md). */
 #include <jansson.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,36 +10,58 @@
 #include "cli.h"
 #include "progress.h"
 
-static const char usage_text[] =
-    "usage: cube5 vectors [--out DIR] [--scene S ...] [--count N] [--seed N] [--size N|WxH] [--cells N|NxMxK]\n"
-    "                     [--vcd] [--progress]\n\n"
-    "Writes input and expected-output vectors for every block of the board model into DIR\n"
-    "(default out/vectors): BLOCK.SOURCE.hex files (hex text, one vector per line, fixed\n"
-    "columns) and manifest.json (each file's block, fields, widths, count, seed, scene and\n"
-    "CRC-32; per scene the CRC-32s of its frame buffer, packet trace and DSP RAM). SOURCE is\n"
-    "'directed' (corner cases) or a scene's name (taps on the model while it renders).\n"
-    "The same options give the same bits on every run and machine. docs/vectors.md.\n\n"
-    "  --out DIR       output directory: created, or an earlier vector set replaced (its\n"
-    "                  files only); a non-empty directory that holds no vector set is refused\n"
-    "  --scene S       a built-in scene or scene file to tap, repeatable (default: every\n"
-    "                  built-in scene); 'none': directed vectors only\n"
-    "  --count N       vectors per block and source (random directed cases, scene samples,\n"
-    "                  first cycles of a trace); default 256\n"
-    "  --seed N        seed of the random cases and samples (default 1)\n"
-    "  --size N|WxH    image size of the scenes (N: NxN; default 64x64)\n"
-    "  --cells N|NxMxK cell split of the scenes (default 2: 8 cells)\n"
-    "  --vcd           also each vector file's waveform, BLOCK.SOURCE.vcd: one clock cycle a\n"
-    "                  vector on the testbenches' 10 ns clock, the fields as signals, to load\n"
-    "                  beside GHDL's --vcd of the testbench in GTKWave (docs/vectors.md)\n" C5_PROGRESS_HELP;
-
 #define MAX_SCENES 32
 
 typedef struct {
     const char *out;
     const char *scenes[MAX_SCENES];
-    int n_scenes, no_scenes, w, h, cells[3], vcd;
+    int n_scenes, no_scenes, size[2], cells[3], vcd;
     long count, seed;
 } vec_args;
+
+/* --scene S, repeatable; 'none': directed vectors only. */
+static int scene_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    vec_args *a = field;
+    if (!strcmp(v, "none"))
+        a->no_scenes = 1;
+    else if (a->n_scenes == MAX_SCENES)
+        return c5_fail(err, "%s: at most %d scenes", o->name, MAX_SCENES);
+    else
+        a->scenes[a->n_scenes++] = v;
+    return 0;
+}
+
+static const c5_opt opts[] = {
+    {"--out", "DIR", c5_opt_str, offsetof(vec_args, out), 0, 0, 0,
+     "output directory: created, or an earlier vector set replaced (its files only); a non-empty directory that "
+     "holds no vector set is refused (default out/vectors)"},
+    {"--scene", "S", scene_opt, 0, 0, 0, 0,
+     "a built-in scene or scene file to tap, repeatable (default: every built-in scene); 'none': directed vectors "
+     "only"},
+    {"--count", "N", c5_opt_long, offsetof(vec_args, count), 1, 1000000, 0,
+     "vectors per block and source (random directed cases, scene samples, first cycles of a trace); default 256"},
+    {"--seed", "N", c5_opt_long, offsetof(vec_args, seed), 0, 0x7fffffffL, 0,
+     "seed of the random cases and samples (default 1)"},
+    {"--size", "N|WxH", c5_opt_size, offsetof(vec_args, size), 0, 0, 0,
+     "image size of the scenes (N: NxN; default 64x64)"},
+    {"--cells", "N|NxMxK", c5_opt_cells, offsetof(vec_args, cells), 0, 0, 0,
+     "cell split of the scenes (default 2: 8 cells)"},
+    {"--vcd", NULL, c5_opt_flag, offsetof(vec_args, vcd), 0, 0, 0,
+     "also each vector file's waveform, BLOCK.SOURCE.vcd: one clock cycle a vector on the testbenches' 10 ns "
+     "clock, the fields as signals, to load beside GHDL's --vcd of the testbench in GTKWave (docs/vectors.md)"},
+    {0},
+};
+
+const c5_cmd_spec c5_spec_vectors = {
+    "vectors", NULL,
+    "Writes input and expected-output vectors for every block of the board model into DIR: BLOCK.SOURCE.hex files "
+    "(hex text, one vector per line, fixed columns) and manifest.json (each file's block, fields, widths, count, "
+    "seed, scene and CRC-32; per scene the CRC-32s of its frame buffer, packet trace and DSP RAM). SOURCE is "
+    "'directed' (corner cases) or a scene's name (taps on the model while it renders). The same options give the "
+    "same bits on every run and machine. docs/vectors.md.",
+    {{opts, 0}, {c5_progress_opts, 0}},
+};
 
 static int parse_args(int argc, char **argv, vec_args *a, c5_err *err)
 {
@@ -46,39 +69,10 @@ static int parse_args(int argc, char **argv, vec_args *a, c5_err *err)
     a->out = "out/vectors";
     a->count = 256;
     a->seed = 1;
-    a->w = a->h = 64;
+    a->size[0] = a->size[1] = 64;
     a->cells[0] = a->cells[1] = a->cells[2] = 2;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        if (!strcmp(o, "--vcd")) {
-            a->vcd = 1;
-            continue;
-        }
-        if (strcmp(o, "--out") && strcmp(o, "--scene") && strcmp(o, "--count") && strcmp(o, "--seed") &&
-            strcmp(o, "--size") && strcmp(o, "--cells"))
-            return c5_fail(err, "vectors: unknown option or argument '%s' (see 'cube5 vectors --help')", o);
-        if (i + 1 >= argc)
-            return c5_fail(err, "%s: missing value", o);
-        const char *v = argv[++i];
-        if (!strcmp(o, "--out")) {
-            a->out = v;
-        } else if (!strcmp(o, "--scene")) {
-            if (!strcmp(v, "none"))
-                a->no_scenes = 1;
-            else if (a->n_scenes == MAX_SCENES)
-                return c5_fail(err, "--scene: at most %d scenes", MAX_SCENES);
-            else
-                a->scenes[a->n_scenes++] = v;
-        } else if (!strcmp(o, "--count") && c5_cli_int(o, v, 1, 1000000, &a->count, err)) {
-            return -1;
-        } else if (!strcmp(o, "--seed") && c5_cli_int(o, v, 0, 0x7fffffffL, &a->seed, err)) {
-            return -1;
-        } else if (!strcmp(o, "--size") && c5_cli_size(o, v, &a->w, &a->h, err)) {
-            return -1;
-        } else if (!strcmp(o, "--cells") && c5_cli_cells(o, v, a->cells, err)) {
-            return -1;
-        }
-    }
+    if (c5_opt_parse(&c5_spec_vectors, argc, argv, a, NULL, err) != 0)
+        return -1;
     if (a->no_scenes && a->n_scenes)
         return c5_fail(err, "--scene none cannot be combined with scenes");
     if (!a->no_scenes && !a->n_scenes)
@@ -111,7 +105,7 @@ static json_t *run_scene(c5_vset *set, const vec_args *a, const char *arg, c5_er
     c5_supervol sv = {0};
     char label[512], name[128];
     int cells[3] = {a->cells[0], a->cells[1], a->cells[2]};
-    if (c5_cli_scene_setup(arg, NULL, 0, a->w, a->h, &s, label, sizeof label, err) != 0 ||
+    if (c5_cli_scene_setup(arg, NULL, a->size[0], a->size[1], &s, label, sizeof label, err) != 0 ||
         c5_cli_model_grid(&s, cells, label, &sv, err) != 0) {
         c5_supervol_free(&sv);
         return NULL;
@@ -140,7 +134,7 @@ static int check_out_dir(const vec_args *a, c5_err *err)
 
 int c5_cmd_vectors(int argc, char **argv)
 {
-    if (c5_cli_help(argc, argv, usage_text))
+    if (c5_opt_help(&c5_spec_vectors, argc, argv))
         return 0;
     c5_err err;
     vec_args a;
@@ -173,7 +167,7 @@ int c5_cmd_vectors(int argc, char **argv)
         fprintf(stderr, "cube5: error: %s\n", err.msg);
         return set.failed ? C5_EXIT_RUNTIME : C5_EXIT_INPUT;
     }
-    json_t *params = json_pack("{s:[i,i], s:[i,i,i], s:o}", "size", a.w, a.h, "cells", a.cells[0], a.cells[1],
+    json_t *params = json_pack("{s:[i,i], s:[i,i,i], s:o}", "size", a.size[0], a.size[1], "cells", a.cells[0], a.cells[1],
                                a.cells[2], "scenes", scenes);
     int n_files = (int)json_array_size(set.files);
     if (c5_vset_finish(&set, params) != 0) {

@@ -7,30 +7,31 @@
 #include <string.h>
 
 #include "cli.h"
-#include "progress.h"
 
 static const struct {
     const char *name;
     c5_cmd_fn fn;
-    int progress; /* takes --progress: a run can last long */
+    const c5_cmd_spec *spec;
     const char *summary;
 } cmds[] = {
-    {"cast", c5_cmd_cast, 1, "the streaming-model volume ray caster over the peer benchmark's views (fps)"},
-    {"compare", c5_cmd_compare, 1, "render a frame with cref and the board model and compare the images"},
-    {"render", c5_cmd_render, 1, "render a scene with cref or the board model (--model rtl)"},
-    {"schedule", c5_cmd_schedule, 1, "the Cell Tree scheduler against Max Work over a scene's frames"},
-    {"scenes", c5_cmd_scenes, 0, "list the built-in scenes"},
-    {"sweep", c5_cmd_sweep, 1, "error against time over step, early termination, bounces, widths, the caster's k"},
-    {"vectors", c5_cmd_vectors, 1, "golden vectors of every block for the VHDL testbenches"},
+    {"cast", c5_cmd_cast, &c5_spec_cast, "the streaming-model volume ray caster over the peer benchmark's views (fps)"},
+    {"compare", c5_cmd_compare, &c5_spec_compare, "render a frame with cref and the board model and compare the images"},
+    {"render", c5_cmd_render, &c5_spec_render, "render a scene with cref or the board model (--model rtl)"},
+    {"schedule", c5_cmd_schedule, &c5_spec_schedule, "the Cell Tree scheduler against Max Work over a scene's frames"},
+    {"scenes", c5_cmd_scenes, &c5_spec_scenes, "list the built-in scenes"},
+    {"sweep", c5_cmd_sweep, &c5_spec_sweep,
+     "error against time over step, early termination, bounces, widths, the caster's k"},
+    {"vectors", c5_cmd_vectors, &c5_spec_vectors, "golden vectors of every block for the VHDL testbenches"},
 };
 #define N_CMDS (sizeof cmds / sizeof cmds[0])
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: cube5 COMMAND [ARGS]\n       cube5 help [COMMAND] | --version\n\ncommands:\n");
+    fprintf(f, "usage: cube5 COMMAND [ARGS]\n       cube5 help [COMMAND] | --man | --version\n\ncommands:\n");
     for (size_t i = 0; i < N_CMDS; i++)
         fprintf(f, "  %-8s %s\n", cmds[i].name, cmds[i].summary);
-    fprintf(f, "  %-8s %s\n", "help", "this text; 'cube5 help COMMAND' (or 'cube5 COMMAND --help') for a command");
+    fprintf(f, "  %-8s %s\n", "help", "this text; 'cube5 help COMMAND' (or 'cube5 COMMAND --help') for a command;");
+    fprintf(f, "  %-8s %s\n", "", "'cube5 help --man': the commands' section of the manual page, in roff");
     fprintf(f, "\nEvery command but scenes shows its progress on stderr when stderr is a terminal, and\n"
                "with --progress one line per step (never on stdout). Exit status: 0 ok, 1 a failure\n"
                "while running, 2 bad input or usage; errors read 'cube5: error: ...'.\n");
@@ -89,6 +90,11 @@ int main(int argc, char **argv)
             usage(stdout);
             return 0;
         }
+        if (!strcmp(argv[2], "--man") && argc == 3) { /* man/cube5.1's COMMANDS, from the tables */
+            for (size_t i = 0; i < N_CMDS; i++)
+                c5_opt_man(cmds[i].spec, stdout);
+            return 0;
+        }
         long c = find_cmd(argv[2]);
         if (c < 0 || argc > 3) {
             fprintf(stderr, "cube5: error: %s '%s' (see 'cube5 help')\n", c < 0 ? "unknown command" : "unexpected argument",
@@ -105,15 +111,7 @@ int main(int argc, char **argv)
     }
     if (ranks_refused(argv[1], argc, argv))
         return C5_EXIT_INPUT;
-    /* --progress means the same to every long command: taken out here, before it parses. */
-    int n = 1;
-    for (int i = 2; i < argc; i++)
-        if (cmds[c].progress && !strcmp(argv[i], "--progress"))
-            c5_progress_requested = 1;
-        else
-            argv[1 + n++] = argv[i];
-    argv[1 + n] = NULL;
-    int rc = cmds[c].fn(n, argv + 1);
+    int rc = cmds[c].fn(argc - 1, argv + 1);
     /* The summary or the --json object is an output too: written whole, or the run failed. */
     errno = 0;
     if (fflush(stdout) != 0 || ferror(stdout)) {

@@ -139,9 +139,9 @@ static void bus_tap(const c5_bd *b, const c5_bray *r, const uint8_t *pk, int to_
 static void on_enqueue(void *ctx, const c5_bray *r)
 {
     c5_bd *b = ctx;
-    if (b->o->moves && !b->eye_probe && (int)r->cell != b->proc.active) {
+    if (b->keep->moves && !b->eye_probe && (int)r->cell != b->proc.active) {
         int from = b->proc.active < 0 ? (int)r->cell : b->proc.active;
-        b->o->moves[(size_t)from * (size_t)b->cells.count + r->cell]++;
+        b->keep->moves[(size_t)from * (size_t)b->cells.count + r->cell]++;
     }
     if (b->o->link && c5_bd_link_enqueue(b, r))
         return;
@@ -174,8 +174,8 @@ void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival)
     b->st->tree_wall_s += c5_now_s() - t0;
     /* The rays each node brings to its cell's queue (stale_plan.h); a spill of the active
      * cell's own ray is not an arrival. */
-    if (b->o->node_rays && q.node != C5_NODE_NONE && arrival) {
-        (b->sdram ? b->sdram->rays : b->o->node_rays)[id]++;
+    if (b->keep->node_rays && q.node != C5_NODE_NONE && arrival) {
+        (b->sdram ? b->sdram->rays : b->keep->node_rays)[id]++;
         b->st->node_count_ops += C5_OPS_NODE_COUNT;
     }
     if (b->certify && arrival)
@@ -373,10 +373,11 @@ static int frame_setup(c5_bd *b, const c5_supervol *sv, const c5_supervol *grid,
     }
     stats->switched_at_load = -1;
     stats->start_overlap = -1;
-    if (o->moves)
-        memset(o->moves, 0, (size_t)b->cells.count * (size_t)b->cells.count * sizeof *o->moves);
-    if (o->node_rays)
-        memset(o->node_rays, 0, C5_TREE_SLOTS * sizeof *o->node_rays);
+    const c5_board_out *k = b->keep;
+    if (k->moves)
+        memset(k->moves, 0, (size_t)b->cells.count * (size_t)b->cells.count * sizeof *k->moves);
+    if (k->node_rays)
+        memset(k->node_rays, 0, C5_TREE_SLOTS * sizeof *k->node_rays);
     if (o->sched == C5_SCHED_EXTERNAL && o->stale_check >= 0 && !o->link && b->sgroup[0] * b->sgroup[1] * b->sgroup[2] == 1 &&
         b->group[0] * b->group[1] * b->group[2] == 1) {
         if (c5_mw_shadow_init(&b->shadow, b->cells.count, b->sdram ? c5_sdram_tree_max_nodes(b->sdram) : 0) != 0) {
@@ -408,8 +409,8 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
             return -3;
         size_t bytes = c5_cell_bytes(&b->cells, cell);
         stats->fetches++;
-        if (o->fetch_log && stats->fetches <= (uint64_t)o->fetch_log_cap)
-            o->fetch_log[stats->fetches - 1] = cell;
+        if (b->keep->fetch_log && stats->fetches <= (uint64_t)b->keep->fetch_log_cap)
+            b->keep->fetch_log[stats->fetches - 1] = cell;
         stats->fetch_bytes += bytes;
         stats->cycles_fetch += fetch_cycles(o, bytes);
         if (b->certify)
@@ -428,11 +429,18 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
 int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
                     c5_image *out, c5_board_stats *stats, c5_err *err)
 {
+    return c5_board_render_keep(s, sv, frame, opts, NULL, out, stats, err);
+}
+
+int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
+                         const c5_board_out *keep, c5_image *out, c5_board_stats *stats, c5_err *err)
+{
+    static const c5_board_out none;
     double start = c5_now_s();
     memset(stats, 0, sizeof *stats);
     c5_board_opts o = *opts;
     normalise_opts(&o, sv);
-    c5_bd b = {.s = s, .o = &o, .st = stats};
+    c5_bd b = {.s = s, .o = &o, .keep = keep ? keep : &none, .st = stats};
     c5_camera frame_cam = o.camera ? *o.camera : c5_scene_camera_at(s, frame);
     stats->frame_key = c5_frame_key(&frame_cam, s->render.width, s->render.height);
     c5_supervol dummy;
@@ -454,9 +462,9 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
         stats->start_overlap = c5_bd_start_overlap(&b);
     if (b.certify)
         c5_bd_set_budget(&b);
-    if (o.start_counts)
+    if (b.keep->start_counts)
         for (int c = 0; c < b.cells.count; c++)
-            o.start_counts[c] = (uint32_t)c5_bd_queued_in(&b, c);
+            b.keep->start_counts[c] = (uint32_t)c5_bd_queued_in(&b, c);
     /* Rays that never reach the volume were finished by the set-up: the first visit. */
     uint64_t proc_cycles = b.proc.st.cycles, bus = stats->bus_packets;
     stats->cycles_process += proc_cycles > bus ? proc_cycles : bus;
@@ -482,8 +490,8 @@ int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c
     }
     /* frame_acc is UQ20.12: 32 bits a channel. Far beyond any scene's light, but a clamp
      * here would be counted, never wrapped. */
-    if (o.frame_acc)
-        memcpy(o.frame_acc, b.fb, npx * 3 * sizeof *b.fb);
+    if (b.keep->frame_acc)
+        memcpy(b.keep->frame_acc, b.fb, npx * 3 * sizeof *b.fb);
     for (size_t i = 0; i < npx * 3; i++) {
         if (b.fb[i] > UINT32_MAX && !o.link) { /* several boards: their sum is clamped */
             b.fb[i] = UINT32_MAX;

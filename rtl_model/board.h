@@ -87,16 +87,13 @@ typedef struct {
     const int *schedule;     /* C5_SCHED_EXTERNAL: cell ids in load order (the Cell Tree's), or
                               * group ids with tree_group */
     int schedule_len;
-    int *fetch_log;          /* if not NULL: the cells fetched, in order (the first fetch_log_cap);
-                              * a frame's fetches are a schedule of its own tree, which the window
-                              * rule starts from (docs/cell-tree.md) */
-    int fetch_log_cap;
+    /* The DSP's RAM, which the caller provides and the frame fills: */
     c5_ctree *tree;          /* the DSP's Cell Tree of this frame, filled here after the caller's
                               * c5_ctree_init (which sets its capacity); NULL: built and dropped */
     c5_sdram_tree *sdram_tree; /* the DSP's Cell Tree in its SDRAM (cell_tree_sdram.h), filled here
                               * after the caller's c5_sdram_tree_init, instead of `tree`; NULL: the
                               * tree is on chip. Its per-node counts go to its rays[], not
-                              * node_rays (which then only asks for them) */
+                              * c5_board_out.node_rays (which then only asks for them) */
     int tree_group[3];       /* the Cell Tree this frame builds, over groups of cells: cells a group
                               * holds along each axis (group id = x + gx (y + gy z) over the grid
                               * of groups); < 2 on every axis: over single cells */
@@ -124,23 +121,33 @@ typedef struct {
     int stale_check;         /* 0: on (default); -1: off, the schedule is followed to its end (the
                               * paper's board), then Max Work */
     const uint32_t *prev_start; /* rays each cell's queue held when the previous frame's set-up
-                                 * ended (c5_board_stats.start_counts of that frame), or NULL */
+                                 * ended (c5_board_out.start_counts of that frame), or NULL */
     int prev_start_len;      /* entries of prev_start: the split's cells */
-    uint32_t *start_counts;  /* out, or NULL: this frame's, [cells] */
     /* The DSP's replay of the previous frame's tree (stale_plan.h), or NULL: its bank (the
      * path's exact saving so far) and Max Work's loads set the budget. */
     const c5_stale_plan *plan;
-    uint32_t *node_rays;     /* out, or NULL: packets tagged with each node slot, [C5_TREE_SLOTS] */
     /* Several boards (rtl_model/multi_board.h): NULL: this board owns every cell. With a
      * link the board generates only the eye rays of its pixels (those whose first queued ray
      * is for a cell it owns; pixels with none: pixel index mod boards), and taps must be NULL. */
     const c5_board_link *link;
-    uint64_t *frame_acc;     /* out, or NULL: the frame buffer's integer sums before the clamp,
-                              * [width x height x 3] (what several boards add up) */
-    uint32_t *moves;         /* out, or NULL: [cells x cells] rays handed on from the active cell
-                              * (row) to another cell (column); rays the eye-ray set-up queues
-                              * count on their cell's diagonal (the --assign tree rule's input) */
 } c5_board_opts;
+
+/* What a frame leaves beside its image and counters, each where the caller gives room for it
+ * (NULL: not kept). */
+typedef struct {
+    int *fetch_log;          /* the cells fetched, in order (the first fetch_log_cap); a frame's
+                              * fetches are a schedule of its own tree, which the window rule
+                              * starts from (docs/cell-tree.md) */
+    int fetch_log_cap;
+    uint32_t *start_counts;  /* [cells]: rays each cell's queue holds when the set-up ends (the
+                              * next frame's c5_board_opts.prev_start) */
+    uint32_t *node_rays;     /* [C5_TREE_SLOTS]: packets tagged with each node slot */
+    uint64_t *frame_acc;     /* [width x height x 3]: the frame buffer's integer sums before the
+                              * clamp (what several boards add up) */
+    uint32_t *moves;         /* [cells x cells]: rays handed on from the active cell (row) to
+                              * another cell (column); rays the eye-ray set-up queues count on
+                              * their cell's diagonal (the --assign tree rule's input) */
+} c5_board_out;
 
 /* Where a frame is (c5_board_opts.progress). */
 typedef struct c5_board_progress {
@@ -192,7 +199,7 @@ typedef struct c5_board_stats {
     uint64_t shadow_steps;   /* Max Work's fetches of the frame, as the shadow found them; 0: none */
     int shadow_broken;       /* a packet the shadow could not place: no bound for the frame's rest */
     uint64_t shadow_ops;     /* DSP operations of the shadow (mw_shadow.h) */
-    uint64_t node_count_ops; /* DSP operations counting each node's rays (opts.node_rays) */
+    uint64_t node_count_ops; /* DSP operations counting each node's rays (c5_board_out.node_rays) */
     double start_overlap;    /* the start queues' overlap with the previous frame's; -1: not compared */
     uint32_t tree_nodes, tree_slots; /* the Cell Tree: nodes, slots with extension slots */
     int tree_overflow;       /* the tree outgrew the DSP RAM (the frame is still right) */
@@ -221,5 +228,8 @@ typedef struct c5_board_stats {
  * (a scene beyond the model's formats, docs/bit-layouts.md, is refused, not approximated). */
 int c5_board_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
                     c5_image *out, c5_board_stats *stats, c5_err *err);
+/* The same, keeping what `keep` gives room for. */
+int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *opts,
+                         const c5_board_out *keep, c5_image *out, c5_board_stats *stats, c5_err *err);
 
 #endif

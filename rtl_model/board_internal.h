@@ -27,6 +27,7 @@ typedef struct {
 typedef struct {
     const c5_scene *s;
     const c5_board_opts *o;
+    const c5_board_out *keep; /* never NULL: nothing kept is all NULL */
     c5_frame_regs r;
     c5_cells cells;
     c5_rdram mem;

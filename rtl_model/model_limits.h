@@ -7,15 +7,9 @@
 #define C5_MODEL_LIMITS_H
 
 #include "err.h"
+#include "ray.h" /* the limits of the fields: C5_MODEL_MAX_GRID, ... */
 #include "scene.h"
 #include "supervol.h"
-
-/* The grid side the model's geometry addresses: geom coordinates (SQ13.15, min spacings from
- * the grid origin) reach 8192; 8000 leaves room for rays stepping out of the grid. The packet
- * bounds the cell (C5_CELL_MAX_EDGE), not the grid. */
-#define C5_MODEL_MAX_GRID 8000
-/* The image side the packet's destination (9+9 bits) addresses. */
-#define C5_MODEL_MAX_IMAGE 512
 
 /* The split where it is left to the model: every cells[a] == 0 becomes the fewest cells that
  * keep a cell within C5_CELL_MAX_EDGE voxels along axis a (1 for up to 256 voxels). */

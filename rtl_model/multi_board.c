@@ -337,7 +337,8 @@ static int to_image(const c5_scene *s, const uint64_t *acc, c5_image *out, uint6
 }
 
 int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *base,
-                 const c5_mb_opts *mo, const c5_mb_transport *t, c5_image *out, c5_mb_stats *ms, c5_err *err)
+                 const c5_board_out *keep, const c5_mb_opts *mo, const c5_mb_transport *t, c5_image *out,
+                 c5_mb_stats *ms, c5_err *err)
 {
     memset(ms, 0, sizeof *ms);
     int nb = t->size;
@@ -378,11 +379,12 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     c5_board_opts o = *base;
     memcpy(o.cells, n, sizeof o.cells);
     o.link = nb > 1 ? &link : NULL;
-    o.frame_acc = acc;
-    o.moves = moves;
+    c5_board_out k = keep ? *keep : (c5_board_out){0};
+    k.frame_acc = acc;
+    k.moves = moves;
     c5_board_stats mine;
     c5_image img;
-    if (c5_board_render(s, sv, frame, &o, &img, &mine, err) != 0)
+    if (c5_board_render_keep(s, sv, frame, &o, &k, &img, &mine, err) != 0)
         goto done;
     c5_image_free(&img);
     if (nb == 1) {

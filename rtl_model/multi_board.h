@@ -117,12 +117,14 @@ int c5_mb_assign_tree(const int n[3], int boards, const uint64_t *moves, uint16_
 void c5_mb_split(const c5_board_opts *o, const c5_supervol *sv, int cells[3]);
 
 /* Renders frame `frame` as board t->rank of t->size (base: the board options every board
- * uses; link and frame_acc are set here). Every board gets the summed image in out and the
- * frame's statistics of every board in ms. With one board: c5_board_render unchanged (no
- * link). 0, or -1 with a message; after -1 on one board the others may wait in a collective:
- * the transport must end them (MPI_Abort). */
+ * uses, the link set here; keep: what this board keeps of its frame, or NULL; its frame_acc
+ * and moves are set here). Every board gets the summed image in out and the frame's
+ * statistics of every board in ms. With one board: c5_board_render unchanged (no link). 0,
+ * or -1 with a message; after -1 on one board the others may wait in a collective: the
+ * transport must end them (MPI_Abort). */
 int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *base,
-                 const c5_mb_opts *mo, const c5_mb_transport *t, c5_image *out, c5_mb_stats *ms, c5_err *err);
+                 const c5_board_out *keep, const c5_mb_opts *mo, const c5_mb_transport *t, c5_image *out,
+                 c5_mb_stats *ms, c5_err *err);
 
 /* Adds frame f's figures into a run's totals (counters and cycles add; balance is recomputed
  * from the summed busy cycles). */

@@ -242,7 +242,7 @@ if [ "${pd#double }" = "${pl#long }" ] && [ "${pd%% *}" = double ] && [ "${pl%% 
 else
     bad compare_ref_precision_long "double: $pd, long: $pl"
 fi
-expect compare_bad_ref_precision 2 "--ref-precision: 'quad' is not double or long" -- \
+expect compare_bad_ref_precision 2 "--ref-precision: expected double or long, got 'quad'" -- \
     "$cube5" compare default --size 8x8 --ref-precision quad
 expect compare_unknown_option 2 "unknown option '--model'" -- "$cube5" compare default --model rtl
 cp "$tmp/ok.json" "$tmp/keep.json"
@@ -329,8 +329,8 @@ def ram(cells):
     return json.loads(out)["frames"][0]["tree_ram"]
 assert ram("4") == "onchip" and ram("5") == "sdram"' "$cube5"
 then ok schedule_tree_ram_auto; else bad schedule_tree_ram_auto "auto: on chip up to 64 cells, SDRAM beyond"; fi
-expect schedule_bad_tree_ram 2 "--tree-ram: 'dram' is not auto, onchip or sdram" -- "$cube5" schedule default --tree-ram dram
-expect schedule_bad_split 2 "--split: 'best' is not a rule \(paper, lookahead, rollout, bounded or window\)" -- "$cube5" schedule default --split best
+expect schedule_bad_tree_ram 2 "--tree-ram: expected auto, onchip or sdram, got 'dram'" -- "$cube5" schedule default --tree-ram dram
+expect schedule_bad_split 2 "--split: expected paper, lookahead, rollout, bounded or window, got 'best'" -- "$cube5" schedule default --split best
 expect schedule_bad_frames 2 "--frames: expected an integer" -- "$cube5" schedule default --frames 0
 expect schedule_bad_local_window 2 "--local-window: 2 is too small for a window" -- "$cube5" schedule default --local-window 2
 expect schedule_local_window_range 2 "--local-window: expected an integer" -- "$cube5" schedule default --local-window 1001
@@ -361,7 +361,7 @@ fr = json.loads(sys.argv[1])["frames"]
 for i, f in enumerate(fr):
     assert f["replay"]["bank"] == sum(g["fetches_maxwork"] - g["fetches_celltree"] for g in fr[:i + 1]), i
 assert fr[-1]["replay"]["bank"] > 0' "$json"; then ok schedule_ledger_bank; else bad schedule_ledger_bank "$json"; fi
-expect schedule_stale_check_bad 2 "--stale-check: 'maybe' is not on or off" -- "$cube5" schedule default --stale-check maybe
+expect schedule_stale_check_bad 2 "--stale-check: expected on or off, got 'maybe'" -- "$cube5" schedule default --stale-check maybe
 for chk in on off; do
     json=$("$cube5" schedule default --size 12x12 --cells 2 --orbit 30 --frames 2 --exact-states 0 --stale-check $chk --json)
     if python3 -c '

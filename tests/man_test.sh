@@ -42,6 +42,24 @@ for page in man/cube5.1 man/cube5ctl.1 man/cube5-board.1; do
         bad "man: $page" "its .TH does not say \"cube5 $version\" (VERSION)"
 done
 
+# The command sections are made from the option tables: the page must be what they make now,
+# and a page that differs (one help line changed) must fail that check.
+if out=$(bash scripts/man-commands.sh "$build/cube5" man/cube5.1 --check 2>&1); then
+    ok "man: man/cube5.1's command sections are those the option tables make"
+else
+    bad "man: man/cube5.1 is stale" "$out"
+fi
+stale=$(mktemp -d)
+sed 's/^worker threads 1\.\.64/worker threads 1..63/' man/cube5.1 >"$stale/cube5.1"
+if cmp -s man/cube5.1 "$stale/cube5.1"; then
+    bad "man: the stale-page check" "the sample edit did not apply (cast's --threads help moved?)"
+elif bash scripts/man-commands.sh "$build/cube5" "$stale/cube5.1" --check 2>/dev/null; then
+    bad "man: the stale-page check passed a page whose cast --threads line was changed"
+else
+    ok "man: the stale-page check finds a changed help line"
+fi
+rm -rf "$stale"
+
 # A sample page that lacks an option of its help must fail the check.
 out=$(check sample "  --alpha A" $'usage: sample [--alpha A] [--beta]')
 case $out in FAIL*--beta*) ok "man: the option check finds a missing option";;

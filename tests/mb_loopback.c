@@ -99,7 +99,7 @@ static void *run(void *arg)
 {
     board_thread *t = arg;
     c5_mb_transport tr = {t, t->rank, t->L->size, alltoall, allgather, sum_u64};
-    t->rc = c5_mb_render(t->s, t->sv, t->frame, t->base, &t->mo, &tr, &t->img, t->ms, &t->err);
+    t->rc = c5_mb_render(t->s, t->sv, t->frame, t->base, NULL, &t->mo, &tr, &t->img, t->ms, &t->err);
     return NULL;
 }
 

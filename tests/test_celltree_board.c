@@ -362,7 +362,7 @@ TEST(celltree_512_cells_scheduled_and_followed)
     c5_image_free(&b);
 }
 
-/* The fetch log (c5_board_opts.fetch_log): the cells the board loaded, in order, as many as it
+/* The fetch log (c5_board_out.fetch_log): the cells the board loaded, in order, as many as it
  * fetched; a feasible schedule of the frame's own tree; and the window rule that starts from it
  * (c5_dsp_sched_opts.warm) makes a schedule no longer than it nor than the paper's, which the
  * next frame follows to the end with the same bits. */
@@ -372,10 +372,12 @@ TEST(celltree_fetch_log_warms_the_window_rule)
     c5_image a, b;
     c5_board_stats mw, ct;
     static int log[4096];
-    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .fetch_log = log, .fetch_log_cap = 4096};
+    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0]};
     memset(log, 0xff, sizeof log);
     c5_ctree_init(&trees[0], 0);
-    CHECK(render(0, o, &a, &mw) == 0);
+    c5_err err;
+    CHECK(c5_board_render_keep(&scene, &grid, 0, &o, &(c5_board_out){.fetch_log = log, .fetch_log_cap = 4096}, &a,
+                               &mw, &err) == 0);
     CHECK(mw.fetches > 0 && mw.fetches < 4096);
     CHECK_INT(log[mw.fetches], -1); /* nothing past the fetches */
     for (uint64_t k = 0; k < mw.fetches; k++)
@@ -390,7 +392,6 @@ TEST(celltree_fetch_log_warms_the_window_rule)
     free(cell);
     free(id);
     c5_dsp_sched_result r;
-    c5_err err;
     c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_WINDOW, .all_rules = 1, .warm = log, .warm_len = (int)mw.fetches};
     CHECK_MSG(c5_dsp_schedule(&trees[0], &so, &r, &err) == 0, "%s", err.msg);
     CHECK(r.next.len > 0 && r.next.len <= r.len_paper && r.next.len <= (int)mw.fetches);
@@ -400,7 +401,6 @@ TEST(celltree_fetch_log_warms_the_window_rule)
     o.schedule = r.next.cells;
     o.schedule_len = r.next.len;
     o.tree = &trees[1];
-    o.fetch_log = NULL;
     c5_ctree_init(&trees[1], 0);
     CHECK(render(0, o, &b, &ct) == 0);
     CHECK(same_bits(&a, &b));

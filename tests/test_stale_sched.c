@@ -31,14 +31,21 @@ static int load(const char *name, int size)
     return 0;
 }
 
-static int render(const c5_board_opts *o, c5_image *img, c5_board_stats *st)
+/* node_rays: the packets tagged with each node, or NULL. */
+static int render_rays(const c5_board_opts *o, uint32_t *node_rays, c5_image *img, c5_board_stats *st)
 {
     c5_err err;
-    if (c5_board_render(&scene, &grid, 0, o, img, st, &err) != 0) {
+    c5_board_out keep = {.node_rays = node_rays};
+    if (c5_board_render_keep(&scene, &grid, 0, o, &keep, img, st, &err) != 0) {
         fprintf(stderr, "render: %s\n", err.msg);
         return -1;
     }
     return 0;
+}
+
+static int render(const c5_board_opts *o, c5_image *img, c5_board_stats *st)
+{
+    return render_rays(o, NULL, img, st);
 }
 
 static int same_bits(const c5_image *a, const c5_image *b)
@@ -86,12 +93,11 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, uint64_t
     c5_camera base = scene.camera;
     for (int f = 0; f < frames; f++) {
         c5_camera cam = c5_motion_camera(&base, m, f);
-        c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .tree = &trees[0], .camera = &cam,
-                           .node_rays = node_rays};
+        c5_board_opts o = {.cells = {cells[0], cells[1], cells[2]}, .tree = &trees[0], .camera = &cam};
         c5_image a = {0}, b = {0};
         c5_board_stats mw, ct;
         c5_ctree_init(&trees[0], 0);
-        if (render(&o, &a, &mw) != 0)
+        if (render_rays(&o, node_rays, &a, &mw) != 0)
             goto done;
         c5_ctree *tree = &trees[0];
         if (have_prev && prev.next.len > 0) {
@@ -101,7 +107,7 @@ static int run_path(const int cells[3], const c5_motion *m, int frames, uint64_t
             o.plan = &plan;
             o.tree = tree = &trees[1];
             c5_ctree_init(tree, 0);
-            if (render(&o, &b, &ct) != 0)
+            if (render_rays(&o, node_rays, &b, &ct) != 0)
                 goto done;
             char w[200];
             int ok = frame_holds(&mw, &ct, &a, &b, w, sizeof w);
@@ -243,8 +249,8 @@ static int own_frame(const char *name, int size, uint32_t *node_rays, c5_image *
     if (load(name, size) != 0)
         return -1;
     c5_ctree_init(&trees[0], 0);
-    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0], .node_rays = node_rays};
-    return render(&o, img, mw) == 0 && c5_dsp_schedule(&trees[0], &so, sch, &err) == 0 ? 0 : -1;
+    c5_board_opts o = {.cells = {3, 3, 3}, .tree = &trees[0]};
+    return render_rays(&o, node_rays, img, mw) == 0 && c5_dsp_schedule(&trees[0], &so, sch, &err) == 0 ? 0 : -1;
 }
 
 /* A frame with the camera registers of the tree's frame builds that tree: the board follows
@@ -354,15 +360,14 @@ TEST(stale_replay_is_exact_on_the_own_tree)
         for (int k = 0; k < 2; k++) {
             CHECK(load(names[i], 32) == 0);
             c5_ctree_init(&trees[0], 0);
-            c5_board_opts o = {.cells = {splits[k][0], splits[k][1], splits[k][2]}, .tree = &trees[0],
-                               .node_rays = node_rays};
+            c5_board_opts o = {.cells = {splits[k][0], splits[k][1], splits[k][2]}, .tree = &trees[0]};
             c5_image img, img2;
             c5_board_stats st, st2;
             c5_err err;
             c5_dsp_sched_result sch;
             c5_stale_plan p;
             c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = C5_SPLIT_MOST_LEAVES};
-            CHECK(render(&o, &img, &st) == 0);
+            CHECK(render_rays(&o, node_rays, &img, &st) == 0);
             CHECK(c5_dsp_schedule(&trees[0], &so, &sch, &err) == 0);
             CHECK(c5_stale_plan_make(&trees[0], node_rays, sch.next.cells, sch.next.len, NULL, 0, &p, &err) == 0);
             CHECK(p.valid);

@@ -100,7 +100,7 @@ expect() { # expect NAME PATTERN ARGS...: exit 2 with PATTERN in the one-line er
 }
 expect count_zero "--count" --count 0
 expect count_text "--count" --count many
-expect unknown_option "unknown option or argument '--frobnicate'" --frobnicate 1
+expect unknown_option "unknown option '--frobnicate'" --frobnicate 1
 expect missing_value "--seed: missing value" --seed
 expect unknown_scene "nosuchscene" --scene nosuchscene
 expect none_and_scene "--scene none cannot be combined" --scene none --scene default

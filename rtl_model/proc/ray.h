@@ -22,6 +22,12 @@
 #define C5_MAX_GEN 15
 #define C5_MAX_CELLS 4096 /* cell_id: 12 bits */
 #define C5_CELL_MAX_EDGE 256 /* pos in the packet: UQ8.15 from the cell's corner */
+/* The grid side the model's geometry addresses: geom coordinates (SQ13.15, min spacings from
+ * the grid origin) reach 8192; 8000 leaves room for rays stepping out of the grid. The packet
+ * bounds the cell (C5_CELL_MAX_EDGE), not the grid. */
+#define C5_MODEL_MAX_GRID 8000
+/* The image side the packet's destination (9+9 bits) addresses. */
+#define C5_MODEL_MAX_IMAGE 512
 
 typedef struct {
     int64_t pos[3];    /* grid coordinates, 15 fraction bits; the processor lets it step outside the grid */

@@ -2,7 +2,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "model_limits.h"
 #include "regs.h"
 #include "tf.h"
 

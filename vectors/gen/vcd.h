@@ -15,7 +15,8 @@
 #define C5_VCD_H
 
 #include "atomic_file.h"
-#include "vecset.h"
+#include "err.h"
+#include "vblock.h"
 
 #define C5_VCD_HALF_NS 5 /* half the clock period: the board's 100 MHz */
 #define C5_VCD_MAX_SCOPES 4

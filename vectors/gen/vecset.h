@@ -18,22 +18,9 @@
 #include <stdio.h>
 
 #include "err.h"
+#include "vblock.h"
 
 #define C5_VSET_FORMAT "cube5-vectors 1" /* manifest.json's "format" */
-
-typedef struct {
-    const char *name;
-    unsigned width;     /* bits, 1..256 */
-    int out;            /* 1: an output of the block (expected), 0: an input */
-    const char *format; /* "uint", "sint", "UQi.f", "SQi.f", "bits" */
-} c5_vfield;
-
-typedef struct {
-    const char *name;   /* block name: file prefix and manifest "block" */
-    const char *doc;    /* one sentence for the manifest */
-    const c5_vfield *fields;
-    int n_fields;
-} c5_vblock;
 
 /* One open file of the set. */
 typedef struct c5_vfile c5_vfile;
