@@ -369,6 +369,83 @@ static int check_outputs(const args *a, c5_err *err)
     return rc ? -1 : 0;
 }
 
+/* The figures over the views: medians, means, the range of k. */
+typedef struct {
+    double ms_med, mean, prod, work, imb, samples, setup_ms;
+    int k_min, k_max;
+} cast_summary;
+
+static cast_summary summarise(const view_fig *fig, int views, double *pass_median, int repeats, double setup_ms)
+{
+    cast_summary m = {.ms_med = median(pass_median, repeats), .setup_ms = setup_ms, .k_min = 16, .k_max = 1};
+    for (int i = 0; i < views; i++) {
+        m.prod += fig[i].producer_ms / views, m.work += fig[i].worker_ms / views;
+        m.imb += fig[i].imbalance / views, m.samples += (double)fig[i].st.samples / views;
+        m.mean += fig[i].ms / views;
+        m.k_min = fig[i].st.k < m.k_min ? fig[i].st.k : m.k_min, m.k_max = fig[i].st.k > m.k_max ? fig[i].st.k : m.k_max;
+    }
+    return m;
+}
+
+static void print_json(const args *a, const input *in, const view_fig *fig, const cast_summary *m)
+{
+    json_t *j = json_object(), *per = json_array();
+    for (int i = 0; i < a->views; i++) {
+        const c5_cast_stats *s = &fig[i].st;
+        json_array_append_new(
+            per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:b}", "ms", fig[i].ms, "producer_ms",
+                           fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct", fig[i].imbalance,
+                           "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
+                           (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
+                           (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
+                           "samples_sub", (json_int_t)s->samples_sub, "rays_terminated",
+                           (json_int_t)s->rays_terminated, "tiles_self_produced", (json_int_t)s->tiles_self,
+                           "producer_thread", s->producer));
+    }
+    json_object_set_new(j, "dataset",
+                        json_pack("{s:s,s:[I,I,I],s:[f,f,f]}", "name", in->name, "dims", (json_int_t)in->dims[0],
+                                  (json_int_t)in->dims[1], (json_int_t)in->dims[2], "spacing", in->spacing[0],
+                                  in->spacing[1], in->spacing[2]));
+    json_object_update_new(
+        j, json_pack("{s:s,s:i,s:b,s:b,s:s,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a->mode),
+                     "threads", (int)a->threads, "producer_thread", fig[0].st.producer, "shading", a->shading,
+                     "prefetch", c5_cast_prefetch_name(a->prefetch), "sub_bricks", a->sub_bricks, "self_produce",
+                     a->self_produce, "size", a->size, "views", (int)a->views, "distance_factor", a->distance,
+                     "step_voxels", a->step, "repeats", (int)a->repeats, "seed", (json_int_t)a->seed));
+    json_object_update_new(
+        j, json_pack("{s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:i,s:i,s:o}", "fps_median", 1000 / m->ms_med, "ms_median",
+                     m->ms_med, "ms_mean", m->mean, "producer_ms_mean", m->prod, "worker_ms_mean", m->work,
+                     "load_imbalance_pct_mean", m->imb, "setup_ms", m->setup_ms, "k_min", m->k_min, "k_max", m->k_max,
+                     "per_view", per));
+    json_object_set_new(j, "samples_mean", json_real(m->samples));
+    json_t *outputs = json_array();
+    if (a->out)
+        json_array_append_new(outputs, json_string(a->out));
+    if (a->save_raw)
+        json_array_append_new(outputs, json_string(a->save_raw));
+    json_object_set_new(j, "outputs", outputs);
+    char *text = json_dumps(j, JSON_COMPACT);
+    puts(text);
+    free(text);
+    json_decref(j);
+}
+
+static void print_text(const args *a, const input *in, const cast_summary *m)
+{
+    printf("%s %zux%zux%zu, %ld views at %dx%d, mode %s, k %d..%d, %ld worker%s, shading %s, prefetch %s, "
+           "sub-bricks %s\n",
+           in->name, in->dims[0], in->dims[1], in->dims[2], a->views, a->size, a->size, c5_cast_mode_name(a->mode),
+           m->k_min, m->k_max, a->threads, a->threads == 1 ? "" : "s", a->shading ? "on" : "off",
+           c5_cast_prefetch_name(a->prefetch), a->sub_bricks ? "on" : "off");
+    printf("median %.2f ms/frame (%.1f fps), mean %.2f ms; producer %.2f ms, worker %.2f ms per frame; "
+           "load imbalance %.1f%%; %.0f samples per frame; setup %.0f ms\n",
+           m->ms_med, 1000 / m->ms_med, m->mean, m->prod, m->work, m->imb, m->samples, m->setup_ms);
+    if (a->out)
+        printf("image %s (the first view)\n", a->out);
+    if (a->save_raw)
+        printf("voxels %s (raw uint8, %zux%zux%zu)\n", a->save_raw, in->dims[0], in->dims[1], in->dims[2]);
+}
+
 int c5_cmd_cast(int argc, char **argv)
 {
     if (c5_opt_help(&c5_spec_cast, argc, argv))
@@ -436,68 +513,11 @@ int c5_cmd_cast(int argc, char **argv)
         pass_median[p] = median(tmp, a.views);
     }
     c5_progress_end(&prog);
-    double ms_med = median(pass_median, a.repeats), prod = 0, work = 0, imb = 0, samples = 0, mean = 0;
-    int k_min = 16, k_max = 1;
-    for (int i = 0; i < a.views; i++) {
-        prod += fig[i].producer_ms / a.views, work += fig[i].worker_ms / a.views;
-        imb += fig[i].imbalance / a.views, samples += (double)fig[i].st.samples / a.views;
-        mean += fig[i].ms / a.views;
-        k_min = fig[i].st.k < k_min ? fig[i].st.k : k_min, k_max = fig[i].st.k > k_max ? fig[i].st.k : k_max;
-    }
-    if (a.json) {
-        json_t *j = json_object(), *per = json_array();
-        for (int i = 0; i < a.views; i++) {
-            const c5_cast_stats *s = &fig[i].st;
-            json_array_append_new(
-                per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:b}", "ms", fig[i].ms,
-                               "producer_ms", fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct",
-                               fig[i].imbalance, "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
-                               (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
-                               (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
-                               "samples_sub", (json_int_t)s->samples_sub,
-                               "rays_terminated", (json_int_t)s->rays_terminated, "tiles_self_produced",
-                               (json_int_t)s->tiles_self, "producer_thread", s->producer));
-        }
-        json_object_set_new(j, "dataset",
-                            json_pack("{s:s,s:[I,I,I],s:[f,f,f]}", "name", in.name, "dims", (json_int_t)in.dims[0],
-                                      (json_int_t)in.dims[1], (json_int_t)in.dims[2], "spacing", in.spacing[0],
-                                      in.spacing[1], in.spacing[2]));
-        json_object_update_new(
-            j, json_pack("{s:s,s:i,s:b,s:b,s:s,s:b,s:b,s:i,s:i,s:f,s:f,s:i,s:I}", "mode", c5_cast_mode_name(a.mode),
-                         "threads", (int)a.threads, "producer_thread", fig[0].st.producer, "shading", a.shading,
-                         "prefetch", c5_cast_prefetch_name(a.prefetch), "sub_bricks", a.sub_bricks,
-                         "self_produce", a.self_produce, "size", a.size, "views", (int)a.views,
-                         "distance_factor", a.distance, "step_voxels", a.step, "repeats", (int)a.repeats, "seed",
-                         (json_int_t)a.seed));
-        json_object_update_new(
-            j, json_pack("{s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:i,s:i,s:o}", "fps_median", 1000 / ms_med, "ms_median",
-                         ms_med, "ms_mean", mean, "producer_ms_mean", prod, "worker_ms_mean", work,
-                         "load_imbalance_pct_mean", imb, "setup_ms", setup_ms, "k_min", k_min, "k_max", k_max,
-                         "per_view", per));
-        json_object_set_new(j, "samples_mean", json_real(samples));
-        json_t *outputs = json_array();
-        if (a.out)
-            json_array_append_new(outputs, json_string(a.out));
-        if (a.save_raw)
-            json_array_append_new(outputs, json_string(a.save_raw));
-        json_object_set_new(j, "outputs", outputs);
-        char *text = json_dumps(j, JSON_COMPACT);
-        puts(text);
-        free(text);
-        json_decref(j);
-    } else {
-        printf("%s %zux%zux%zu, %ld views at %dx%d, mode %s, k %d..%d, %ld worker%s, shading %s, prefetch %s, sub-bricks %s\n",
-               in.name, in.dims[0], in.dims[1], in.dims[2], a.views, a.size, a.size, c5_cast_mode_name(a.mode), k_min,
-               k_max, a.threads, a.threads == 1 ? "" : "s", a.shading ? "on" : "off", c5_cast_prefetch_name(a.prefetch),
-               a.sub_bricks ? "on" : "off");
-        printf("median %.2f ms/frame (%.1f fps), mean %.2f ms; producer %.2f ms, worker %.2f ms per frame; "
-               "load imbalance %.1f%%; %.0f samples per frame; setup %.0f ms\n",
-               ms_med, 1000 / ms_med, mean, prod, work, imb, samples, setup_ms);
-        if (a.out)
-            printf("image %s (the first view)\n", a.out);
-        if (a.save_raw)
-            printf("voxels %s (raw uint8, %zux%zux%zu)\n", a.save_raw, in.dims[0], in.dims[1], in.dims[2]);
-    }
+    cast_summary sum = summarise(fig, (int)a.views, pass_median, (int)a.repeats, setup_ms);
+    if (a.json)
+        print_json(&a, &in, fig, &sum);
+    else
+        print_text(&a, &in, &sum);
     rc = 0;
     goto done;
 fail:

@@ -293,6 +293,171 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
     return 0;
 }
 
+/* The run before its first frame, in the order that refuses early: options, scene, frames,
+ * outputs, grid, boards, the waveform's file. 0, or -1 with err set. */
+static int setup(int argc, char **argv, render_args *a, c5_scene *s, char *label, size_t label_len, c5_supervol *sv,
+                 c5_frame_vcd **wave, c5_err *err)
+{
+    *wave = NULL;
+    if (parse_args(argc, argv, a, err) != 0 ||
+        c5_cli_scene_setup(a->scene_arg, &a->volumes, a->size[0], a->size[1], s, label, label_len, err) != 0)
+        return -1;
+    if (a->frames) {
+        s->path.frames = (int)a->frames;
+        if (s->path.n_keys == 0 && a->frames > 1)
+            return c5_fail(err, "--frames: the scene has no camera_path");
+        if (c5_scene_check_path(s, label, err) != 0)
+            return -1;
+    }
+    int frames = c5_scene_frames(s);
+    if (a->out && c5_cli_check_scene_image_out(a->out, frames, a->scene_arg, s, err) != 0)
+        return -1;
+    if (a->vcd && frames != 1)
+        return c5_fail(err, "--vcd: the waveform is of one frame; the scene has several (give --frames 1)");
+    if (a->out && a->vcd && c5_cli_check_distinct_frames(a->out, frames, "-o", a->vcd, "--vcd", err) != 0)
+        return -1;
+    if (a->rtl ? c5_cli_model_grid(s, a->cells, label, sv, err) != 0 : c5_cli_grid(s, label, sv, err) != 0)
+        return -1;
+    if (a->rtl && c5_boards_begin(&a->bd, err) != 0)
+        return -1;
+    if (a->vcd) {
+        char about[1400];
+        snprintf(about, sizeof about,
+                 "%s, %dx%d, cells %dx%dx%d, queue key %s: the ray queue's cycles %ld to %ld of the frame "
+                 "(--vcd-from, --vcd-cycles; a longer frame is cut there) and the ray bus's packets among them",
+                 label, s->render.width, s->render.height, a->cells[0], a->cells[1], a->cells[2],
+                 c5_cli_queue_key_name(a->key), a->vcd_from, a->vcd_from + a->vcd_cycles - 1);
+        if (!(*wave = c5_frame_vcd_open(a->vcd, (uint64_t)a->vcd_from, (uint64_t)a->vcd_cycles, about, err)))
+            return -1;
+    }
+    return 0;
+}
+
+/* What the frames of a run add up to. */
+typedef struct {
+    c5_mb_stats *mb, *mb_total; /* a frame's, the run's (with --boards) */
+    c5_cref_stats total;
+    c5_board_stats board_total;
+    json_t *per_frame, *outputs;
+    c5_frame_vcd_stats ws;      /* the waveform's (with --vcd) */
+} render_run;
+
+/* Every frame: rendered, added up, written (board 0 writes). 0, or C5_EXIT_RUNTIME with err. */
+static int run_frames(const render_args *a, const c5_scene *s, const c5_supervol *sv, c5_frame_vcd *wave, int lead,
+                      render_run *r, c5_err *err)
+{
+    int frames = c5_scene_frames(s), rc = 0;
+    c5_progress prog;
+    c5_progress_begin(&prog, "render", frames);
+    if (!lead)
+        prog.mode = 0; /* board 0 reports */
+    for (int f = 0; f < frames && rc == 0; f++) {
+        c5_image img;
+        c5_cref_stats st;
+        c5_board_stats bst;
+        if (!r->mb || render_frame(a, s, sv, f, &img, &st, &bst, r->mb, &prog, wave ? c5_frame_vcd_taps(wave) : NULL,
+                                   err) != 0) {
+            if (!r->mb)
+                *err = (c5_err){"out of memory"};
+            if (a->bd.mpi) /* the other boards wait in a collective: end them all */
+                c5_mpi_fail(&a->bd.t, err->msg, C5_EXIT_RUNTIME);
+            rc = C5_EXIT_RUNTIME;
+            break;
+        }
+        add_stats(&r->total, &st);
+        json_t *fj = stats_json(&st);
+        if (a->rtl) {
+            add_board(&r->board_total, &bst);
+            json_object_set_new(fj, "board", c5_cli_board_json(&bst));
+            if (a->bd.given) {
+                c5_mb_add(r->mb_total, r->mb);
+                json_object_set_new(fj, "multi_board", c5_cli_mb_json(r->mb));
+            }
+        }
+        /* CRC-32 of the frame's float RGB bytes: a bit-exact fingerprint of the image. */
+        uLong crc = crc32(0L, (const Bytef *)img.rgb, (uInt)(sizeof(float) * 3 * (size_t)img.w * img.h));
+        json_object_set_new(fj, "crc32", json_sprintf("%08lx", (unsigned long)crc));
+        json_array_append_new(r->per_frame, fj);
+        if (a->out && lead) {
+            char path[2048];
+            c5_cli_frame_path(a->out, f, frames, path, sizeof path);
+            if (c5_image_write(path, &img, err) != 0)
+                rc = C5_EXIT_RUNTIME;
+            else
+                json_array_append_new(r->outputs, json_string(path));
+        }
+        c5_image_free(&img);
+        if (rc == 0)
+            c5_progress_step(&prog, f + 1, "frame %d%s%s", f, a->out ? ": " : "",
+                             a->out ? json_string_value(json_array_get(r->outputs, (size_t)f)) : "");
+    }
+    c5_progress_end(&prog);
+    return rc;
+}
+
+/* The waveform put in place (rc 0) or dropped (a failed frame has none: the file is as it
+ * was), and its extent on stderr. The run's rc, or C5_EXIT_RUNTIME with err. */
+static int close_wave(const render_args *a, c5_frame_vcd *wave, int rc, c5_frame_vcd_stats *ws, c5_err *err)
+{
+    if (rc != 0) {
+        c5_frame_vcd_abort(wave);
+        return rc;
+    }
+    if (c5_frame_vcd_close(wave, ws, err) != 0)
+        return C5_EXIT_RUNTIME;
+    uint64_t last = ws->written ? (uint64_t)a->vcd_from + ws->written - 1 : 0;
+    if (ws->written)
+        fprintf(stderr, "cube5: %s: the ray queue's cycles %ld to %llu of the frame's %llu", a->vcd, a->vcd_from,
+                (unsigned long long)last, (unsigned long long)ws->cycles);
+    else
+        fprintf(stderr, "cube5: %s: none of the frame's %llu ray queue cycles (--vcd-from %ld)", a->vcd,
+                (unsigned long long)ws->cycles, a->vcd_from);
+    fprintf(stderr, "%s; ray bus: %llu packets to the DSP, %llu from it in the frame\n",
+            ws->cut ? " (cut: --vcd-cycles)" : "", (unsigned long long)ws->to_dsp, (unsigned long long)ws->from_dsp);
+    return 0;
+}
+
+/* The run as one JSON object on stdout (takes r's per-frame and outputs arrays). */
+static void print_json(const render_args *a, const c5_scene *s, const c5_supervol *sv, int threads, render_run *r)
+{
+    json_t *o = stats_json(&r->total);
+    const char *model = a->rtl ? "rtl" : "cref";
+    json_object_set_new(o, "renderer", json_string(model));
+    json_object_set_new(o, "model", json_string(model));
+    json_object_set_new(o, "scene", json_string(s->name));
+    json_object_set_new(o, "width", json_integer(s->render.width));
+    json_object_set_new(o, "height", json_integer(s->render.height));
+    if (a->rtl) {
+        const c5_frame_vcd_stats *ws = &r->ws;
+        json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a->cells[0], a->cells[1], a->cells[2]));
+        json_object_set_new(o, "queue_key", json_string(c5_cli_queue_key_name(a->key)));
+        json_object_set_new(o, "board", c5_cli_board_json(a->bd.given ? &r->mb_total->sum : &r->board_total));
+        if (a->bd.given)
+            json_object_set_new(o, "multi_board", c5_cli_mb_json(r->mb_total));
+        if (a->vcd)
+            json_object_set_new(o, "waveform",
+                                json_pack("{s:s, s:I, s:I, s:I, s:b, s:I, s:I}", "file", a->vcd, "from",
+                                          (json_int_t)a->vcd_from, "cycles_written", (json_int_t)ws->written,
+                                          "cycles_frame", (json_int_t)ws->cycles, "cut", ws->cut, "bus_to_dsp",
+                                          (json_int_t)ws->to_dsp, "bus_from_dsp", (json_int_t)ws->from_dsp));
+    } else {
+        json_object_set_new(o, "threads", json_integer(threads));
+    }
+    if (!c5_supervol_empty(sv))
+        json_object_set_new(o, "grid", json_pack("{s:[I, I, I], s:[f, f, f], s:s, s:b, s:I}", "dims",
+                                                 (json_int_t)sv->dims[0], (json_int_t)sv->dims[1],
+                                                 (json_int_t)sv->dims[2], "spacing", sv->spacing.x, sv->spacing.y,
+                                                 sv->spacing.z, "spacing_from", sv->spacing_source, "out_of_core",
+                                                 sv->store != NULL, "mem_budget", (json_int_t)mem_budget()));
+    json_object_set_new(o, "frames", r->per_frame);
+    json_object_set_new(o, "outputs", r->outputs);
+    r->per_frame = r->outputs = NULL;
+    char *text = json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(9));
+    puts(text);
+    free(text);
+    json_decref(o);
+}
+
 int c5_cmd_render(int argc, char **argv)
 {
     if (c5_opt_help(&c5_spec_render, argc, argv))
@@ -302,173 +467,36 @@ int c5_cmd_render(int argc, char **argv)
     static c5_scene s;
     char label[1100];
     c5_supervol sv = {0};
-    int rc = C5_EXIT_INPUT;
-    if (parse_args(argc, argv, &a, &err) != 0 ||
-        c5_cli_scene_setup(a.scene_arg, &a.volumes, a.size[0], a.size[1], &s, label, sizeof label, &err) != 0)
-        goto fail;
-    if (a.frames) {
-        s.path.frames = (int)a.frames;
-        if (s.path.n_keys == 0 && a.frames > 1) {
-            err = (c5_err){"--frames: the scene has no camera_path"};
-            goto fail;
-        }
-        if (c5_scene_check_path(&s, label, &err) != 0)
-            goto fail;
+    c5_frame_vcd *wave;
+    if (setup(argc, argv, &a, &s, label, sizeof label, &sv, &wave, &err) != 0) {
+        c5_supervol_free(&sv);
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
+        return C5_EXIT_INPUT;
     }
-    if (a.out && c5_cli_check_scene_image_out(a.out, c5_scene_frames(&s), a.scene_arg, &s, &err) != 0)
-        goto fail;
-    if (a.vcd && c5_scene_frames(&s) != 1) {
-        err = (c5_err){"--vcd: the waveform is of one frame; the scene has several (give --frames 1)"};
-        goto fail;
-    }
-    if (a.out && a.vcd && c5_cli_check_distinct_frames(a.out, c5_scene_frames(&s), "-o", a.vcd, "--vcd", &err) != 0)
-        goto fail;
-    if (a.rtl ? c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0 : c5_cli_grid(&s, label, &sv, &err) != 0)
-        goto fail;
-    if (a.rtl && c5_boards_begin(&a.bd, &err) != 0)
-        goto fail;
-    c5_frame_vcd *wave = NULL;
-    if (a.vcd) {
-        char about[1400];
-        snprintf(about, sizeof about,
-                 "%s, %dx%d, cells %dx%dx%d, queue key %s: the ray queue's cycles %ld to %ld of the frame "
-                 "(--vcd-from, --vcd-cycles; a longer frame is cut there) and the ray bus's packets among them",
-                 label, s.render.width, s.render.height, a.cells[0], a.cells[1], a.cells[2],
-                 c5_cli_queue_key_name(a.key), a.vcd_from, a.vcd_from + a.vcd_cycles - 1);
-        if (!(wave = c5_frame_vcd_open(a.vcd, (uint64_t)a.vcd_from, (uint64_t)a.vcd_cycles, about, &err)))
-            goto fail;
-    }
-
     int lead = c5_boards_leader(&a.bd);
-    int frames = c5_scene_frames(&s);
-    c5_mb_stats *mb = calloc(2, sizeof *mb), *mb_total = mb + 1; /* a frame's, the run's */
-    c5_cref_stats total = {0};
-    c5_board_stats board_total = {0};
-    json_t *per_frame = json_array(), *outputs = json_array();
-    c5_progress prog;
-    c5_progress_begin(&prog, "render", frames);
-    if (!lead)
-        prog.mode = 0; /* board 0 reports */
-    rc = 0;
-    for (int f = 0; f < frames && rc == 0; f++) {
-        c5_image img;
-        c5_cref_stats st;
-        c5_board_stats bst;
-        if (!mb || render_frame(&a, &s, &sv, f, &img, &st, &bst, mb, &prog,
-                                wave ? c5_frame_vcd_taps(wave) : NULL, &err) != 0) {
-            if (!mb)
-                err = (c5_err){"out of memory"};
-            if (a.bd.mpi) /* the other boards wait in a collective: end them all */
-                c5_mpi_fail(&a.bd.t, err.msg, C5_EXIT_RUNTIME);
-            rc = C5_EXIT_RUNTIME;
-            break;
-        }
-        add_stats(&total, &st);
-        json_t *fj = stats_json(&st);
-        if (a.rtl) {
-            add_board(&board_total, &bst);
-            json_object_set_new(fj, "board", c5_cli_board_json(&bst));
-            if (a.bd.given) {
-                c5_mb_add(mb_total, mb);
-                json_object_set_new(fj, "multi_board", c5_cli_mb_json(mb));
-            }
-        }
-        /* CRC-32 of the frame's float RGB bytes: a bit-exact fingerprint of the image. */
-        uLong crc = crc32(0L, (const Bytef *)img.rgb, (uInt)(sizeof(float) * 3 * (size_t)img.w * img.h));
-        json_object_set_new(fj, "crc32", json_sprintf("%08lx", (unsigned long)crc));
-        json_array_append_new(per_frame, fj);
-        if (a.out && lead) {
-            char path[2048];
-            c5_cli_frame_path(a.out, f, frames, path, sizeof path);
-            if (c5_image_write(path, &img, &err) != 0)
-                rc = C5_EXIT_RUNTIME;
-            else
-                json_array_append_new(outputs, json_string(path));
-        }
-        c5_image_free(&img);
-        if (rc == 0)
-            c5_progress_step(&prog, f + 1, "frame %d%s%s", f, a.out ? ": " : "",
-                             a.out ? json_string_value(json_array_get(outputs, (size_t)f)) : "");
-    }
-    c5_progress_end(&prog);
-    c5_frame_vcd_stats ws = {0};
-    if (wave) {
-        c5_err werr;
-        if (rc != 0) { /* a frame that failed has no waveform: the file is as it was */
-            c5_frame_vcd_abort(wave);
-        } else if (c5_frame_vcd_close(wave, &ws, &werr) != 0) {
-            err = werr;
-            rc = C5_EXIT_RUNTIME;
-        }
-        if (rc == 0) {
-            uint64_t last = ws.written ? (uint64_t)a.vcd_from + ws.written - 1 : 0;
-            if (ws.written)
-                fprintf(stderr, "cube5: %s: the ray queue's cycles %ld to %llu of the frame's %llu", a.vcd,
-                        a.vcd_from, (unsigned long long)last, (unsigned long long)ws.cycles);
-            else
-                fprintf(stderr, "cube5: %s: none of the frame's %llu ray queue cycles (--vcd-from %ld)", a.vcd,
-                        (unsigned long long)ws.cycles, a.vcd_from);
-            fprintf(stderr, "%s; ray bus: %llu packets to the DSP, %llu from it in the frame\n",
-                    ws.cut ? " (cut: --vcd-cycles)" : "", (unsigned long long)ws.to_dsp,
-                    (unsigned long long)ws.from_dsp);
-        }
-    }
+    render_run r = {.per_frame = json_array(), .outputs = json_array()};
+    if ((r.mb = calloc(2, sizeof *r.mb)) != NULL)
+        r.mb_total = r.mb + 1;
+    int rc = run_frames(&a, &s, &sv, wave, lead, &r, &err);
+    if (wave)
+        rc = close_wave(&a, wave, rc, &r.ws, &err);
     if (rc == 0 && lead) {
         int threads = c5_cref_thread_count((int)a.threads);
         if (a.json) {
-            json_t *o = stats_json(&total);
-            const char *model = a.rtl ? "rtl" : "cref";
-            json_object_set_new(o, "renderer", json_string(model));
-            json_object_set_new(o, "model", json_string(model));
-            json_object_set_new(o, "scene", json_string(s.name));
-            json_object_set_new(o, "width", json_integer(s.render.width));
-            json_object_set_new(o, "height", json_integer(s.render.height));
-            if (a.rtl) {
-                json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a.cells[0], a.cells[1], a.cells[2]));
-                json_object_set_new(o, "queue_key", json_string(c5_cli_queue_key_name(a.key)));
-                json_object_set_new(o, "board", c5_cli_board_json(a.bd.given ? &mb_total->sum : &board_total));
-                if (a.bd.given)
-                    json_object_set_new(o, "multi_board", c5_cli_mb_json(mb_total));
-                if (a.vcd)
-                    json_object_set_new(o, "waveform",
-                                        json_pack("{s:s, s:I, s:I, s:I, s:b, s:I, s:I}", "file", a.vcd, "from",
-                                                  (json_int_t)a.vcd_from, "cycles_written", (json_int_t)ws.written,
-                                                  "cycles_frame", (json_int_t)ws.cycles, "cut", ws.cut,
-                                                  "bus_to_dsp", (json_int_t)ws.to_dsp, "bus_from_dsp",
-                                                  (json_int_t)ws.from_dsp));
-            } else {
-                json_object_set_new(o, "threads", json_integer(threads));
-            }
-            if (!c5_supervol_empty(&sv))
-                json_object_set_new(o, "grid", json_pack("{s:[I, I, I], s:[f, f, f], s:s, s:b, s:I}", "dims",
-                                                         (json_int_t)sv.dims[0], (json_int_t)sv.dims[1],
-                                                         (json_int_t)sv.dims[2], "spacing", sv.spacing.x,
-                                                         sv.spacing.y, sv.spacing.z, "spacing_from",
-                                                         sv.spacing_source, "out_of_core", sv.store != NULL,
-                                                         "mem_budget", (json_int_t)mem_budget()));
-            json_object_set_new(o, "frames", per_frame);
-            json_object_set_new(o, "outputs", outputs);
-            per_frame = outputs = NULL;
-            char *text = json_dumps(o, JSON_COMPACT | JSON_REAL_PRECISION(9));
-            puts(text);
-            free(text);
-            json_decref(o);
+            print_json(&a, &s, &sv, threads, &r);
         } else {
-            print_text(label, &s, &sv, frames, threads, &a, &total,
-                       a.rtl ? (a.bd.given ? &mb_total->sum : &board_total) : NULL, outputs);
+            print_text(label, &s, &sv, c5_scene_frames(&s), threads, &a, &r.total,
+                       a.rtl ? (a.bd.given ? &r.mb_total->sum : &r.board_total) : NULL, r.outputs);
             if (a.bd.given)
-                c5_cli_mb_print(mb_total);
+                c5_cli_mb_print(r.mb_total);
         }
     }
-    free(mb);
+    free(r.mb);
     c5_boards_end(&a.bd);
-    json_decref(per_frame);
-    json_decref(outputs);
+    json_decref(r.per_frame);
+    json_decref(r.outputs);
     c5_supervol_free(&sv);
-    if (rc == 0)
-        return 0;
-fail:
-    c5_supervol_free(&sv);
-    fprintf(stderr, "cube5: error: %s\n", err.msg);
+    if (rc != 0)
+        fprintf(stderr, "cube5: error: %s\n", err.msg);
     return rc;
 }

@@ -593,6 +593,41 @@ static int refine(const frame_row *pr, frame_row *row, c5_err *err)
     return c5_dsp_refine(&dt, row->refine_budget, &pr->sch.next, &row->refined, err);
 }
 
+/* The DSP's schedule of the frame's tree (on chip, or in SDRAM within its share of the frame's
+ * board time, going on from the refinement of the previous frame's when the tree is the same),
+ * warm-started from the fetches of the run that built it. 0, or -1 with err. */
+static int schedule_tree(const sched_args *a, const frame_row *pr, frame_row *row, c5_ctree *tree,
+                         c5_sdram_tree *sdt, const int *log, int g, c5_err *err)
+{
+    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
+                            .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]},
+                            .local_window = a->local_window >= 3 ? (int)a->local_window : -1,
+                            .walk_steps = (int)a->local_walk};
+    if (log && row->ct.fetches <= FETCH_LOG_MAX) {
+        so.warm = log;
+        so.warm_len = (int)row->ct.fetches;
+    }
+    if (g > 1)
+        memset(so.split, 0, sizeof so.split); /* the slab bound knows cells, not groups */
+    row->demand_nodes = row->ct.tree_demand_nodes;
+    row->demand_slots = row->ct.tree_demand_slots;
+    if (sdt) {
+        if (refine(pr, row, err) != 0)
+            return -1;
+        if (row->refined.len > 0) { /* the same tree: go on from the refinement */
+            so.warm = row->refined.cells;
+            so.warm_len = row->refined.len;
+            so.resume = &row->refined.cursor;
+        }
+        /* The DSP's budget in SDRAM: a share of this frame's board time (dsp_cost.h). */
+        so.rule_budget = c5_dsp_sdram_budget(row->ct.board_s, (sdt->slots + sdt->t.n) * C5_OPS_SDRAM_NODE);
+        row->budget_ops = so.rule_budget + (sdt->slots + sdt->t.n) * C5_OPS_SDRAM_NODE;
+        return c5_dsp_schedule_sdram(sdt, &so, &row->sch, err);
+    }
+    row->budget_ops = C5_DSP_SCHED_BUDGET_OPS;
+    return c5_dsp_schedule(tree, &so, &row->sch, err);
+}
+
 /* Keeps the frame's tree in SDRAM as the DSP reads it, for the refinement during the next frame. */
 static int keep_tree(const c5_sdram_tree *t, frame_row *row, c5_err *err)
 {
@@ -700,34 +735,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
     row->board_s_maxwork = mw.board_s;
-    c5_dsp_sched_opts so = {.report = c5_dsp_sched_report, .rule = a->rule, .all_rules = 1, .exact_states = a->exact_states, .partial = a->partial,
-                            .exact_nodes = EXACT_NODES_MAX, .split = {a->cells[0], a->cells[1], a->cells[2]},
-                            .local_window = a->local_window >= 3 ? (int)a->local_window : -1,
-                            .walk_steps = (int)a->local_walk};
-    if (log && row->ct.fetches <= FETCH_LOG_MAX) {
-        so.warm = log;
-        so.warm_len = (int)row->ct.fetches;
-    }
-    if (g > 1)
-        memset(so.split, 0, sizeof so.split); /* the slab bound knows cells, not groups */
-    row->demand_nodes = row->ct.tree_demand_nodes;
-    row->demand_slots = row->ct.tree_demand_slots;
-    if (sdt) {
-        if (refine(pr, row, err) != 0)
-            goto done;
-        if (row->refined.len > 0) { /* the same tree: go on from the refinement */
-            so.warm = row->refined.cells;
-            so.warm_len = row->refined.len;
-            so.resume = &row->refined.cursor;
-        }
-        /* The DSP's budget in SDRAM: a share of this frame's board time (dsp_cost.h). */
-        so.rule_budget = c5_dsp_sdram_budget(row->ct.board_s, (sdt->slots + sdt->t.n) * C5_OPS_SDRAM_NODE);
-        rc = c5_dsp_schedule_sdram(sdt, &so, &row->sch, err);
-        row->budget_ops = so.rule_budget + (sdt->slots + sdt->t.n) * C5_OPS_SDRAM_NODE;
-    } else {
-        rc = c5_dsp_schedule(tree, &so, &row->sch, err);
-        row->budget_ops = C5_DSP_SCHED_BUDGET_OPS;
-    }
+    rc = schedule_tree(a, pr, row, tree, sdt, log, g, err);
     if (rc == 0 && a->bd.given)
         rc = gather_bounds(a, row, err);
     const int *lag = o.sched == C5_SCHED_EXTERNAL && prev_group == 1 ? o.schedule : NULL;

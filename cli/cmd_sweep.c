@@ -41,7 +41,7 @@ static int knob_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 }
 
 static const c5_opt opts[] = {
-    {"--knob", "NAME=V1,V2,...", knob_opt, 0, 0, 0, 0, "a knob and its values (below); once per knob"},
+    {"--knob", "NAME=V1,V2,...", knob_opt, 0, 0, 0, 0, "a knob and its values (the knobs above); once per knob"},
     {"--out", "DIR", c5_opt_str, offsetof(sweep_args, out_dir), 0, 0, 0,
      "where sweep.csv and sweep.png go (default out/sweep_SCENE)"},
     {"--size", "N|WxH", c5_opt_size, offsetof(sweep_args, size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
@@ -423,6 +423,99 @@ static void ref_progress(void *arg, const char *what, double s)
     c5_progress_step(&sp->p, ++sp->done, "%s: %.2f s", what, s);
 }
 
+/* DIR (--out, or out/sweep_SCENE), its sweep.csv and sweep.png; neither may be a file the
+ * scene reads. 0, or -1 with err. */
+static int out_paths(const sweep_args *a, const c5_scene *s, char *dir, size_t dir_len, char *csv, char *png,
+                     size_t len, c5_err *err)
+{
+    if (a->out_dir)
+        snprintf(dir, dir_len, "%s", a->out_dir);
+    else {
+        char name[130];
+        snprintf(name, sizeof name, "%s", s->name[0] ? s->name : "scene");
+        for (char *p = name; *p; p++)
+            if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '-'))
+                *p = '_';
+        snprintf(dir, dir_len, "out/sweep_%s", name);
+    }
+    snprintf(csv, len, "%s/sweep.csv", dir);
+    snprintf(png, len, "%s/sweep.png", dir);
+    const char *outs[2] = {csv, png};
+    c5_file_list in = {0};
+    int refused = c5_cli_scene_inputs(a->scene_arg, s, &in, err);
+    for (int i = 0; i < 2 && !refused; i++)
+        refused = c5_cli_check_not_input(outs[i], &in, err);
+    c5_file_list_free(&in);
+    return refused ? -1 : 0;
+}
+
+/* Every knob's value on each of its renderers into rows[0..n-1]; a row with the run of an
+ * earlier row (same renderer, same point) shares its result. 0, or -1 with err. */
+static int run_rows(c5_sweep_ctx *ctx, const sweep_args *a, sweep_row *rows, sweep_progress *prog, c5_err *err)
+{
+    int at = 0;
+    for (int k = 0; k < a->n_knobs; k++) {
+        const c5_sweep_knob *kn = &a->knobs[k];
+        c5_sweep_renderer rs[2];
+        int nr = c5_sweep_knob_renderers(kn, rs);
+        for (int i = 0; i < kn->n; i++)
+            for (int j = 0; j < nr; j++) {
+                sweep_row *r = &rows[at];
+                r->knob = kn;
+                r->value = kn->v[i];
+                r->is_default = c5_sweep_is_default(&ctx->base, kn, kn->v[i]);
+                r->r = rs[j];
+                r->p = c5_sweep_point_with(&ctx->base, kn, kn->v[i]);
+                r->same_as = -1;
+                for (int q = 0; q < at && r->same_as < 0; q++)
+                    if (rows[q].r == r->r && rows[q].same_as < 0 && same_run(r->r, &rows[q].p, &r->p))
+                        r->same_as = q;
+                if (r->same_as >= 0)
+                    r->res = rows[r->same_as].res;
+                else if (c5_sweep_run(ctx, r->r, &r->p, &r->res, err) != 0)
+                    return -1;
+                const char *rn = c5_sweep_renderer_name(r->r);
+                if (!r->res.ok)
+                    c5_progress_step(&prog->p, ++prog->done, "%s=%g %s: refused: %s", kn->name, kn->v[i], rn,
+                                     r->res.msg);
+                else if (r->same_as >= 0)
+                    c5_progress_step(&prog->p, ++prog->done, "%s=%g %s: %.2f s, RMSE %.3e (the run of row %d)",
+                                     kn->name, kn->v[i], rn, r->res.host_s, r->res.rmse, r->same_as + 1);
+                else
+                    c5_progress_step(&prog->p, ++prog->done, "%s=%g %s: %.2f s, RMSE %.3e", kn->name, kn->v[i], rn,
+                                     r->res.host_s, r->res.rmse);
+                at++;
+            }
+    }
+    return 0;
+}
+
+/* The Pareto fronts among rows measured against the same reference: cref's (cref and model
+ * rows) and the caster's (cast rows); the board-time front has model rows only. 0, or -1. */
+static int mark_pareto(sweep_row *rows, int n, c5_err *err)
+{
+    double *t = malloc(sizeof(double) * 2 * (size_t)n), *e = malloc(sizeof(double) * (size_t)n);
+    int *on = malloc(sizeof(int) * (size_t)n);
+    if (!t || !e || !on) {
+        free(t), free(e), free(on);
+        return c5_fail(err, "out of memory");
+    }
+    for (int pass = 0; pass < 3; pass++) {
+        int board = pass == 2;
+        for (int i = 0; i < n; i++) {
+            int in = row_in(&rows[i], board) && (board || (rows[i].r == C5_SW_CAST) == (pass == 1));
+            t[i] = in ? row_x(&rows[i], board) : NAN;
+            e[i] = in ? rows[i].res.rmse : NAN;
+        }
+        c5_sweep_pareto(t, e, n, on);
+        for (int i = 0; i < n; i++)
+            if (on[i])
+                *(board ? &rows[i].pareto_board : &rows[i].pareto_host) = 1;
+    }
+    free(t), free(e), free(on);
+    return 0;
+}
+
 int c5_cmd_sweep(int argc, char **argv)
 {
     if (c5_opt_help(&c5_spec_sweep, argc, argv))
@@ -440,25 +533,7 @@ int c5_cmd_sweep(int argc, char **argv)
     if (parse_args(argc, argv, &a, &err) != 0 ||
         c5_cli_scene_setup(a.scene_arg, &a.volumes, a.size[0], a.size[1], &s, label, sizeof label, &err) != 0)
         goto fail;
-    if (a.out_dir)
-        snprintf(dir, sizeof dir, "%s", a.out_dir);
-    else {
-        char name[130];
-        snprintf(name, sizeof name, "%s", s.name[0] ? s.name : "scene");
-        for (char *p = name; *p; p++)
-            if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '-'))
-                *p = '_';
-        snprintf(dir, sizeof dir, "out/sweep_%s", name);
-    }
-    snprintf(csv, sizeof csv, "%s/sweep.csv", dir);
-    snprintf(png, sizeof png, "%s/sweep.png", dir);
-    const char *outs[2] = {csv, png};
-    c5_file_list in = {0};
-    int refused = c5_cli_scene_inputs(a.scene_arg, &s, &in, &err);
-    for (int i = 0; i < 2 && !refused; i++)
-        refused = c5_cli_check_not_input(outs[i], &in, &err);
-    c5_file_list_free(&in);
-    if (refused)
+    if (out_paths(&a, &s, dir, sizeof dir, csv, png, sizeof csv, &err) != 0)
         goto fail;
     if (c5_model_check_scene(&s, NULL, label, &err) != 0 || c5_cli_grid(&s, label, &sv, &err) != 0)
         goto fail;
@@ -502,61 +577,8 @@ int c5_cmd_sweep(int argc, char **argv)
         c5_fail(&err, "out of memory");
         goto fail;
     }
-    int at = 0;
-    for (int k = 0; k < a.n_knobs; k++) {
-        const c5_sweep_knob *kn = &a.knobs[k];
-        c5_sweep_renderer rs[2];
-        int nr = c5_sweep_knob_renderers(kn, rs);
-        for (int i = 0; i < kn->n; i++)
-            for (int j = 0; j < nr; j++) {
-                sweep_row *r = &rows[at];
-                r->knob = kn;
-                r->value = kn->v[i];
-                r->is_default = c5_sweep_is_default(&ctx.base, kn, kn->v[i]);
-                r->r = rs[j];
-                r->p = c5_sweep_point_with(&ctx.base, kn, kn->v[i]);
-                r->same_as = -1;
-                for (int q = 0; q < at && r->same_as < 0; q++)
-                    if (rows[q].r == r->r && rows[q].same_as < 0 && same_run(r->r, &rows[q].p, &r->p))
-                        r->same_as = q;
-                if (r->same_as >= 0)
-                    r->res = rows[r->same_as].res;
-                else if (c5_sweep_run(&ctx, r->r, &r->p, &r->res, &err) != 0)
-                    goto fail;
-                const char *rn = c5_sweep_renderer_name(r->r);
-                if (!r->res.ok)
-                    c5_progress_step(&prog.p, ++prog.done, "%s=%g %s: refused: %s", kn->name, kn->v[i], rn, r->res.msg);
-                else if (r->same_as >= 0)
-                    c5_progress_step(&prog.p, ++prog.done, "%s=%g %s: %.2f s, RMSE %.3e (the run of row %d)", kn->name,
-                                     kn->v[i], rn, r->res.host_s, r->res.rmse, r->same_as + 1);
-                else
-                    c5_progress_step(&prog.p, ++prog.done, "%s=%g %s: %.2f s, RMSE %.3e", kn->name, kn->v[i], rn,
-                                     r->res.host_s, r->res.rmse);
-                at++;
-            }
-    }
-    double *t = malloc(sizeof(double) * 2 * (size_t)n), *e = malloc(sizeof(double) * (size_t)n);
-    int *on = malloc(sizeof(int) * (size_t)n);
-    if (!t || !e || !on) {
-        free(t), free(e), free(on);
-        c5_fail(&err, "out of memory");
+    if (run_rows(&ctx, &a, rows, &prog, &err) != 0 || mark_pareto(rows, n, &err) != 0)
         goto fail;
-    }
-    /* Fronts among rows measured against the same reference: cref's (cref and model rows) and
-     * the caster's (cast rows); the board-time front has model rows only. */
-    for (int pass = 0; pass < 3; pass++) {
-        int board = pass == 2;
-        for (int i = 0; i < n; i++) {
-            int in = row_in(&rows[i], board) && (board || (rows[i].r == C5_SW_CAST) == (pass == 1));
-            t[i] = in ? row_x(&rows[i], board) : NAN;
-            e[i] = in ? rows[i].res.rmse : NAN;
-        }
-        c5_sweep_pareto(t, e, n, on);
-        for (int i = 0; i < n; i++)
-            if (on[i])
-                *(board ? &rows[i].pareto_board : &rows[i].pareto_host) = 1;
-    }
-    free(t), free(e), free(on);
     c5_progress_end(&prog.p);
     if (write_csv(csv, rows, n, &err) != 0 || write_png(png, label, s.render.width, s.render.height, rows, n, &a, &err))
         goto fail;

@@ -5,12 +5,7 @@
 #ifndef C5_CLI_PROGRESS_H
 #define C5_CLI_PROGRESS_H
 
-/* The line every long command's --help gives for it. */
-#define C5_PROGRESS_HELP                                                                                         \
-    "  --progress        progress on stderr, one line per step (shown anyway, redrawn in\n"                       \
-    "                    place, when stderr is a terminal; never on stdout)\n"
-
-/* Set by main when the command line holds --progress (taken out before the command parses). */
+/* Set when the command line holds --progress (c5_progress_opts, opt_table.h). */
 extern int c5_progress_requested;
 
 typedef struct {
