@@ -10,7 +10,7 @@
 # the frame's own tree: no order of loads, whatever chose it, fetches fewer than that
 # frame's optimum.
 # Writes BUILD/bench-sched/: runs/*.json (cube5 schedule --json), bench-sched.json (the
-# table), table.md (the table of docs/cell-tree.md, "Camera speed"), sched_motion.dat and
+# table), table.md (the table of docs/results/cell-tree-studies.md, "Camera speed"), sched_motion.dat and
 # sched_motion.png (fetches in % of Max Work against degrees a frame, one panel per scene and
 # split). With ../shared/data/volumes/ present, also
 # brain_mirrors with the CThead CT volume and lobster_tunnel with the lobster CT volume.
@@ -121,7 +121,7 @@ for r in rows:
     print("%-24s %5d %8s %-10s %8d %8d %7.1f%% %7.1f%% %6d %8s %8s" % (
         r["case"], r["cells"], r["motion"], r["rule"], r["fetches_maxwork"], r["fetches_celltree"], r["saving_pct"],
         r["worst_frame_pct"], r["frames_over_limit"], r.get("lower_bound", "-"), "-" if r.get("best_known") is None else r["best_known"]))
-# docs/cell-tree.md's table ("Camera speed"): per case, memory fraction and rule, the path's
+# docs/results/cell-tree-studies.md's table ("Camera speed"): per case, memory fraction and rule, the path's
 # fetches against Max Work's per motion; bold: a frame beyond the limit or the path over Max
 # Work; "(none)": no fetch; then the sum of the proven bounds.
 motions = list(dict.fromkeys(r["motion"] for r in rows))

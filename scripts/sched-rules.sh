@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The split rules on the Figure 6 cases (docs/cell-tree.md, "The rules against the optimum"):
+# The split rules on the Figure 6 cases (docs/results/cell-tree-studies.md, "The rules against the best known schedule"):
 # per case the fetches the board makes following each rule's schedule (paper, rollout,
 # bounded, window), Max Work's, the schedule lengths, the best known schedule and the proven
 # bound of the tree, and the DSP's operations of the window rule. Real volumes replace the stand-ins

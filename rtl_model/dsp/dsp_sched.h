@@ -123,8 +123,8 @@ void c5_dsp_sched_free(c5_dsp_sched_result *r);
  * cells a group holds per axis, doubled after a frame whose tree (over groups of `group`)
  * overflowed, up to the largest axis of the split; unchanged otherwise. Coarser groups
  * make a tree of fewer nodes that still orders the groups; the next frame works off each
- * group Max Work among its cells (docs/cell-tree.md, "Overflow": measured against a frozen
- * tree's partial schedule and against Max Work). */
+ * group Max Work among its cells (docs/results/cell-tree-studies.md, "Overflow policies": measured
+ * against a frozen tree's partial schedule and against Max Work). */
 int c5_dsp_next_group(int group, int overflowed, const int cells[3]);
 
 /* The DSP's work during a frame, between its tags (the tree in SDRAM; docs/cell-tree.md, "Where
