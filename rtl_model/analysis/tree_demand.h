@@ -4,7 +4,8 @@
  * so it keeps counting after the 96 KB tree has overflowed and frozen. From each node's
  * child count it also gives the slots a node layout with k children a slot would take
  * (extension slots as cell_tree.c chains them), to size the RAM a scene class needs and to
- * compare node layouts by measurement. docs/results/cell-tree-studies.md, "How much RAM a split needs". */
+ * compare node layouts by measurement (docs/results/cell-tree-studies.md, "How much RAM a
+ * split needs"). */
 #ifndef C5_TREE_DEMAND_H
 #define C5_TREE_DEMAND_H
 
