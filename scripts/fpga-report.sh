@@ -3,7 +3,7 @@
 # docs/fpga-report.md. Every figure in the report is read from the tools' own outputs by
 # this script (logs kept in BUILD/fpga/), never typed in.
 #
-#   1. ghdl --synth (VHDL-2008 -> Verilog) of each synthesizable top: ray_packet_codec,
+#   1. ghdl --synth (VHDL-2008 -> Verilog) of each synthesizable top: packet,
 #      ray_queue at the board's CAPACITY=256, ray_queue at the place-and-route capacities.
 #   2. yosys synth_ice40: LUT4s, carries, flip-flops, block RAMs.
 #   3. nextpnr-ice40 on an HX8K (ct256), --freq 100 (the paper's clock), a fixed --seed:
@@ -28,7 +28,7 @@ FREQ=100                 # MHz: the paper's ray processor clock
 BOARD_CAPACITY=256
 PNR_CAPACITIES=(32 16)   # tried largest first; the first that places is reported
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
-     fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
+     fpga/rtl/ray_queue.vhd fpga/rtl/packet.vhd
      fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/gradient.vhd fpga/rtl/classify.vhd
      fpga/rtl/composite.vhd fpga/rtl/shade.vhd fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd)
 # The datapath blocks and the Cell Tree tagging unit (tests/fpga_test.sh replays their
@@ -113,7 +113,7 @@ crit() {
          END { printf "%s, from `%s` to `%s`", split_, src, snk }' "$out/$1.pnr.log"
 }
 
-synth ray_packet_codec ray_packet_codec
+synth packet packet
 synth "ray_queue_$BOARD_CAPACITY" ray_queue "-gCAPACITY=$BOARD_CAPACITY"
 
 placed="" tried=()
@@ -127,7 +127,7 @@ for cap in "${PNR_CAPACITIES[@]}"; do
     tried+=("CAPACITY=$cap needs $(util "ray_queue_$cap" ICESTORM_LC) logic cells; nextpnr-ice40 stopped: \`${why:-no error line}\`")
 done
 
-ecp5 ray_packet_codec ray_packet_codec
+ecp5 packet packet
 ecp5 "ray_queue_$BOARD_CAPACITY" ray_queue "-gCAPACITY=$BOARD_CAPACITY"
 for b in "${DATAPATH[@]}"; do
     ecp5 "$b" "$b"
@@ -183,7 +183,7 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
     for t in ${tried[@]+"${tried[@]}"}; do
         echo "- Does not fit: $t."
     done
-    echo "- \`ray_packet_codec\`: synthesised only. It is wiring (the generated pack/unpack), without"
+    echo "- \`packet\`: synthesised only. It is wiring (the generated pack/unpack), without"
     echo "  registers or logic, so there is no clock to time."
     echo "- Fmax is the register-to-register clock of the design; paths from and to the pins"
     echo "  (nextpnr's \`<async>\` domain) are not counted: in the board the queue's ports are"
@@ -196,7 +196,7 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
     echo
     echo "| design | CAPACITY | SB_LUT4 | SB_CARRY | flip-flops | SB_RAM40_4K | Fmax (MHz), target ${FREQ} |"
     echo "|---|---|---|---|---|---|---|"
-    row ray_packet_codec - ray_packet_codec "none (no registers)"
+    row packet - packet "none (no registers)"
     row ray_queue "$BOARD_CAPACITY" "ray_queue_$BOARD_CAPACITY" "not placed (does not fit)"
     for cap in "${PNR_CAPACITIES[@]}"; do
         [ -f "$out/ray_queue_$cap.stat" ] || continue
@@ -241,7 +241,7 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
     echo
     echo "| design | LUT4 | CCU2C (2-bit carry) | flip-flops | MULT18X18D | DP16KD | distributed RAM (TRELLIS_DPR16X4) | LUT4 share of the $ECP5_DEVICE |"
     echo "|---|---|---|---|---|---|---|---|"
-    for d in ray_packet_codec "ray_queue_$BOARD_CAPACITY" "${DATAPATH[@]}"; do
+    for d in packet "ray_queue_$BOARD_CAPACITY" "${DATAPATH[@]}"; do
         label=$d
         [ "$d" = "ray_queue_$BOARD_CAPACITY" ] && label="ray_queue (CAPACITY=$BOARD_CAPACITY)"
         l=$(cells "$d.ecp5" LUT4)
@@ -250,7 +250,7 @@ per_stage() { # LUT4s and flip-flops per stage from two capacities' difference
             "$(cells "$d.ecp5" TRELLIS_DPR16X4)" "$(awk -v a="$l" -v b="$ECP5_LUT4" 'BEGIN { printf "%.1f %%", 100 * a / b }')"
     done
     over=()
-    for d in ray_packet_codec "ray_queue_$BOARD_CAPACITY" "${DATAPATH[@]}"; do
+    for d in packet "ray_queue_$BOARD_CAPACITY" "${DATAPATH[@]}"; do
         if [ "$(cells "$d.ecp5" LUT4)" -gt "$ECP5_LUT4" ]; then
             if [ "$d" = "ray_queue_$BOARD_CAPACITY" ]; then over+=("ray_queue (CAPACITY=$BOARD_CAPACITY)"); else over+=("$d"); fi
         fi

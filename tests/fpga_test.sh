@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The VHDL in fpga/ against the golden vectors: analyses the generated layouts package,
-# fpga/rtl and fpga/tb with GHDL (VHDL-2008), then runs tb_ray_packet_codec on every
+# fpga/rtl and tb with GHDL (VHDL-2008), then runs tb_packet on every
 # vectors/golden/packet.*.hex, tb_ray_queue on every vectors/golden/ray_queue.*.hex and
 # each other block's testbench (tb_interp, ..., tb_cell_tree) on its BLOCK.SOURCE.hex files
 # (given the memory images BLOCK.SOURCE.IMAGE.hex it is configured with or compared
@@ -22,14 +22,14 @@ trap 'rm -rf "$tmp"' EXIT
 
 # Source files in dependency order: packages first, each entity before its users.
 RTL=(fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd fpga/rtl/rq_stage.vhd
-     fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd
+     fpga/rtl/ray_queue.vhd fpga/rtl/packet.vhd
      fpga/rtl/dp_pkg.vhd fpga/rtl/interp.vhd fpga/rtl/composite.vhd
      fpga/rtl/classify.vhd fpga/rtl/gradient.vhd fpga/rtl/shade.vhd
      fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd)
-TB=(fpga/tb/tb_pkg.vhd fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_packet_codec.vhd fpga/tb/tb_ray_queue.vhd
-    fpga/tb/tb_interp.vhd fpga/tb/tb_composite.vhd fpga/tb/tb_classify.vhd
-    fpga/tb/tb_gradient.vhd fpga/tb/tb_shade.vhd fpga/tb/tb_traverse.vhd
-    fpga/tb/tb_cell_tree.vhd)
+TB=(tb/tb_pkg.vhd tb/vec_io_pkg.vhd tb/tb_packet.vhd tb/tb_ray_queue.vhd
+    tb/tb_interp.vhd tb/tb_composite.vhd tb/tb_classify.vhd
+    tb/tb_gradient.vhd tb/tb_shade.vhd tb/tb_traverse.vhd
+    tb/tb_cell_tree.vhd)
 # The other blocks' testbenches, each named tb_BLOCK, replayed on BLOCK.SOURCE.hex.
 DATAPATH=(interp composite classify gradient shade traverse cell_tree)
 
@@ -54,7 +54,7 @@ else
 fi
 # Run from the work directory: the mcode backend elaborates in memory, the LLVM and GCC
 # backends write the executable to the current directory, and -r finds it there.
-for tb in tb_ray_packet_codec tb_ray_queue "${DATAPATH[@]/#/tb_}"; do
+for tb in tb_packet tb_ray_queue "${DATAPATH[@]/#/tb_}"; do
     if (cd "$work" && ghdl -e --std=08 "$tb") 2>"$tmp/err"; then
         ok "elaborate_$tb"
     else
@@ -101,7 +101,7 @@ golden() {
     done
     [ "$found" -eq 1 ] || bad "${tb}_vectors" "no $vectors/$block.*.hex"
 }
-golden tb_ray_packet_codec packet
+golden tb_packet packet
 golden tb_ray_queue ray_queue
 for b in "${DATAPATH[@]}"; do
     golden "tb_$b" "$b"
@@ -150,11 +150,11 @@ if [ -n "$pf" ]; then
     # column 9 is lifetime: pack(fields) no longer gives the packet, unpack(packet) no
     # longer gives that field
     flip "$pf" 1 9 "$tmp/packet.flipped.hex"
-    negative fails_on_flipped_field tb_ray_packet_codec "$tmp/packet.flipped.hex" \
+    negative fails_on_flipped_field tb_packet "$tmp/packet.flipped.hex" \
         "line 1: lifetime: expected" "line 1: packet (pack of the fields)" "2 errors in"
     # a column one digit short
     awk 'NR == 1 { $5 = substr($5, 2) } { print }' "$pf" >"$tmp/packet.short.hex"
-    negative fails_on_malformed_line tb_ray_packet_codec "$tmp/packet.short.hex" \
+    negative fails_on_malformed_line tb_packet "$tmp/packet.short.hex" \
         "line 1: dir_y: expected 4 lowercase hex digits"
 fi
 if [ -n "$qf" ]; then
@@ -233,8 +233,8 @@ mkdir -p "$mut"
 sed "s/      out_valid <= s1_valid;/      out_valid <= '0';  -- mutant/" fpga/rtl/interp.vhd >"$mut/interp.vhd"
 if ! grep -q "mutant" "$mut/interp.vhd"; then
     bad fails_on_stuck_out_valid "fpga/rtl/interp.vhd has no 'out_valid <= s1_valid;' to break"
-elif ! ghdl -a --std=08 --workdir="$mut" "$pkg" fpga/rtl/dp_pkg.vhd "$mut/interp.vhd" fpga/tb/tb_pkg.vhd \
-        fpga/tb/vec_io_pkg.vhd fpga/tb/tb_interp.vhd 2>"$tmp/err" || ! (cd "$mut" && ghdl -e --std=08 tb_interp) 2>>"$tmp/err"; then
+elif ! ghdl -a --std=08 --workdir="$mut" "$pkg" fpga/rtl/dp_pkg.vhd "$mut/interp.vhd" tb/tb_pkg.vhd \
+        tb/vec_io_pkg.vhd tb/tb_interp.vhd 2>"$tmp/err" || ! (cd "$mut" && ghdl -e --std=08 tb_interp) 2>>"$tmp/err"; then
     bad fails_on_stuck_out_valid "$(head -n 5 "$tmp/err")"
 elif f=$(abs "$vectors/interp.directed.hex") && (cd "$mut" && ghdl -r --std=08 tb_interp "-gVECTORS=$f") >"$tmp/out" 2>&1; then
     bad fails_on_stuck_out_valid "tb_interp passed a DUT whose out_valid never rises"

@@ -27,7 +27,7 @@ if [ ! -f "$build/libc5ref.so" ]; then
 fi
 # testbench|count generic|count|step name|port the fault test breaks
 live=("tb_ray_queue_live|CYCLES|$cycles|cycle|pop_key"
-      "tb_ray_packet_codec_live|PACKETS|$((8 * cycles))|packet|pos_x"
+      "tb_packet_live|PACKETS|$((8 * cycles))|packet|pos_x"
       "tb_interp_live|SAMPLES|$((2 * cycles))|sample|value"
       "tb_gradient_live|SAMPLES|$((2 * cycles))|sample|grad\\(0\\)"
       "tb_classify_live|SAMPLES|$((2 * cycles))|sample|rgba\\(0\\)"
@@ -39,10 +39,10 @@ rm -rf "$work"
 mkdir -p "$work"
 cp "$build/libc5ref.so" "$work/" # the foreign attribute names ./libc5ref.so
 src=("$build/gen/c5_layouts_pkg.vhd" fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd
-     fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd fpga/rtl/ray_packet_codec.vhd fpga/rtl/dp_pkg.vhd
+     fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd fpga/rtl/packet.vhd fpga/rtl/dp_pkg.vhd
      fpga/rtl/interp.vhd fpga/rtl/gradient.vhd fpga/rtl/classify.vhd fpga/rtl/composite.vhd
-     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd fpga/rtl/shade.vhd fpga/tb/tb_pkg.vhd fpga/tb/c5ref_pkg.vhd)
-for l in "${live[@]}"; do src+=("fpga/tb/${l%%|*}.vhd"); done
+     fpga/rtl/traverse.vhd fpga/rtl/cell_tree.vhd fpga/rtl/shade.vhd tb/tb_pkg.vhd tb/c5ref_pkg.vhd)
+for l in "${live[@]}"; do src+=("tb/${l%%|*}.vhd"); done
 if ! ghdl -a --std=08 --workdir="$work" "${src[@]}" 2>"$tmp/err"; then
     bad analyse_live "$(head -n 10 "$tmp/err")"
     summary

@@ -35,6 +35,7 @@ suites=(
     "bash tests/coverage_test.sh $build"
     "bash tests/volume_inputs_test.sh $build"
     "bash tests/man_test.sh $build"
+    "bash tests/blocks_index_test.sh"
     "bash tests/fingerprint_test.sh $build"
     "bash tests/install_test.sh $build"
     "$build/tests/cast-nosimd cast"   # the caster on its scalar definition (no SSE2)

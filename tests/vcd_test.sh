@@ -43,7 +43,7 @@ rm -rf "$work"
 mkdir -p "$work"
 # The queue's sources in dependency order (tests/fpga_test.sh analyses every block).
 src=("$build/gen/c5_layouts_pkg.vhd" fpga/rtl/rq_pkg.vhd fpga/rtl/rq_ram.vhd fpga/rtl/rq_addr_alloc.vhd
-     fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd fpga/tb/tb_pkg.vhd fpga/tb/vec_io_pkg.vhd fpga/tb/tb_ray_queue.vhd)
+     fpga/rtl/rq_stage.vhd fpga/rtl/ray_queue.vhd tb/tb_pkg.vhd tb/vec_io_pkg.vhd tb/tb_ray_queue.vhd)
 if ghdl -a --std=08 --workdir="$work" "${src[@]}" 2>"$tmp/err" &&
     (cd "$work" && ghdl -e --std=08 tb_ray_queue && ghdl -r --std=08 tb_ray_queue \
         "-gVECTORS=$v/ray_queue.directed.hex" "--vcd=$tmp/ghdl.vcd") >"$tmp/out" 2>>"$tmp/err"; then

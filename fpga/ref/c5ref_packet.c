@@ -1,5 +1,5 @@
 /* The ray packet codec of the C model (the generated c5_ray_packet_pack / _unpack of
- * build/gen/c5_layouts.h) as a live reference for GHDL (fpga/tb/c5ref_pkg.vhd): the
+ * build/gen/c5_layouts.h) as a live reference for GHDL (tb/c5ref_pkg.vhd): the
  * testbench hands over a 256-bit packet as eight 32-bit words (word i = bytes 4i..4i+3,
  * little-endian), the model unpacks it and packs the fields again, and the testbench reads
  * back every field (in the layout's order, MSB first) and the packed words. */

@@ -1,5 +1,5 @@
 /* Shading of the C model (c5_shade, rtl_model/proc/sample_pipe.h) as a live reference for GHDL
- * (fpga/tb/c5ref_pkg.vhd). The registers and the specular power table are drawn from the
+ * (tb/c5ref_pkg.vhd). The registers and the specular power table are drawn from the
  * testbench's seed here, and read by the testbench word by word to write them into the
  * block (the order of the shade vectors' regs image: ka kd ks n_lights, then 8 light slots
  * of kind pos_x..z dir_x..z intensity, zero past n_lights). Per sample: the ray's direction

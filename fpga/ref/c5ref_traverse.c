@@ -1,5 +1,5 @@
 /* The traversal step of the C model (c5_trav_step, rtl_model/proc/processor.c) as a live
- * reference for GHDL (fpga/tb/c5ref_pkg.vhd): inputs set one by one, one step, outputs read. */
+ * reference for GHDL (tb/c5ref_pkg.vhd): inputs set one by one, one step, outputs read. */
 #include <stdint.h>
 
 #include "c5ref.h"

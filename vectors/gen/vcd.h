@@ -5,7 +5,7 @@
  *
  * One scope named after the block, one signal per field of the block (the manifest's names,
  * which are the VHDL entity's ports where the block has VHDL), plus `clk` and `rst`, on the
- * clock of the testbenches in fpga/tb/ (tb_ray_queue.vhd): a 10 ns period, one reset cycle
+ * clock of the testbenches in tb/ (tb_ray_queue.vhd): a 10 ns period, one reset cycle
  * (rst high through the first rising edge at 5 ns), then vector n's values from
  * 10 (n + 1) ns, sampled at the rising edge 5 ns later. GHDL's `--vcd` of the testbench on
  * the same vector file shows the same values at every rising edge, so the two load side by

@@ -40,7 +40,7 @@ package c5ref_pkg is
   attribute foreign of c5ref_pk_field : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_field";
   impure function c5ref_pk_word(i : integer) return integer;
   attribute foreign of c5ref_pk_word : function is "VHPIDIRECT ./libc5ref.so c5ref_pk_word";
-  -- the datapath (fpga/ref/c5ref_datapath.c)
+  -- the datapath (fpga/ref/c5ref_interp.c, c5ref_gradient.c, c5ref_classify.c, c5ref_composite.c)
   impure function c5ref_interp(fx, fy, fz, v0, v1, v2, v3, v4, v5, v6, v7 : integer) return integer;
   attribute foreign of c5ref_interp : function is "VHPIDIRECT ./libc5ref.so c5ref_interp";
   impure function c5ref_gr_set(k, v : integer) return integer;

@@ -1,4 +1,4 @@
--- The clock, reset and handshake every testbench (fpga/tb/tb_*.vhd) drives, and the seeded
+-- The clock, reset and handshake every testbench (tb/tb_*.vhd) drives, and the seeded
 -- random source of the `_live` ones.
 --
 -- A cycle lasts PERIOD = 2 * HALF: the testbench changes the inputs while the clock is

@@ -1,5 +1,5 @@
 /* The ray queue of the C model (rtl_model/proc/ray_queue.c) as a live reference inside a VHDL
- * simulator: foreign functions that GHDL calls through VHPIDIRECT (fpga/tb/c5ref_pkg.vhd),
+ * simulator: foreign functions that GHDL calls through VHPIDIRECT (tb/c5ref_pkg.vhd),
  * built with the model's source into build/libc5ref.so (docs/vectors.md, "The model inside
  * the simulator"). Integers cross as VHDL `integer` (32-bit signed): keys and payloads are
  * their bit patterns. One queue per process, as one testbench drives one DUT. */

@@ -13,15 +13,15 @@ use ieee.std_logic_1164.all;
 library work;
 use work.c5_layouts_pkg.all;
 
-entity ray_packet_codec is
+entity packet is
   port (
     fields_in  : in  ray_packet_rec;   -- to be packed
     packet_out : out RAY_PACKET_T;     -- ray_packet_pack(fields_in)
     packet_in  : in  RAY_PACKET_T;     -- to be unpacked
     fields_out : out ray_packet_rec);  -- ray_packet_unpack(packet_in)
-end entity ray_packet_codec;
+end entity packet;
 
-architecture rtl of ray_packet_codec is
+architecture rtl of packet is
 begin
   packet_out <= ray_packet_pack(fields_in);
   fields_out <= ray_packet_unpack(packet_in);

@@ -1,4 +1,4 @@
--- tb_ray_packet_codec: ray_packet_codec (fpga/rtl/ray_packet_codec.vhd, combinational)
+-- tb_packet: packet (fpga/rtl/packet.vhd, combinational)
 -- against the golden vectors packet.*.hex.
 --
 -- Drives:  each line's fields into fields_in and its packet into packet_in: pos_x pos_y
@@ -10,23 +10,23 @@
 -- Checks:  1 ns later, pack(fields) = packet and unpack(packet) = every field; a malformed
 --          line is one error and is skipped.
 -- Latency: none (combinational).
--- Usage:   ghdl -r --std=08 tb_ray_packet_codec -gVECTORS=path/packet.x.hex
+-- Usage:   ghdl -r --std=08 tb_packet -gVECTORS=path/packet.x.hex
 library ieee;
 use ieee.std_logic_1164.all;
 use std.textio.all;
 use work.c5_layouts_pkg.all;
 use work.vec_io_pkg.all;
 
-entity tb_ray_packet_codec is
+entity tb_packet is
   generic (VECTORS : string := "packet.hex");
-end entity tb_ray_packet_codec;
+end entity tb_packet;
 
-architecture sim of tb_ray_packet_codec is
-  constant TB : string := "tb_ray_packet_codec";
+architecture sim of tb_packet is
+  constant TB : string := "tb_packet";
   signal fields_in, fields_out : ray_packet_rec;
   signal packet_in, packet_out : RAY_PACKET_T;
 begin
-  dut : entity work.ray_packet_codec
+  dut : entity work.packet
     port map (fields_in => fields_in, packet_out => packet_out,
               packet_in => packet_in, fields_out => fields_out);
 

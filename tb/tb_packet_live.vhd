@@ -1,4 +1,4 @@
--- tb_ray_packet_codec_live: ray_packet_codec (fpga/rtl/ray_packet_codec.vhd, combinational)
+-- tb_packet_live: packet (fpga/rtl/packet.vhd, combinational)
 -- against the C model's codec running beside it (c5ref_pk_*, generated from the same
 -- spec/layouts.toml; docs/vectors.md, "The model inside the simulator").
 --
@@ -6,9 +6,9 @@
 --          a single one) into packet_in and the model; then the DUT's fields into fields_in.
 -- Checks:  1 ns after each, every unpacked field, then the packed packet (reserved bits
 --          packed as 0 on both sides) = the model's; the first difference ends the run:
---          "FAIL tb_ray_packet_codec_live: seed S packet N: FIELD: model X, VHDL Y".
+--          "FAIL tb_packet_live: seed S packet N: FIELD: model X, VHDL Y".
 -- Latency: none (combinational).
--- Usage:   ghdl -r --std=08 tb_ray_packet_codec_live -gSEED=1 -gPACKETS=2000 (./libc5ref.so beside)
+-- Usage:   ghdl -r --std=08 tb_packet_live -gSEED=1 -gPACKETS=2000 (./libc5ref.so beside)
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
@@ -16,17 +16,17 @@ use work.c5_layouts_pkg.all;
 use work.c5ref_pkg.all;
 use work.tb_pkg.all;
 
-entity tb_ray_packet_codec_live is
+entity tb_packet_live is
   generic (SEED : positive := 1; PACKETS : positive := 2000);
-end entity tb_ray_packet_codec_live;
+end entity tb_packet_live;
 
-architecture sim of tb_ray_packet_codec_live is
-  constant TB : string := "tb_ray_packet_codec_live";
+architecture sim of tb_packet_live is
+  constant TB : string := "tb_packet_live";
   constant AT : string := live_at(TB, SEED, "packet");
   signal fields_in, fields_out : ray_packet_rec;
   signal packet_in, packet_out : RAY_PACKET_T;
 begin
-  dut : entity work.ray_packet_codec
+  dut : entity work.packet
     port map (fields_in => fields_in, packet_out => packet_out, packet_in => packet_in, fields_out => fields_out);
 
   run : process

@@ -1,5 +1,5 @@
 /* The DSP's Cell Tree tagging rule of the C model (c5_ctree_tag, rtl_model/dsp/cell_tree.c) as a
- * live reference for GHDL (fpga/tb/c5ref_pkg.vhd): a tree in its 96 KB RAM image, tagged
+ * live reference for GHDL (tb/c5ref_pkg.vhd): a tree in its 96 KB RAM image, tagged
  * packet by packet; the RAM's slots (three 32-bit words, word i = bytes 4i..4i+3) and the
  * root table read back at the end. */
 #include <stdint.h>
