@@ -45,8 +45,14 @@ typedef struct {
     int *tp, *stamp;       /* [n] a node's trie node in the window of stamp */
     int *fpar, *fcell, *ffirst, *fnext; /* the window's forest (a trie), cell ids */
     uint64_t *sig;         /* signature of a window (width, first load) when it last failed */
+    size_t sig_row;        /* entries of sig per width */
     int *S2;               /* [cap] */
     uint64_t ops;
+    /* The search's course (c5_sched_window_resume): */
+    uint64_t budget, reserve; /* budget_ops (0: none); operations kept for the ending */
+    int maxc;                 /* the largest cell id */
+    int stopped, stale;       /* the budget ended the search; E is not the schedule's */
+    c5_window_cursor at;      /* where a stopped search resumes */
 } win;
 
 static int ceil_log2(int x)
@@ -302,6 +308,233 @@ int c5_sched_window_from(const c5_dep_tree *t, uint64_t budget_ops, const int *w
     return c5_sched_window_resume(t, budget_ops, warm, warm_len, NULL, out, err);
 }
 
+/* Whether spending `cost` more operations (and the reserve) stays within the budget. */
+static int affords(const win *w, uint64_t cost)
+{
+    return !(w->budget && w->ops + cost + w->reserve > w->budget);
+}
+
+/* The search's arrays for the tree and the paper's schedule of L loads. 0, or -1. */
+static int win_alloc(win *w, const c5_dep_tree *t, int L)
+{
+    int n = t->n;
+    w->t = t;
+    w->n = n;
+    w->L = L;
+    for (int i = 0; i < n; i++)
+        if (t->cell[i] > w->maxc)
+            w->maxc = t->cell[i];
+    size_t sn = (size_t)n + 2, sl = (size_t)L + 3;
+    w->loc = malloc(((size_t)w->maxc + 1) * sizeof *w->loc);
+    int **arrays[] = {&w->gid, &w->lc, &w->ncell, &w->kstart, &w->kids, &w->E, &w->R, &w->order, &w->tmpn,
+                      &w->tp, &w->fpar, &w->fcell, &w->ffirst, &w->fnext};
+    int ok = w->loc != NULL;
+    for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
+        ok &= (*arrays[k] = malloc(sn * sizeof **arrays[k])) != NULL;
+    int **sarrays[] = {&w->S, &w->S2, &w->occ, &w->bstart};
+    for (size_t k = 0; k < sizeof sarrays / sizeof *sarrays; k++)
+        ok &= (*sarrays[k] = malloc(sl * sizeof **sarrays[k])) != NULL;
+    ok &= (w->occstart = malloc(sn * sizeof *w->occstart)) != NULL;
+    ok &= (w->tmp = malloc((sn + sl) * sizeof *w->tmp)) != NULL;
+    ok &= (w->stamp = calloc(sn, sizeof *w->stamp)) != NULL;
+    ok &= (w->sig = calloc((size_t)NWIDTHS * sl, sizeof *w->sig)) != NULL;
+    w->sig_row = sl;
+    return ok ? 0 : -1;
+}
+
+/* The worst case of the set-up and the first embedding (bounded with at most n cells and L
+ * loads a cell): when it does not fit, the paper's schedule is the answer at its cost. */
+static uint64_t setup_worst(const win *w)
+{
+    uint64_t n = (uint64_t)w->n, L = (uint64_t)w->L;
+    return (6 * n + 3 * L + 4) * C5_OPS_WIN_NODE + (uint64_t)(w->maxc + 1) * 2 + n * 2 +
+           2 * C5_OPS_SEARCH * n * (uint64_t)(1 + ceil_log2(w->L + 1)) + n * (C5_OPS_EMBED + 4 * C5_OPS_WIN_NODE) +
+           (8 * L + 2 * n + 8) * C5_OPS_WIN_NODE;
+}
+
+/* Local cells 0..m-1 in id order, as the peeler numbers them; the children lists; the paper's
+ * schedule in local cells and its loads per cell. */
+static void win_setup(win *w, const int *paper)
+{
+    const c5_dep_tree *t = w->t;
+    int n = w->n, L = w->L;
+    size_t sn = (size_t)n + 2;
+    for (int c = 0; c <= w->maxc; c++)
+        w->loc[c] = -1;
+    for (int i = 0; i < n; i++)
+        w->loc[t->cell[i]] = 0;
+    for (int c = 0; c <= w->maxc; c++)
+        if (w->loc[c] == 0) {
+            w->gid[w->m] = c;
+            w->loc[c] = w->m++;
+        }
+    memset(w->ncell, 0, (size_t)w->m * sizeof *w->ncell);
+    memset(w->kstart, 0, sn * sizeof *w->kstart);
+    for (int i = 0; i < n; i++) {
+        w->lc[i] = w->loc[t->cell[i]];
+        w->ncell[w->lc[i]]++;
+        if (t->parent[i] >= 0)
+            w->kstart[t->parent[i] + 1]++;
+    }
+    for (int i = 0; i < n; i++)
+        w->kstart[i + 1] += w->kstart[i];
+    memcpy(w->tmpn, w->kstart, (size_t)n * sizeof *w->tmpn);
+    for (int i = 0; i < n; i++)
+        if (t->parent[i] >= 0)
+            w->kids[w->tmpn[t->parent[i]]++] = i;
+    for (int k = 0; k < L; k++)
+        w->S[k] = w->loc[paper[k]];
+    w->ops += (uint64_t)(4 * n + L + w->m) * C5_OPS_WIN_NODE + (uint64_t)(w->maxc + 1) * 2;
+    occ_build(w);
+}
+
+static void swap_schedules(win *w)
+{
+    int *x = w->S;
+    w->S = w->S2;
+    w->S2 = x;
+}
+
+/* The warm start, when shorter than the paper's: loads of cells absent from the tree serve
+ * nothing and are dropped; it is taken when every node embeds in it. 1: taken. */
+static int try_warm(win *w, const int *warm, int warm_len)
+{
+    int k = 0, L = w->L, n = w->n;
+    if (warm && warm_len > 0 && affords(w, (uint64_t)warm_len * C5_OPS_WIN_NODE)) {
+        for (int j = 0; j < warm_len && k < L; j++)
+            if (warm[j] >= 0 && warm[j] <= w->maxc && w->loc[warm[j]] >= 0)
+                w->S2[k++] = w->loc[warm[j]];
+        w->ops += (uint64_t)warm_len * C5_OPS_WIN_NODE;
+    }
+    if (k == 0 || k >= L)
+        return 0;
+    swap_schedules(w);
+    w->L = k;
+    occ_build(w);
+    uint64_t ew = embed_worst(w);
+    w->ops += 2 * (uint64_t)w->m + (uint64_t)n; /* the check, and each node's E tested below */
+    int feasible = affords(w, ew);
+    if (feasible) {
+        embed_full(w);
+        for (int i = 0; i < n && feasible; i++)
+            feasible = w->E[i] < w->L;
+    }
+    if (feasible) {
+        w->stale = 0;
+        return 1;
+    }
+    swap_schedules(w); /* back to the paper's */
+    w->L = L;
+    occ_build(w);
+    return 0;
+}
+
+/* The loads that serve nothing go first (the paper's schedule holds many on large trees), for
+ * one embedding. */
+static void drop_idle(win *w)
+{
+    uint64_t ew = w->stale ? embed_worst(w) + 2 * (uint64_t)w->m : 0;
+    if (!affords(w, ew + (uint64_t)w->L * C5_OPS_WIN_NODE)) {
+        w->stopped = 1;
+        return;
+    }
+    if (w->stale)
+        embed_full(w);
+    w->ops += w->stale ? 2 * (uint64_t)w->m : 0;
+    w->stale = compact(w) > 0;
+}
+
+/* One sweep of windows of width widths[wi] from load lo, each solved exactly by the bounded
+ * rule and taken when shorter (or as long and better placed, takes()); after a window is
+ * replaced the sweep goes on past it, so only the E of the nodes after it need recomputing
+ * (embed_tail). Stops (w->at) where the budget cannot pay for the next step. 1: a window was
+ * taken, 0: none, -1 with err. */
+static int sweep_width(win *w, int round, int wi, int lo, int lb, int *stamp_id, c5_schedule *out, c5_err *err)
+{
+    int W = widths[wi], changed = 0;
+    if (w->stale) {
+        uint64_t ew = embed_worst(w);
+        w->ops += 2 * (uint64_t)w->m;
+        if (!affords(w, ew)) {
+            w->stopped = 1;
+            w->at = (c5_window_cursor){round, wi, lo};
+            return 0;
+        }
+        embed_full(w);
+        w->stale = 0;
+    }
+    while (lo + 1 < w->L && !w->stopped && w->L > lb) {
+        int hi = lo + W < w->L ? lo + W : w->L, next = lo + W / 2;
+        uint64_t *sig = &w->sig[(size_t)wi * w->sig_row + (size_t)lo], h;
+        if (!affords(w, extract_worst(w, w->bstart[lo], w->bstart[hi]))) {
+            w->stopped = 1;
+            w->at = (c5_window_cursor){round, wi, lo};
+            break;
+        }
+        int M = extract(w, lo, hi, ++*stamp_id, &h);
+        /* The search's set-up must fit; from there on it holds its share. */
+        int mc = M < w->m ? M : w->m;
+        uint64_t init = (uint64_t)M * (C5_OPS_INIT_NODE + 2) + (uint64_t)mc * (C5_OPS_INIT_CELL + C5_OPS_MARK) +
+                        4 * C5_OPS_WORD * (uint64_t)(1 + mc / 64) + 64;
+        /* (nothing to serve; tried as it is; or too dear for what is left, where a window with
+         * a smaller forest may still fit) */
+        if (M > 0 && *sig != h && !(w->budget && w->ops + init + w->reserve >= w->budget)) {
+            *sig = h;
+            c5_dep_tree ft = {M, w->fpar, w->fcell};
+            c5_schedule ws;
+            /* stop hi - lo + 1: a schedule as long as the window is of use too (takes) */
+            if (c5_sched_bounded_core(&ft, w->budget ? w->budget - w->ops - w->reserve : 0, hi - lo + 1, 0, &ws,
+                                      err) != 0)
+                return -1;
+            w->ops += ws.dsp_ops;
+            out->nodes_examined += ws.nodes_examined;
+            if (takes(w, lo, hi, &ws)) {
+                replace(w, lo, hi, &ws);
+                changed = w->stale = 1;
+                next = lo + ws.len;
+                if (!affords(w, tail_worst(w, w->bstart[lo]))) {
+                    w->stopped = 1; /* the schedule stands; no window can be tried on it */
+                    w->at = (c5_window_cursor){round, wi, next};
+                } else
+                    embed_tail(w, lo);
+            }
+            c5_schedule_free(&ws);
+        }
+        lo = next;
+    }
+    return changed;
+}
+
+/* Sweeps left to right over each width, windows half overlapping and shifted by a quarter
+ * width every other round, until two rounds change nothing or the budget is spent; a search
+ * resumed (from) starts at the round, width and first load where the last one stopped. A
+ * schedule as long as the sum of maxGen (lb, the paper's completion peels) is optimal:
+ * nothing to look for. 0, or -1 with err. */
+static int sweep(win *w, int lb, const c5_window_cursor *from, c5_schedule *out, c5_err *err)
+{
+    int r0 = from ? from->round : 0, wi0 = from && from->width < NWIDTHS ? from->width : 0;
+    int stamp_id = 0, quiet = 0;
+    for (int round = r0; !w->stopped && quiet < 2 && w->L > lb; round++) {
+        int changed = 0, len0 = w->L;
+        for (int wi = round == r0 ? wi0 : 0; wi < NWIDTHS && !w->stopped; wi++) {
+            int lo = (round & 1) ? widths[wi] / 4 : 0;
+            if (from && round == r0 && wi == wi0 && from->lo > lo && from->lo < w->L)
+                lo = from->lo;
+            int c = sweep_width(w, round, wi, lo, lb, &stamp_id, out, err);
+            if (c < 0)
+                return -1;
+            changed |= c;
+        }
+        /* Under a budget only a shorter schedule counts as progress: plateau moves alone for
+         * two rounds end the search (they rarely pay for the DSP's time, and where the start
+         * is already optimal they would spend the whole budget); offline (no budget) they go
+         * on until two rounds change nothing. */
+        int progress = w->budget ? w->L < len0 : changed;
+        quiet = progress ? 0 : quiet + 1;
+    }
+    return 0;
+}
+
 int c5_sched_window_resume(const c5_dep_tree *t, uint64_t budget_ops, const int *warm, int warm_len,
                            const c5_window_cursor *from, c5_schedule *out, c5_err *err)
 {
@@ -311,198 +544,30 @@ int c5_sched_window_resume(const c5_dep_tree *t, uint64_t budget_ops, const int 
         return -1;
     win w;
     memset(&w, 0, sizeof w);
-    int n = t->n, L = paper.len, maxc = 0, rc = -1;
-    for (int i = 0; i < n; i++)
-        if (t->cell[i] > maxc)
-            maxc = t->cell[i];
-    size_t sn = (size_t)n + 2, sl = (size_t)L + 3;
-    w.t = t;
-    w.n = n;
-    w.L = L;
-    w.loc = malloc(((size_t)maxc + 1) * sizeof *w.loc);
-    int **arrays[] = {&w.gid, &w.lc, &w.ncell, &w.kstart, &w.kids, &w.E, &w.R, &w.order, &w.tmpn,
-                      &w.tp, &w.fpar, &w.fcell, &w.ffirst, &w.fnext};
-    int ok = w.loc != NULL;
-    for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
-        ok &= (*arrays[k] = malloc(sn * sizeof **arrays[k])) != NULL;
-    int **sarrays[] = {&w.S, &w.S2, &w.occ, &w.bstart};
-    for (size_t k = 0; k < sizeof sarrays / sizeof *sarrays; k++)
-        ok &= (*sarrays[k] = malloc(sl * sizeof **sarrays[k])) != NULL;
-    ok &= (w.occstart = malloc(sn * sizeof *w.occstart)) != NULL;
-    ok &= (w.tmp = malloc((sn + sl) * sizeof *w.tmp)) != NULL;
-    ok &= (w.stamp = calloc(sn, sizeof *w.stamp)) != NULL;
-    ok &= (w.sig = calloc((size_t)NWIDTHS * sl, sizeof *w.sig)) != NULL;
-    if (!ok) {
+    int n = t->n, rc = -1;
+    if (win_alloc(&w, t, paper.len) != 0) {
         c5_fail(err, "cell tree schedule: out of memory for %d nodes", n);
         goto done;
     }
-    w.ops = paper.dsp_ops - (uint64_t)L; /* the paper's rule, its schedule not yet written out */
-    uint64_t reserve = 2 * (uint64_t)L; /* writing the schedule out */
-    /* The set-up and the first embedding (bounded with at most n cells and L loads a cell)
-     * must fit, or the paper's schedule is the answer at the paper's cost. */
-    uint64_t setup = (uint64_t)(6 * n + 3 * L + 4) * C5_OPS_WIN_NODE + (uint64_t)(maxc + 1) * 2 + (uint64_t)n * 2 +
-                     2 * C5_OPS_SEARCH * (uint64_t)n * (uint64_t)(1 + ceil_log2(L + 1)) +
-                     (uint64_t)n * (C5_OPS_EMBED + 4 * C5_OPS_WIN_NODE) + (8 * (uint64_t)L + 2 * (uint64_t)n + 8) * C5_OPS_WIN_NODE;
-    int stopped = n == 0, set_up = !stopped && !(budget_ops && w.ops + setup + reserve > budget_ops);
-    if (!set_up)
-        stopped = 1;
-    else {
-        /* Local cells 0..m-1 in id order, as the peeler numbers them; children lists. */
-        for (int c = 0; c <= maxc; c++)
-            w.loc[c] = -1;
-        for (int i = 0; i < n; i++)
-            w.loc[t->cell[i]] = 0;
-        for (int c = 0; c <= maxc; c++)
-            if (w.loc[c] == 0) {
-                w.gid[w.m] = c;
-                w.loc[c] = w.m++;
-            }
-        memset(w.ncell, 0, (size_t)w.m * sizeof *w.ncell);
-        memset(w.kstart, 0, sn * sizeof *w.kstart);
-        for (int i = 0; i < n; i++) {
-            w.lc[i] = w.loc[t->cell[i]];
-            w.ncell[w.lc[i]]++;
-            if (t->parent[i] >= 0)
-                w.kstart[t->parent[i] + 1]++;
-    }
-    for (int i = 0; i < n; i++)
-        w.kstart[i + 1] += w.kstart[i];
-    memcpy(w.tmpn, w.kstart, (size_t)n * sizeof *w.tmpn);
-    for (int i = 0; i < n; i++)
-        if (t->parent[i] >= 0)
-            w.kids[w.tmpn[t->parent[i]]++] = i;
-    for (int k = 0; k < L; k++)
-        w.S[k] = w.loc[paper.cells[k]];
-    w.ops += (uint64_t)(4 * n + L + w.m) * C5_OPS_WIN_NODE + (uint64_t)(maxc + 1) * 2;
-    occ_build(&w);
-    }
-    reserve += 2 * (uint64_t)w.m; /* and the last check of an embedding's cost */
-    int stamp_id = 0, quiet = 0, stale = 1, lb = paper.peels_completion;
-    /* The warm start, when shorter than the paper's: loads of cells absent from the tree
-     * serve nothing and are dropped; it is taken when every node embeds in it. */
-    int k = 0;
-    if (!stopped && warm && warm_len > 0 &&
-        !(budget_ops && w.ops + (uint64_t)warm_len * C5_OPS_WIN_NODE + reserve > budget_ops)) {
-        for (int j = 0; j < warm_len && k < L; j++)
-            if (warm[j] >= 0 && warm[j] <= maxc && w.loc[warm[j]] >= 0)
-                w.S2[k++] = w.loc[warm[j]];
-        w.ops += (uint64_t)warm_len * C5_OPS_WIN_NODE;
-    }
-    if (!stopped && k > 0 && k < L) {
-        int *x = w.S;
-        w.S = w.S2;
-        w.S2 = x;
-        w.L = k;
-        occ_build(&w);
-        uint64_t ew = embed_worst(&w);
-        w.ops += 2 * (uint64_t)w.m + (uint64_t)n; /* the check, and each node's E tested below */
-        int feasible = k > 0 && !(budget_ops && w.ops + ew + reserve > budget_ops);
-        if (feasible) {
-            embed_full(&w);
-            for (int i = 0; i < n && feasible; i++)
-                feasible = w.E[i] < w.L;
-        }
-        if (feasible) {
-            stale = 0;
-            out->warm = 1;
-        } else { /* back to the paper's */
-            x = w.S;
-            w.S = w.S2;
-            w.S2 = x;
-            w.L = L;
-            occ_build(&w);
-        }
-    }
-    /* Sweeps left to right over each width, windows half overlapping and shifted by a
-     * quarter width every other round, until two rounds change nothing or the budget is
-     * spent. After a window is replaced the sweep goes on past it, so only the E of the
-     * nodes after it need recomputing (embed_tail); a new sweep starts from embed_full. */
-    /* (a schedule as long as the sum of maxGen, the number of the paper's completion peels,
-     * is optimal: nothing to look for) */
-    /* The loads that serve nothing go first (the paper's schedule holds many on large trees),
-     * for one embedding. */
-    if (!stopped && w.L > 0) {
-        uint64_t ew = stale ? embed_worst(&w) + 2 * (uint64_t)w.m : 0;
-        if (budget_ops && w.ops + ew + (uint64_t)w.L * C5_OPS_WIN_NODE + reserve > budget_ops) {
-            stopped = 1;
-        } else {
-            if (stale)
-                embed_full(&w);
-            w.ops += stale ? 2 * (uint64_t)w.m : 0;
-            stale = compact(&w) > 0;
-        }
-    }
-    /* A search resumed (from): the round, width and first load where the last one stopped. */
-    int r0 = from ? from->round : 0, wi0 = from && from->width < NWIDTHS ? from->width : 0;
-    c5_window_cursor at = {0, 0, 0};
-    for (int round = r0; !stopped && quiet < 2 && w.L > lb; round++) {
-        int changed = 0, len0 = w.L;
-        for (int wi = round == r0 ? wi0 : 0; wi < NWIDTHS && !stopped; wi++) {
-            int W = widths[wi], lo = (round & 1) ? W / 4 : 0;
-            if (from && round == r0 && wi == wi0 && from->lo > lo && from->lo < w.L)
-                lo = from->lo;
-            if (stale) {
-                uint64_t ew = embed_worst(&w);
-                w.ops += 2 * (uint64_t)w.m;
-                if (budget_ops && w.ops + ew + reserve > budget_ops) {
-                    stopped = 1;
-                    at = (c5_window_cursor){round, wi, lo};
-                    break;
-                }
-                embed_full(&w);
-                stale = 0;
-            }
-            while (lo + 1 < w.L && !stopped && w.L > lb) {
-                int hi = lo + W < w.L ? lo + W : w.L, next = lo + W / 2;
-                uint64_t *sig = &w.sig[(size_t)wi * sl + (size_t)lo], h;
-                if (budget_ops && w.ops + extract_worst(&w, w.bstart[lo], w.bstart[hi]) + reserve > budget_ops) {
-                    stopped = 1;
-                    at = (c5_window_cursor){round, wi, lo};
-                    break;
-                }
-                int M = extract(&w, lo, hi, ++stamp_id, &h);
-                /* The search's set-up must fit; from there on it holds its share. */
-                int mc = M < w.m ? M : w.m;
-                uint64_t init = (uint64_t)M * (C5_OPS_INIT_NODE + 2) + (uint64_t)mc * (C5_OPS_INIT_CELL + C5_OPS_MARK) +
-                                4 * C5_OPS_WORD * (uint64_t)(1 + mc / 64) + 64;
-                /* (nothing to serve; tried as it is; or too dear for what is left, where a
-                 * window with a smaller forest may still fit) */
-                if (M > 0 && *sig != h && !(budget_ops && w.ops + init + reserve >= budget_ops)) {
-                    *sig = h;
-                    c5_dep_tree ft = {M, w.fpar, w.fcell};
-                    c5_schedule ws;
-                    /* stop hi - lo + 1: a schedule as long as the window is of use too (takes) */
-                    if (c5_sched_bounded_core(&ft, budget_ops ? budget_ops - w.ops - reserve : 0, hi - lo + 1, 0, &ws,
-                                              err) != 0)
-                        goto done;
-                    w.ops += ws.dsp_ops;
-                    out->nodes_examined += ws.nodes_examined;
-                    if (takes(&w, lo, hi, &ws)) {
-                        replace(&w, lo, hi, &ws);
-                        changed = stale = 1;
-                        next = lo + ws.len;
-                        if (budget_ops && w.ops + tail_worst(&w, w.bstart[lo]) + reserve > budget_ops) {
-                            stopped = 1; /* the schedule stands; no window can be tried on it */
-                            at = (c5_window_cursor){round, wi, next};
-                        } else
-                            embed_tail(&w, lo);
-                    }
-                    c5_schedule_free(&ws);
-                }
-                lo = next;
-            }
-        }
-        /* Under a budget only a shorter schedule counts as progress: plateau moves alone
-         * for two rounds end the search (they rarely pay for the DSP's time, and where the
-         * start is already optimal they would spend the whole budget); offline (no budget)
-         * they go on until two rounds change nothing. */
-        int progress = budget_ops ? w.L < len0 : changed;
-        quiet = progress ? 0 : quiet + 1;
-    }
-    out->gave_up = stopped && n > 0;
+    w.budget = budget_ops;
+    w.ops = paper.dsp_ops - (uint64_t)paper.len; /* the paper's rule, its schedule not yet written out */
+    w.reserve = 2 * (uint64_t)paper.len;         /* writing the schedule out */
+    int set_up = n > 0 && affords(&w, setup_worst(&w));
+    w.stopped = !set_up;
+    if (set_up)
+        win_setup(&w, paper.cells);
+    w.reserve += 2 * (uint64_t)w.m; /* and the last check of an embedding's cost */
+    w.stale = 1;
+    if (!w.stopped)
+        out->warm = try_warm(&w, warm, warm_len);
+    if (!w.stopped && w.L > 0)
+        drop_idle(&w);
+    if (sweep(&w, paper.peels_completion, from, out, err) != 0)
+        goto done;
+    out->gave_up = w.stopped && n > 0;
     /* Where a search resumed with this schedule as its warm start goes on: where this one
      * stopped (the window it could not pay for), or from the start when it ended. */
-    out->cursor = at;
+    out->cursor = w.at;
     /* The result: the forward schedule in cell ids. */
     for (int k = 0; set_up && k < w.L; k++)
         paper.cells[k] = w.gid[w.S[k]];
@@ -514,7 +579,7 @@ int c5_sched_window_resume(const c5_dep_tree *t, uint64_t budget_ops, const int 
     out->peels_split = paper.peels_split;
     out->nodes_examined += paper.nodes_examined;
     out->max_gen = paper.max_gen;
-    out->dsp_ops = w.ops + reserve;
+    out->dsp_ops = w.ops + w.reserve;
     rc = 0;
 done:
     win_free(&w);
