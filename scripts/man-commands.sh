@@ -14,7 +14,9 @@ awk -v commands="$commands" '
 if [ "$check" = --check ]; then
     if ! cmp -s "$made" "$page"; then
         echo "$page differs from the option tables ('make man' writes it):" >&2
-        diff "$page" "$made" | head -20 >&2
+        diff "$page" "$made" >"$made.diff" || true
+        sed -n 1,20p "$made.diff" >&2
+        rm -f "$made.diff"
         exit 1
     fi
     exit 0
