@@ -181,7 +181,7 @@ static const char *paragraph(const char *p, char *buf, size_t len)
 
 void c5_opt_usage(const c5_cmd_spec *spec, FILE *f)
 {
-    char syn[4096];
+    char syn[4096] = "";
     size_t at = 0;
     if (spec->operand)
         at += (size_t)snprintf(syn + at, sizeof syn - at, "%s", spec->operand);

@@ -609,6 +609,11 @@ followed() { "$cube5" schedule "$@" --json | python3 -c 'import json,sys; print(
 for c in render compare schedule sweep vectors cast scenes; do
     if [ "$("$cube5" help $c)" = "$("$cube5" $c --help)" ] && [ -n "$("$cube5" help $c)" ]; then ok "help_$c"; else bad "help_$c"; fi
 done
+# A command without options or operand: its synopsis is the name alone (the table's usage
+# writer must not print an unset synopsis).
+line=$("$cube5" scenes --help)
+[ "$(sed -n 1p <<<"$line")" = "usage: cube5 scenes" ] && ok "help_scenes_synopsis" ||
+    bad "help_scenes_synopsis" "$(sed -n 1p <<<"$line")"
 expect help_unknown_command 2 "unknown command 'nosuch'" -- "$cube5" help nosuch
 expect progress_not_for_scenes 2 "'--progress'" -- "$cube5" scenes --progress
 # progress: one line per step with --progress (no terminal here), nothing without it, never on stdout
