@@ -73,7 +73,7 @@ static int dolly_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 
 static int split_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
-    static const char *const names[] = {"paper", "lookahead", "rollout", "bounded", "window", NULL};
+    static const char *const names[] = {"paper", "lookahead", "rollout", "bounded", "window", "subtree", NULL};
     return c5_opt_pick(o, v, names, C5_SPLIT_MOST_LEAVES, field, err);
 }
 
@@ -266,6 +266,7 @@ static const char *rule_name(c5_split_rule r)
            : r == C5_SPLIT_ROLLOUT ? "rollout"
            : r == C5_SPLIT_BOUNDED ? "bounded"
            : r == C5_SPLIT_WINDOW  ? "window"
+           : r == C5_SPLIT_SUBTREE ? "subtree"
                                    : "paper";
 }
 
@@ -415,9 +416,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
     /* 0: not run (overflow); null: gave up at the report's cap (more than 64 cells) */
     json_t *lens = json_object();
-    const char *names[5] = {"paper", "lookahead", "rollout", "bounded", "window"};
-    int lv[5] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded, s->len_window};
-    for (int k = 0; k < 5; k++)
+    const char *names[6] = {"paper", "lookahead", "rollout", "bounded", "window", "subtree"};
+    int lv[6] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded, s->len_window, s->len_subtree};
+    for (int k = 0; k < 6; k++)
         json_object_set_new(lens, names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
     json_object_set_new(o, "schedule_len", lens);
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));

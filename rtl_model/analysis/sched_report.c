@@ -86,12 +86,13 @@ static int report_bounds(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, c5_d
 int c5_dsp_sched_report(const c5_dep_tree *dt, c5_split_rule rule, const c5_dsp_sched_opts *o,
                         c5_dsp_sched_result *r, c5_err *err)
 {
-    int *len_of[6] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded, &r->len_window};
+    int *len_of[7] = {NULL,           &r->len_paper,   &r->len_lookahead, &r->len_rollout,
+                      &r->len_bounded, &r->len_window, &r->len_subtree};
     c5_schedule other = {0};
     /* Above 64 cells the other rules run under a cap on nodes examined (the rollout rule's
      * cost grows with cells times peels squared); over it, their length is -1. */
     uint64_t cap = c5_tree_bound_cells(dt) ? 0 : C5_DSP_REPORT_MAX_EXAMINED;
-    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_WINDOW; k++) {
+    for (int k = C5_SPLIT_MOST_LEAVES; o->all_rules && k <= C5_SPLIT_SUBTREE; k++) {
         if (k == (int)rule)
             continue;
         int got = c5_dsp_run_rule(dt, (c5_split_rule)k, cap, o, &other, err);

@@ -33,6 +33,12 @@
 #define C5_OPS_TRIE_STEP 3   /* a trie sibling compared with the cell sought */
 #define C5_OPS_COPY 2        /* a schedule entry moved */
 
+/* The largest-subtree rule (tree_subtree.c). */
+#define C5_OPS_SUBTREE_NODE 24 /* a node: its size added to its parent's, cubed (two 48-bit products on
+                                  the 24-bit core), put on its cell's ready list, the score's add */
+#define C5_OPS_HEAP_STEP 8     /* a step of the cells' heap: two 48-bit scores compared, an entry and
+                                  its position moved */
+
 /* Moving the tree between the DSP RAM and the scheduler (dsp_sched.c) and building it
  * during the frame (cell_tree.c): a 12-byte node is four 24-bit words, unpacked or packed
  * by shifts and masks. */

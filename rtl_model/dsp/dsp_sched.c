@@ -41,6 +41,8 @@ int c5_dsp_run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, con
     if (rule == C5_SPLIT_WINDOW)
         return c5_sched_window_resume(dt, o->rule_budget ? o->rule_budget : c5_dsp_rule_budget(dt->n), o->warm,
                                       o->warm_len, o->resume, out, err);
+    if (rule == C5_SPLIT_SUBTREE)
+        return c5_sched_subtree(dt, out, err);
     return c5_sched_celltree_capped(dt, rule, cap, out, err);
 }
 
@@ -50,7 +52,8 @@ int c5_dsp_run_rule(const c5_dep_tree *dt, c5_split_rule rule, uint64_t cap, con
 static int schedule_tree(const c5_dep_tree *dt, const c5_dsp_sched_opts *o, int *gen,
                          c5_dsp_sched_result *r, c5_err *err)
 {
-    int *len_of[6] = {NULL, &r->len_paper, &r->len_lookahead, &r->len_rollout, &r->len_bounded, &r->len_window};
+    int *len_of[7] = {NULL,           &r->len_paper,   &r->len_lookahead, &r->len_rollout,
+                      &r->len_bounded, &r->len_window, &r->len_subtree};
     c5_split_rule rule = o->rule ? o->rule : C5_SPLIT_MOST_LEAVES;
     if (c5_tree_check(dt, err) != 0 || c5_dsp_run_rule(dt, rule, 0, o, &r->next, err) != 0 ||
         c5_tree_generations(dt, gen) < 0)

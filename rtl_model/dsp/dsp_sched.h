@@ -88,6 +88,7 @@ typedef struct c5_dsp_sched_result {
                                                 * -1: gave up at the cap (all_rules) */
     int len_bounded;            /* the same for C5_SPLIT_BOUNDED (never capped: its own budget) */
     int len_window;             /* the same for C5_SPLIT_WINDOW (never capped: its own budget) */
+    int len_subtree;            /* the same for C5_SPLIT_SUBTREE (never capped: O(n log cells)) */
     /* The DSP's operations between frames for the chosen rule (dsp_cost.h): reading the tree
      * out of the RAM, the rule, writing generations and ready flags back; their sum against
      * C5_DSP_SCHED_BUDGET_OPS. bounded_gave_up / bounded_fell_back: the chosen rule

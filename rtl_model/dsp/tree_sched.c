@@ -532,6 +532,8 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
         return c5_sched_bounded(t, c5_dsp_rule_budget(t->n), out, err) < 0 ? -1 : 0;
     if (rule == C5_SPLIT_WINDOW)
         return c5_sched_window(t, c5_dsp_rule_budget(t->n), out, err) < 0 ? -1 : 0;
+    if (rule == C5_SPLIT_SUBTREE)
+        return c5_tree_check(t, err) != 0 || c5_sched_subtree(t, out, err) != 0 ? -1 : 0;
     if (rule != C5_SPLIT_MOST_LEAVES && rule != C5_SPLIT_LOOKAHEAD && rule != C5_SPLIT_ROLLOUT)
         return c5_fail(err, "cell tree schedule: unknown split rule %d", (int)rule);
     if (c5_tree_check(t, err) != 0)

@@ -63,6 +63,10 @@ typedef enum {
                                  shorter schedule of the nodes only that window can serve, found
                                  by the bounded rollout, within the DSP's budget
                                  (c5_sched_window). Never longer than rule 1. */
+    C5_SPLIT_SUBTREE = 6,     /* ours: forward, the cell whose ready nodes head the largest
+                                 subtrees (the sum of their node counts cubed) first
+                                 (c5_sched_subtree); the window rule starts from it when it is
+                                 shorter than the paper's. */
 } c5_split_rule;
 
 /* Where the window rule's sweeps stopped: round, width index, first load of the window. */
@@ -82,6 +86,7 @@ typedef struct {
     int fell_back;           /* C5_SPLIT_BOUNDED, C5_SPLIT_WINDOW: 1 when the paper's rule's schedule
                                 was returned (the search found nothing shorter) */
     int warm;                /* c5_sched_window_from: 1 when it started from the warm schedule */
+    int subtree;             /* the window rule: 1 when it started from C5_SPLIT_SUBTREE's schedule */
     c5_window_cursor cursor; /* the window rule: where a search that starts from this schedule
                                 goes on (c5_sched_window_resume) */
 } c5_schedule;
@@ -117,6 +122,10 @@ int c5_sched_celltree_capped(const c5_dep_tree *t, c5_split_rule rule, uint64_t 
  * fits the budget; a budget that does not bind gives the unbounded run's schedule; the same
  * tree and budget give the same schedule and count. */
 int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out, c5_err *err);
+
+/* C5_SPLIT_SUBTREE (tree_subtree.c): feasible for any checked tree, deterministic (ties: the
+ * lowest cell id), out->dsp_ops its counted cost, O((n + loads) log cells). */
+int c5_sched_subtree(const c5_dep_tree *t, c5_schedule *out, c5_err *err);
 
 /* C5_SPLIT_WINDOW (tree_window.c) with a budget of budget_ops DSP operations (dsp_cost.h)
  * for the rule, the paper's rule included (0: no budget). The paper's rule always runs; each

@@ -423,10 +423,30 @@ static int try_warm(win *w, const int *warm, int warm_len)
         w->stale = 0;
         return 1;
     }
-    swap_schedules(w); /* back to the paper's */
+    swap_schedules(w); /* back to the one before */
     w->L = L;
+    w->stale = 1;
     occ_build(w);
     return 0;
+}
+
+/* The largest-subtree rule's schedule (c5_sched_subtree) in place of the paper's when it is
+ * shorter and its worst case fits the budget: on trees of hundreds of cells and more it is
+ * the shorter by a fifth to a third, and the windows start closer to where they end. 1: taken,
+ * 0: not, -1 with err. */
+static int try_subtree(win *w, c5_err *err)
+{
+    uint64_t per_node = C5_OPS_SUBTREE_NODE + C5_OPS_EXAMINE + C5_OPS_PEEL + 1 +
+                        2 * (uint64_t)ceil_log2(w->m + 1) * C5_OPS_HEAP_STEP;
+    if (!affords(w, (uint64_t)w->n * per_node + (uint64_t)w->m * C5_OPS_INIT_CELL))
+        return 0;
+    c5_schedule s;
+    if (c5_sched_subtree(w->t, &s, err) != 0)
+        return -1;
+    w->ops += s.dsp_ops - (uint64_t)s.len; /* not written out: the window rule writes its own */
+    int took = s.len < w->L && try_warm(w, s.cells, s.len);
+    c5_schedule_free(&s);
+    return took;
 }
 
 /* The loads that serve nothing go first (the paper's schedule holds many on large trees), for
@@ -559,6 +579,10 @@ int c5_sched_window_resume(const c5_dep_tree *t, uint64_t budget_ops, const int 
     w.reserve += 2 * (uint64_t)w.m; /* and the last check of an embedding's cost */
     w.stale = 1;
     if (!w.stopped)
+        out->subtree = try_subtree(&w, err);
+    if (out->subtree < 0)
+        goto done;
+    if (!w.stopped)
         out->warm = try_warm(&w, warm, warm_len);
     if (!w.stopped && w.L > 0)
         drop_idle(&w);
@@ -574,7 +598,7 @@ int c5_sched_window_resume(const c5_dep_tree *t, uint64_t budget_ops, const int 
     out->len = w.L;
     out->cells = paper.cells;
     paper.cells = NULL;
-    out->fell_back = w.L == paper.len && !out->warm;
+    out->fell_back = w.L == paper.len && !out->warm && !out->subtree;
     out->peels_completion = paper.peels_completion; /* the paper's run (the windows do not peel the tree) */
     out->peels_split = paper.peels_split;
     out->nodes_examined += paper.nodes_examined;
