@@ -218,9 +218,14 @@ TEST(tree_window_warm_start)
         int n = c5t_random_tree(&rng, 20 + (int)(c5_splitmix64(&rng) % 150), 3 + (int)(c5_splitmix64(&rng) % 8),
                                 4 + (int)(c5_splitmix64(&rng) % 6), par, cel);
         c5_dep_tree t = {n, par, cel};
-        c5_schedule paper, roll, s;
+        c5_schedule paper, roll, sub, s;
         CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
         CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_ROLLOUT, &roll, &err), 0);
+        CHECK_INT(c5_sched_subtree(&t, &sub, &err), 0);
+        /* the window rule starts from the shortest of the paper's, the largest-subtree and
+         * the warm schedule (no budget: each is tried) */
+        int start = sub.len < paper.len ? sub.len : paper.len;
+        c5_schedule_free(&sub);
         /* the rollout's schedule with loads of a cell no node has (id 4000) between its loads */
         int k = 0;
         for (int j = 0; j < roll.len; j++) {
@@ -229,8 +234,8 @@ TEST(tree_window_warm_start)
             warm[k++] = roll.cells[j];
         }
         CHECK_INT(c5_sched_window_from(&t, 0, warm, k, &s, &err), 0);
-        CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= paper.len);
-        if (roll.len < paper.len) {
+        CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= start && s.len <= roll.len);
+        if (roll.len < start) {
             CHECK_MSG(s.warm && s.len <= roll.len, "tree %d: warm %d, %d loads, the warm schedule %d", it, s.warm,
                       s.len, roll.len);
             taken++;
@@ -238,10 +243,10 @@ TEST(tree_window_warm_start)
         c5_schedule_free(&s);
         /* without its first load the first root's cell misses a node, unless it is loaded
          * again later: then either way the result must be feasible */
-        if (roll.len > 1 && roll.len - 1 < paper.len) {
+        if (roll.len > 1 && roll.len - 1 < start) {
             CHECK_INT(c5_sched_window_from(&t, 0, roll.cells + 1, roll.len - 1, &s, &err), 0);
             int ok = c5_sched_feasible(&t, roll.cells + 1, roll.len - 1);
-            CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= paper.len);
+            CHECK(c5_sched_feasible(&t, s.cells, s.len) == 1 && s.len <= start);
             CHECK_INT(s.warm, ok);
             refused += !ok;
             c5_schedule_free(&s);
