@@ -108,11 +108,12 @@ static const c5_opt opts[] = {
      "(the paper's Figure 6)"},
     {"--size", "N|WxH", c5_opt_size, OFF(size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
     {"--split", "R", split_opt, OFF(rule), 0, 0, 0,
-     "rule of the schedule the board follows: window (default: the paper's schedule, or the frame's own fetches "
-     "when fewer, shortened window by window within the DSP's budget of counted operations), paper (split peels "
-     "take the cell with most leaf nodes), lookahead or rollout (ours), or bounded (the rollout within that budget, "
-     "else the paper's); docs/cell-tree.md. The lengths of all are reported, with the DSP's operations per frame at "
-     "255 MIPS"},
+     "rule of the schedule the board follows: window (default: the shortest of the paper's schedule, the subtree "
+     "rule's and the frame's own fetches, shortened window by window within the DSP's budget of counted "
+     "operations), paper (split peels take the cell with most leaf nodes), lookahead or rollout (ours), bounded "
+     "(the rollout within that budget, else the paper's), or subtree (ours: forward, the cell whose ready nodes "
+     "head the largest subtrees first); docs/cell-tree.md. The lengths of all are reported, with the DSP's "
+     "operations per frame at 255 MIPS"},
     {"--exact-states", "N", c5_opt_long, OFF(exact_states), 0, 100000000, 0,
      "state budget of the exact optimum (default 200000; 0: not computed); when it gives up: the best proven bound "
      "and the best schedule found"},

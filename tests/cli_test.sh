@@ -330,7 +330,7 @@ def ram(cells):
 assert ram("4") == "onchip" and ram("5") == "sdram"' "$cube5"
 then ok schedule_tree_ram_auto; else bad schedule_tree_ram_auto "auto: on chip up to 64 cells, SDRAM beyond"; fi
 expect schedule_bad_tree_ram 2 "--tree-ram: expected auto, onchip or sdram, got 'dram'" -- "$cube5" schedule default --tree-ram dram
-expect schedule_bad_split 2 "--split: expected paper, lookahead, rollout, bounded or window, got 'best'" -- "$cube5" schedule default --split best
+expect schedule_bad_split 2 "--split: expected paper, lookahead, rollout, bounded, window or subtree, got 'best'" -- "$cube5" schedule default --split best
 expect schedule_bad_frames 2 "--frames: expected an integer" -- "$cube5" schedule default --frames 0
 expect schedule_bad_local_window 2 "--local-window: 2 is too small for a window" -- "$cube5" schedule default --local-window 2
 expect schedule_local_window_range 2 "--local-window: expected an integer" -- "$cube5" schedule default --local-window 1001
