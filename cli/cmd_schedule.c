@@ -314,6 +314,7 @@ static void dsp_json(json_t *o, const frame_row *r)
     json_object_set_new(o, "bounded_gave_up", json_boolean(s->bounded_gave_up));
     json_object_set_new(o, "bounded_fell_back", json_boolean(s->bounded_fell_back));
     json_object_set_new(o, "window_warm", json_boolean(s->next.warm));
+    json_object_set_new(o, "window_subtree", json_boolean(s->next.subtree));
     json_object_set_new(o, "refined", r->refined.len > 0 ? json_pack("{s:I, s:I, s:i}", "budget_ops",
                                                                       (json_int_t)r->refine_budget, "dsp_ops",
                                                                       (json_int_t)r->refined.dsp_ops, "len",

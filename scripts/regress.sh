@@ -8,6 +8,8 @@
 #                 random cases) replayed by every VHDL testbench, and the points it covers
 #   live          per seed S: every block's VHDL against the C model running beside it (VHPIDIRECT,
 #                 tests/live_test.sh), CYCLES cycles
+#   tree-ram      the Cell Tree at 1/512 and 1/4096 saves at least 25 % of Max Work's fetches
+#                 (tests/tree_ram_test.sh; docs/cell-tree.md, "Where the tree lives")
 # Every run is reproducible from its seed alone: `scripts/regress.sh BUILD` with SEEDS="S"
 # repeats seed S. A failure is printed with its tier and seed above the sub-suite's own
 # FAIL lines, which name the block (testbench), the vector (line) and the field (column).
@@ -47,6 +49,7 @@ tier() {
 tier golden-c - bash tests/vectors_test.sh "$build"
 tier golden-vhdl - bash tests/fpga_test.sh "$build"
 tier coverage - bash tests/coverage_test.sh "$build"
+tier tree-ram - bash tests/tree_ram_test.sh "$build"
 for s in $SEEDS; do
     d="$tmp/vec$s"
     if "$build/cube5" vectors --out "$d" --scene none --seed "$s" --count "$COUNT" >"$tmp/gen" 2>&1; then

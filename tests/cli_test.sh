@@ -298,8 +298,10 @@ d = json.loads(sys.argv[1])
 assert d["split_rule"] == "window"
 f0, f1 = d["frames"]
 assert f1["followed"] == "celltree" and 0 < f1["schedule_len"]["window"] <= f1["schedule_len"]["paper"]
-for f in (f0, f1):  # the fetches of a frame are a schedule of its tree: taken when fewer
-    assert f["window_warm"] == (f["fetches_celltree"] < f["schedule_len"]["paper"])
+for f in (f0, f1):  # the start: the shortest of the paper'"'"'s, the subtree rule'"'"'s and the
+    L = f["schedule_len"]  # frame'"'"'s fetches (a schedule of its own tree)
+    assert f["window_subtree"] == (L["subtree"] < L["paper"])
+    assert f["window_warm"] == (f["fetches_celltree"] < min(L["paper"], L["subtree"]))
 assert f0["dsp_ops_schedule"] <= f0["dsp_budget_ops"] and f0["dsp_within_budget"]' "$json"
 then ok schedule_window; else bad schedule_window "$json"; fi
 # The tree in the DSP's SDRAM: where it lives, its bytes, the DSP's refinement during the frame

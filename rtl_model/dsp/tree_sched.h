@@ -57,8 +57,9 @@ typedef enum {
                                  the incumbent (a complete schedule); the paper's rule runs
                                  first, and its schedule is returned when it is no longer.
                                  Never longer than rule 1 nor than the cheap policy (c5_sched_bounded). */
-    C5_SPLIT_WINDOW = 5,      /* ours, for the DSP (cube5 schedule's default): the paper's
-                                 schedule (or a shorter known one, c5_sched_window_from), then
+    C5_SPLIT_WINDOW = 5,      /* ours, for the DSP (cube5 schedule's default): the shortest of
+                                 the paper's schedule, C5_SPLIT_SUBTREE's and a known one
+                                 (c5_sched_window_from), then
                                  window after window of it (8, 16, 24, 32 loads) replaced by a
                                  shorter schedule of the nodes only that window can serve, found
                                  by the bounded rollout, within the DSP's budget

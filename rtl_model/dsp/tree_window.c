@@ -1,6 +1,7 @@
-/* The window rule (C5_SPLIT_WINDOW): the paper's schedule, or a shorter one known (the fetches
- * of the frame that built the tree), shortened window by window within the DSP's budget of
- * counted operations. docs/cell-tree.md, "The window rule".
+/* The window rule (C5_SPLIT_WINDOW): the shortest of the paper's schedule, the largest-subtree
+ * rule's (tree_subtree.c) and one known (the fetches of the frame that built the tree),
+ * shortened window by window within the DSP's budget of counted operations. docs/cell-tree.md,
+ * "The window rule".
  *
  * A forward schedule S is feasible when every root-to-leaf path embeds in it as a
  * subsequence. E[v], the earliest load that can serve node v (the first load of v's cell
