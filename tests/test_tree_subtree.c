@@ -95,8 +95,9 @@ TEST(tree_subtree_random)
 }
 
 /* The window rule without a budget is never longer than the subtree rule's schedule (it
- * starts from it when shorter than the paper's), and says so; with a budget below the
- * subtree rule's worst case it does not run it. Wide trees of a few hundred nodes, where the
+ * starts from it when shorter than the paper's, and keeps the shorter of that search and one
+ * from the paper's), and says which start it kept; with a budget below the subtree rule's
+ * worst case it does not run it. Wide trees of a few hundred nodes, where the
  * subtree rule is often the shorter. */
 TEST(tree_subtree_window_start)
 {
@@ -119,7 +120,9 @@ TEST(tree_subtree_window_start)
         CHECK_INT(c5_sched_celltree(&t, C5_SPLIT_MOST_LEAVES, &paper, &err), 0);
         CHECK_INT(c5_sched_window_from(&t, 0, NULL, 0, &w, &err), 0);
         CHECK(c5_sched_feasible(&t, w.cells, w.len) == 1 && w.len <= sub.len && w.len <= paper.len);
-        CHECK_INT(w.subtree, sub.len < paper.len);
+        /* from the subtree rule's schedule only when it is the shorter start; a second search
+         * from the paper's may win (c5_sched_window_resume) */
+        CHECK(!w.subtree || sub.len < paper.len);
         started += w.subtree;
         c5_schedule_free(&w);
         /* a budget the paper's rule and the set-up already spend: no room for it */
@@ -130,5 +133,5 @@ TEST(tree_subtree_window_start)
         c5_schedule_free(&sub);
         c5_schedule_free(&paper);
     }
-    CHECK_MSG(started > 10 && started < 190, "the window rule started from the subtree rule on %d trees", started);
+    CHECK_MSG(started > 5 && started < 195, "the window rule started from the subtree rule on %d trees", started);
 }
