@@ -63,7 +63,7 @@ TEST(tree_subtree_random)
             int off = (int)(c5_splitmix64(&rng) % C5_SCHED_MAX_CELLS);
             for (int k = 0; k < np; k++) /* distinct: 4093 is prime to 4096 */
                 pool[k] = (off + 4093 * k) % C5_SCHED_MAX_CELLS;
-            n = c5t_random_tree_wide(&rng, 2 + (int)(c5_splitmix64(&rng) % 600), pool, np,
+            n = c5t_random_tree_wide(&rng, 2 + (int)(c5_splitmix64(&rng) % 598), pool, np,
                                      2 + (int)(c5_splitmix64(&rng) % 12), par, cel);
         }
         c5_dep_tree t = {n, par, cel};
