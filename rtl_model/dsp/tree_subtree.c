@@ -10,7 +10,8 @@
  * single largest subtree (a soft maximum) and is the highest power whose sums stay exact in
  * 64 bits: a cell's ready nodes head disjoint subtrees, so its score is at most n^3, and
  * n^3 < 2^63 for the SDRAM region's 699,050 nodes and any tree under 2^21 nodes (larger
- * trees saturate). docs/cell-tree.md, "The largest-subtree rule", measures powers 0 to 6.
+ * trees saturate). docs/results/cell-tree-studies.md, "The largest-subtree rule", measures
+ * powers 0 to 6.
  *
  * Cost: O((n + loads) log cells) with an indexed binary heap of the cells by score, counted
  * in DSP operations (dsp_cost.h). */
@@ -74,7 +75,7 @@ static void sift_down(cell_heap *h, int i)
 }
 
 /* Adds weight w to cell c's score (the heap holds cells with a ready node). */
-static void raise(cell_heap *h, int c, uint64_t w)
+static void add_score(cell_heap *h, int c, uint64_t w)
 {
     uint64_t s = h->score[c] + w;
     h->score[c] = s < h->score[c] ? UINT64_MAX : s;
@@ -157,7 +158,7 @@ int c5_sched_subtree(const c5_dep_tree *t, c5_schedule *out, c5_err *err)
             int64_t s = size[i] < SUBTREE_MAX ? size[i] : SUBTREE_MAX;
             rnext[i] = rhead[lc[i]];
             rhead[lc[i]] = i;
-            raise(&h, lc[i], (uint64_t)(s * s * s));
+            add_score(&h, lc[i], (uint64_t)(s * s * s));
         }
     while (h.hn > 0) {
         int c = pop(&h);
@@ -172,7 +173,7 @@ int c5_sched_subtree(const c5_dep_tree *t, c5_schedule *out, c5_err *err)
                 int64_t s = size[k] < SUBTREE_MAX ? size[k] : SUBTREE_MAX;
                 rnext[k] = rhead[lc[k]];
                 rhead[lc[k]] = k;
-                raise(&h, lc[k], (uint64_t)(s * s * s));
+                add_score(&h, lc[k], (uint64_t)(s * s * s));
             }
         }
     }
