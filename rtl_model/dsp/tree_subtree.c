@@ -84,6 +84,15 @@ static void add_score(cell_heap *h, int c, uint64_t w)
     sift_up(h, h->hpos[c]);
 }
 
+/* Node i (of local cell c, subtree of `size` nodes) onto its cell's ready list. */
+static void make_ready(cell_heap *h, int i, int c, int64_t size, int *rhead, int *rnext)
+{
+    int64_t s = size < SUBTREE_MAX ? size : SUBTREE_MAX;
+    rnext[i] = rhead[c];
+    rhead[c] = i;
+    add_score(h, c, (uint64_t)(s * s * s));
+}
+
 static int pop(cell_heap *h)
 {
     int c = h->heap[0];
@@ -152,14 +161,10 @@ int c5_sched_subtree(const c5_dep_tree *t, c5_schedule *out, c5_err *err)
         }
     }
     h.ops += (uint64_t)n * C5_OPS_SUBTREE_NODE;
-    /* Ready nodes: the roots. Each node is pushed once and served once. */
+    /* Ready nodes: the roots. Each node is made ready once and served once. */
     for (int i = 0; i < n; i++)
-        if (t->parent[i] < 0) {
-            int64_t s = size[i] < SUBTREE_MAX ? size[i] : SUBTREE_MAX;
-            rnext[i] = rhead[lc[i]];
-            rhead[lc[i]] = i;
-            add_score(&h, lc[i], (uint64_t)(s * s * s));
-        }
+        if (t->parent[i] < 0)
+            make_ready(&h, i, lc[i], size[i], rhead, rnext);
     while (h.hn > 0) {
         int c = pop(&h);
         out->cells[out->len++] = h.gid[c];
@@ -169,12 +174,8 @@ int c5_sched_subtree(const c5_dep_tree *t, c5_schedule *out, c5_err *err)
         for (; i >= 0; i = rnext[i]) {
             h.ops += C5_OPS_EXAMINE;
             out->nodes_examined++;
-            for (int k = first[i]; k >= 0; k = next[k]) {
-                int64_t s = size[k] < SUBTREE_MAX ? size[k] : SUBTREE_MAX;
-                rnext[k] = rhead[lc[k]];
-                rhead[lc[k]] = k;
-                add_score(&h, lc[k], (uint64_t)(s * s * s));
-            }
+            for (int k = first[i]; k >= 0; k = next[k])
+                make_ready(&h, k, lc[k], size[k], rhead, rnext);
         }
     }
     h.ops += (uint64_t)out->len; /* writing the schedule out */
