@@ -71,10 +71,14 @@ static int dolly_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
     return c5_motion_parse_dolly(o->name, v, field, err);
 }
 
+/* The split rules' names, in c5_split_rule order from C5_SPLIT_MOST_LEAVES: --split, the
+ * report's split_rule and its schedule_len keys. */
+static const char *const rule_names[] = {"paper", "lookahead", "rollout", "bounded", "window", "subtree", NULL};
+#define NRULES ((int)(sizeof rule_names / sizeof *rule_names) - 1)
+
 static int split_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
-    static const char *const names[] = {"paper", "lookahead", "rollout", "bounded", "window", "subtree", NULL};
-    return c5_opt_pick(o, v, names, C5_SPLIT_MOST_LEAVES, field, err);
+    return c5_opt_pick(o, v, rule_names, C5_SPLIT_MOST_LEAVES, field, err);
 }
 
 static int tree_ram_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
@@ -263,12 +267,8 @@ static double reduction(uint64_t mw, uint64_t ct)
 
 static const char *rule_name(c5_split_rule r)
 {
-    return r == C5_SPLIT_LOOKAHEAD ? "lookahead"
-           : r == C5_SPLIT_ROLLOUT ? "rollout"
-           : r == C5_SPLIT_BOUNDED ? "bounded"
-           : r == C5_SPLIT_WINDOW  ? "window"
-           : r == C5_SPLIT_SUBTREE ? "subtree"
-                                   : "paper";
+    int k = (int)r - C5_SPLIT_MOST_LEAVES;
+    return k >= 0 && k < NRULES ? rule_names[k] : rule_names[0];
 }
 
 /* What became of the exact search on a frame's tree. */
@@ -418,10 +418,9 @@ static json_t *row_json(int f, const frame_row *r, long exact_states)
     json_object_set_new(o, "best_known", s->best_known > 0 ? json_integer(s->best_known) : json_null());
     /* 0: not run (overflow); null: gave up at the report's cap (more than 64 cells) */
     json_t *lens = json_object();
-    const char *names[6] = {"paper", "lookahead", "rollout", "bounded", "window", "subtree"};
-    int lv[6] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded, s->len_window, s->len_subtree};
-    for (int k = 0; k < 6; k++)
-        json_object_set_new(lens, names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
+    int lv[NRULES] = {s->len_paper, s->len_lookahead, s->len_rollout, s->len_bounded, s->len_window, s->len_subtree};
+    for (int k = 0; k < NRULES; k++)
+        json_object_set_new(lens, rule_names[k], lv[k] >= 0 ? json_integer(lv[k]) : json_null());
     json_object_set_new(o, "schedule_len", lens);
     json_object_set_new(o, "peels", json_pack("{s:i, s:i}", "completion", s->peels_completion, "split", s->peels_split));
     json_object_set_new(o, "nodes_examined", json_integer((json_int_t)s->nodes_examined));

@@ -4,7 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dsp_cost.h"
 #include "harness.h"
 #include "rng.h"
 #include "tree_fixtures.h"
@@ -79,12 +78,7 @@ TEST(tree_subtree_random)
         int m = 0, seen[C5_SCHED_MAX_CELLS] = {0};
         for (int i = 0; i < n; i++)
             m += !seen[cel[i]]++;
-        int lg = 0;
-        while ((1 << lg) < m + 1)
-            lg++;
-        uint64_t worst = (uint64_t)n * (C5_OPS_SUBTREE_NODE + C5_OPS_EXAMINE + C5_OPS_PEEL + 1 +
-                                        2 * (uint64_t)lg * C5_OPS_HEAP_STEP) +
-                         (uint64_t)m * C5_OPS_INIT_CELL;
+        uint64_t worst = c5_sched_subtree_worst(n, m);
         CHECK_MSG(a.dsp_ops <= worst, "tree %d: %llu ops, worst %llu", it, (unsigned long long)a.dsp_ops,
                   (unsigned long long)worst);
         if (it % 2 && n <= 14 && m <= 6) /* brute force: narrow ids only */

@@ -127,6 +127,8 @@ int c5_sched_bounded(const c5_dep_tree *t, uint64_t budget_ops, c5_schedule *out
 /* C5_SPLIT_SUBTREE (tree_subtree.c): feasible for any checked tree, deterministic (ties: the
  * lowest cell id), out->dsp_ops its counted cost, O((n + loads) log cells). */
 int c5_sched_subtree(const c5_dep_tree *t, c5_schedule *out, c5_err *err);
+/* The most c5_sched_subtree counts on a tree of n nodes over m cells (checked before it runs). */
+uint64_t c5_sched_subtree_worst(int n, int m);
 
 /* C5_SPLIT_WINDOW (tree_window.c) with a budget of budget_ops DSP operations (dsp_cost.h)
  * for the rule, the paper's rule included (0: no budget). The paper's rule always runs; each

@@ -105,6 +105,17 @@ static int pop(cell_heap *h)
     return c;
 }
 
+/* Per node: its preparation, one examination, at most one load (a peel and the entry written),
+ * a sift up when made ready and its share of a sift down when its cell is loaded. */
+uint64_t c5_sched_subtree_worst(int n, int m)
+{
+    int lg = 0;
+    while ((1 << lg) < m + 1)
+        lg++;
+    uint64_t per_node = C5_OPS_SUBTREE_NODE + C5_OPS_EXAMINE + C5_OPS_PEEL + 1 + 2 * (uint64_t)lg * C5_OPS_HEAP_STEP;
+    return (uint64_t)(n > 0 ? n : 0) * per_node + (uint64_t)(m > 0 ? m : 0) * C5_OPS_INIT_CELL;
+}
+
 int c5_sched_subtree(const c5_dep_tree *t, c5_schedule *out, c5_err *err)
 {
     memset(out, 0, sizeof *out);

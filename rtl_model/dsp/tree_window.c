@@ -437,9 +437,7 @@ static int try_warm(win *w, const int *warm, int warm_len)
  * 0: not, -1 with err. */
 static int try_subtree(win *w, c5_err *err)
 {
-    uint64_t per_node = C5_OPS_SUBTREE_NODE + C5_OPS_EXAMINE + C5_OPS_PEEL + 1 +
-                        2 * (uint64_t)ceil_log2(w->m + 1) * C5_OPS_HEAP_STEP;
-    if (!affords(w, (uint64_t)w->n * per_node + (uint64_t)w->m * C5_OPS_INIT_CELL))
+    if (!affords(w, c5_sched_subtree_worst(w->n, w->m)))
         return 0;
     c5_schedule s;
     if (c5_sched_subtree(w->t, &s, err) != 0)
