@@ -14,6 +14,14 @@ static int assign_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
     return 0;
 }
 
+static int mode_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    c5_mb_opts *mo = field;
+    if (!(mo->mode = c5_mb_mode_parse(v)))
+        return c5_fail(err, "%s: expected async or rounds, got '%s'", o->name, v);
+    return 0;
+}
+
 static int link_bw_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
     double x;
@@ -40,10 +48,14 @@ const c5_opt c5_boards_opts[] = {
     {"--assign", "R", assign_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
      "how cells go to boards: kd (default, a k-d split), slab, mod (scattered), or tree (from the previous frame's "
      "rays between cells; kd in frame 0)"},
+    {"--exchange", "M", mode_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
+     "how rays move between boards: async (default: each board on its own clock, a packet sent as soon as it is "
+     "handed on, the frame's end found by credit recovery) or rounds (bulk-synchronous: work off every queue, "
+     "then all exchange)"},
     {"--link-bw", "MB/S", link_bw_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
      "inter-board link bandwidth each way per board (default 125: Gigabit Ethernet)"},
     {"--link-latency", "US", link_latency_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
-     "inter-board latency per exchange round in us (default 50)"},
+     "inter-board latency in us (default 50): a packet's time through the switch, or a round's exchange"},
     {0},
 };
 #undef GIVEN
@@ -113,24 +125,31 @@ json_t *c5_cli_mb_json(const c5_mb_stats *ms)
             {"bytes_received", b->packets_received * C5_PACKET_BYTES},
             {"busy_cycles", b->busy_cycles},  {"link_cycles", b->link_cycles},
             {"idle_cycles", b->idle_cycles},  {"rays_processed", b->rays_processed},
+            {"resident_loads", b->resident_loads},
         };
         for (size_t i = 0; i < sizeof n / sizeof n[0]; i++)
             json_object_set_new(o, n[i].key, json_integer((json_int_t)n[i].v));
         json_array_append_new(per, o);
     }
-    return json_pack("{s:i, s:s, s:f, s:f, s:I, s:I, s:f, s:I, s:I, s:f, s:o}", "boards", ms->boards, "assign",
-                     c5_assign_name(ms->assign), "link_bw", ms->link_bw, "link_latency_s", ms->link_latency_s,
-                     "rounds", (json_int_t)ms->rounds, "frame_cycles", (json_int_t)ms->frame_cycles, "frame_s",
+    return json_pack("{s:i, s:s, s:s, s:f, s:f, s:I, s:I, s:I, s:f, s:I, s:I, s:f, s:o}", "boards", ms->boards,
+                     "exchange", c5_mb_mode_name(ms->mode), "assign", c5_assign_name(ms->assign), "link_bw",
+                     ms->link_bw, "link_latency_s", ms->link_latency_s, "rounds", (json_int_t)ms->rounds,
+                     "sim_exchanges", (json_int_t)ms->exchanges, "frame_cycles", (json_int_t)ms->frame_cycles, "frame_s",
                      ms->frame_s, "link_packets", (json_int_t)ms->link_packets, "link_bytes",
                      (json_int_t)ms->link_bytes, "balance", ms->balance, "per_board", per);
 }
 
 void c5_cli_mb_print(const c5_mb_stats *ms)
 {
-    printf("  boards   %d (%s assignment), frame %llu cycles = %.6f s at 100 MHz (the slowest board's), "
-           "%llu round(s)\n", ms->boards, c5_assign_name(ms->assign), (unsigned long long)ms->frame_cycles,
-           ms->frame_s, (unsigned long long)ms->rounds);
-    printf("  link     %.0f MB/s, %.0f us a round; %llu packets = %llu bytes between boards; balance %.3f\n",
+    if (ms->mode == C5_MB_ROUNDS)
+        printf("  boards   %d (%s assignment, rounds), frame %llu cycles = %.6f s at 100 MHz (the slowest board's), "
+               "%llu round(s)\n", ms->boards, c5_assign_name(ms->assign), (unsigned long long)ms->frame_cycles,
+               ms->frame_s, (unsigned long long)ms->rounds);
+    else
+        printf("  boards   %d (%s assignment, async), frame %llu cycles = %.6f s at 100 MHz (the last board's "
+               "end and its detection)\n", ms->boards, c5_assign_name(ms->assign),
+               (unsigned long long)ms->frame_cycles, ms->frame_s);
+    printf("  link     %.0f MB/s, %.0f us latency; %llu packets = %llu bytes between boards; balance %.3f\n",
            ms->link_bw / 1e6, ms->link_latency_s * 1e6, (unsigned long long)ms->link_packets,
            (unsigned long long)ms->link_bytes, ms->balance);
     printf("  %-6s %6s %8s %12s %10s %10s %12s %12s %12s\n", "board", "cells", "fetches", "rays", "sent", "received",

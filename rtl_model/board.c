@@ -287,6 +287,9 @@ static void board_free(c5_bd *b)
     c5_mw_shadow_free(&b->shadow);
     free(b->out_pk);
     free(b->out_dest);
+    free(b->out_t);
+    free(b->in_pk);
+    free(b->in_t);
     free(b->px_owner);
     c5_rdram_free(&b->mem);
     c5_cells_free(&b->cells);
@@ -402,24 +405,36 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
     const c5_board_opts *o = b->o;
     c5_board_stats *stats = b->st;
     int sched_pos = 0, cell = -1;
+    /* An asynchronous board may be given rays for the cell it has just worked off: that cell
+     * is still in RDRAM and is not fetched again. (One board, or boards in rounds, never pick
+     * the cell just worked off: its queue is empty until another cell's load.) */
+    int keep_resident = o->link && o->link->exchange_async;
     while (!b->oom && (cell = c5_bd_next_cell(b, &sched_pos, err)) >= 0) {
-        if ((host ? c5_rdram_place(&b->mem, &b->cells, cell, err) != 0 ||
-                        host->fetch(host->ctx, cell, b->mem.v, c5_cell_bytes(&b->cells, cell), err) != 0
-                  : c5_rdram_load(&b->mem, &b->cells, grid, cell, err) != 0))
-            return -3;
-        size_t bytes = c5_cell_bytes(&b->cells, cell);
-        stats->fetches++;
-        if (b->keep->fetch_log && stats->fetches <= (uint64_t)b->keep->fetch_log_cap)
-            b->keep->fetch_log[stats->fetches - 1] = cell;
-        stats->fetch_bytes += bytes;
-        stats->cycles_fetch += fetch_cycles(o, bytes);
+        if (keep_resident && cell == b->resident) {
+            stats->resident_loads++;
+        } else {
+            if ((host ? c5_rdram_place(&b->mem, &b->cells, cell, err) != 0 ||
+                            host->fetch(host->ctx, cell, b->mem.v, c5_cell_bytes(&b->cells, cell), err) != 0
+                      : c5_rdram_load(&b->mem, &b->cells, grid, cell, err) != 0))
+                return -3;
+            size_t bytes = c5_cell_bytes(&b->cells, cell);
+            stats->fetches++;
+            if (b->keep->fetch_log && stats->fetches <= (uint64_t)b->keep->fetch_log_cap)
+                b->keep->fetch_log[stats->fetches - 1] = cell;
+            stats->fetch_bytes += bytes;
+            stats->cycles_fetch += fetch_cycles(o, bytes);
+            b->resident = cell;
+        }
         if (b->certify)
             c5_mw_shadow_load(&b->shadow, cell);
         b->proc.active = cell;
         uint64_t c0 = b->proc.st.cycles, p0 = stats->bus_packets;
+        b->emit_base = c5_bd_clock(b);
+        b->emit_c0 = c0;
         process_cell(b, cell);
         uint64_t work = b->proc.st.cycles - c0 + C5_CYC_PIPELINE, moved = stats->bus_packets - p0;
         stats->cycles_process += work > moved ? work : moved; /* the bus runs beside the pipeline */
+        stats->last_end = c5_bd_clock(b);
         if (o->progress)
             o->progress(o->progress_ctx, &(c5_board_progress){stats->fetches, b->queued});
     }
@@ -440,7 +455,7 @@ int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, co
     memset(stats, 0, sizeof *stats);
     c5_board_opts o = *opts;
     normalise_opts(&o, sv);
-    c5_bd b = {.s = s, .o = &o, .keep = keep ? keep : &none, .st = stats};
+    c5_bd b = {.s = s, .o = &o, .keep = keep ? keep : &none, .st = stats, .resident = -1};
     c5_camera frame_cam = o.camera ? *o.camera : c5_scene_camera_at(s, frame);
     stats->frame_key = c5_frame_key(&frame_cam, s->render.width, s->render.height);
     c5_supervol dummy;
@@ -454,6 +469,8 @@ int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, co
         board_free(&b);
         return o.taps ? c5_fail(err, "several boards: taps (golden vectors) are for one board") : -1;
     }
+    b.emit_base = stats->cycles_process; /* after the eye-ray probe */
+    b.emit_c0 = b.proc.st.cycles;
     if (c5_bd_generate_eye_rays(&b, sv, frame, err) != 0) {
         board_free(&b);
         return -1;
@@ -468,6 +485,9 @@ int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, co
     /* Rays that never reach the volume were finished by the set-up: the first visit. */
     uint64_t proc_cycles = b.proc.st.cycles, bus = stats->bus_packets;
     stats->cycles_process += proc_cycles > bus ? proc_cycles : bus;
+    stats->last_end = c5_bd_clock(&b);
+    if (o.link && o.link->exchange_async) /* nothing sent before the frame began arrives sooner */
+        b.known_to = o.link->lookahead - 1;
     int cell = fetch_loop(&b, grid, host, err);
     if (cell == -3) {
         board_free(&b);

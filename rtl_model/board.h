@@ -56,13 +56,38 @@ typedef struct {
 struct c5_board_progress;
 struct c5_board_stats;
 
+/* What an asynchronous board tells the others at each of the simulation's exchanges
+ * (c5_board_link.exchange_async). Times are board cycles from the frame's start. */
+typedef struct {
+    uint64_t next;        /* the earliest time it may send another packet: its clock while rays
+                           * wait in its queues, else the earliest arrival in its in-box;
+                           * UINT64_MAX: neither */
+    uint64_t last_end;    /* when its last load (or the set-up) ended */
+} c5_link_report;
+
 /* One of several boards sharing the super volume (rtl_model/multi_board.h,
  * docs/multi-board.md): each board owns some cells; a ray leaving for a cell another board
- * owns goes to it as its 32-byte packet, exchanged in rounds. */
+ * owns goes to it as its 32-byte packet, exchanged in rounds or, asynchronously, as the link
+ * carries it. */
 typedef struct {
     void *ctx;
     int self, boards;      /* this board's number, 0..boards-1 */
     const uint16_t *owner; /* [cells of the split]: the board owning each cell */
+    /* Asynchronous boards (exchange_async set, exchange unused): the board runs on its own
+     * clock; a packet handed on at time t reaches its board at t + the link's time, at least
+     * `lookahead` cycles (the latency) later. The simulation exchanges the packets sent up to a
+     * common time B (every board's report.next is at least B) and then every board knows each
+     * arrival up to B + lookahead: it loads cells while its clock is within that, else takes
+     * part in the next exchange. out[i] goes to dest[i], handed on at t_out[i] (times not
+     * decreasing); the exchange takes the first *n_sent (all of them), and returns the
+     * packets for this board known to arrive by B + lookahead with their arrival times (the
+     * link's memory, valid until the next call), and B. 1: go on, 0: every board is idle and
+     * nothing is in flight, -1 with a message. */
+    uint64_t lookahead;
+    int (*exchange_async)(void *ctx, const c5_link_report *me, const uint8_t (*out)[C5_PACKET_BYTES],
+                          const uint16_t *dest, const uint64_t *t_out, size_t n_out, size_t *n_sent,
+                          const uint8_t (**in)[C5_PACKET_BYTES], const uint64_t **t_in, size_t *n_in,
+                          uint64_t *bound, c5_err *err);
     /* Called when this board's queues are empty: hands over the packets for other boards
      * (out[i] goes to board dest[i]) with the board's counters so far (cycles filled in),
      * and receives the packets the other boards sent this board (*in, *n_in: the link's
@@ -222,6 +247,10 @@ typedef struct c5_board_stats {
      * part in, the processor cycles of the replicated eye-ray set-up that finds which board
      * owns each pixel (in cycles_process). */
     uint64_t link_sent, link_received, link_rounds, cycles_eye_owner;
+    /* Asynchronous boards: cycles waiting for packets with every queue empty (the frame's
+     * time is its clock: process + fetch + idle), loads of the cell still in RDRAM (no fetch),
+     * and when its last load ended. */
+    uint64_t cycles_idle, resident_loads, last_end;
 } c5_board_stats;
 
 /* Renders frame `frame` of the scene into out (allocated here). 0, or -1 with a message

@@ -65,7 +65,25 @@ typedef struct {
     size_t n_out, cap_out;
     int eye_probe;
     uint16_t *px_owner;      /* [pixels]: the board that generates the pixel's eye ray; UINT16_MAX: unset */
+    /* Asynchronous boards (link->exchange_async): each packet's time in the out-box, the
+     * in-box of packets on their way (their arrival times, not decreasing from in_head), the
+     * time up to which every arrival is known, the cell in RDRAM, and where the processor's
+     * cycles of the current load began (emit_base: the board's time then, emit_c0: its
+     * count). */
+    uint64_t *out_t;
+    uint8_t (*in_pk)[C5_PACKET_BYTES];
+    uint64_t *in_t;
+    size_t n_in, in_head, cap_in;
+    uint64_t known_to;
+    int resident;
+    uint64_t emit_base, emit_c0;
 } c5_bd;
+
+/* The board's time (asynchronous boards): its cycles so far, waits included. */
+static inline uint64_t c5_bd_clock(const c5_bd *b)
+{
+    return b->st->cycles_process + b->st->cycles_fetch + b->st->cycles_idle;
+}
 
 static inline size_t c5_bd_queued_in(const c5_bd *b, int c) { return b->q[c].n - b->q[c].head; }
 

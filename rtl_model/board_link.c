@@ -1,7 +1,8 @@
 /* The board's end of the link between boards (opts.link; rtl_model/multi_board.h,
  * docs/multi-board.md): the out-box of packets for other boards' cells, the eye-ray probe
- * that decides which board generates each pixel's eye ray, and the exchange when this
- * board's queues are empty. */
+ * that decides which board generates each pixel's eye ray, and the exchanges: in rounds,
+ * when this board's queues are empty; asynchronously, the in-box of packets on their way and
+ * the board's clock. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,16 +28,21 @@ int c5_bd_link_enqueue(c5_bd *b, const c5_bray *r)
         if (p)
             b->out_pk = p;
         void *d = p ? realloc(b->out_dest, cap * sizeof *b->out_dest) : NULL;
-        if (!d) {
+        if (d)
+            b->out_dest = d;
+        void *t = d ? realloc(b->out_t, cap * sizeof *b->out_t) : NULL;
+        if (!t) {
             b->oom = 1;
             return 1;
         }
-        b->out_dest = d;
+        b->out_t = t;
         b->cap_out = cap;
     }
     c5_bray q = *r;
     q.node = C5_NODE_NONE; /* a node of this board's tree means nothing to the receiver's */
     c5_bray_pack(&q, &b->cells, b->out_pk[b->n_out]);
+    /* handed on now: the processor's cycles into the current load (or the set-up) */
+    b->out_t[b->n_out] = b->emit_base + (b->proc.st.cycles - b->emit_c0);
     b->out_dest[b->n_out++] = l->owner[r->cell];
     b->st->bus_packets++;
     return 1;
@@ -70,6 +76,22 @@ int c5_bd_eye_owners(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err)
     return rc;
 }
 
+/* A packet from another board into this board's SDRAM queues, as a new root of its Cell
+ * Tree. */
+static int receive(c5_bd *b, const uint8_t pk[C5_PACKET_BYTES], c5_err *err)
+{
+    const c5_board_link *l = b->o->link;
+    c5_bray r;
+    c5_bray_unpack(pk, &b->cells, &r);
+    if ((int)r.cell >= b->cells.count || l->owner[r.cell] != l->self)
+        return c5_fail(err, "board %d received a ray for cell %u, which it does not own", l->self, r.cell);
+    r.node = C5_NODE_NONE;
+    r.shadow = C5_DEMAND_NONE;
+    c5_bd_dsp_queue(b, &r, 1);
+    b->st->link_received++;
+    return 0;
+}
+
 /* This board's queues are empty: one exchange with the other boards; the packets received
  * are queued in SDRAM as new roots of this board's Cell Tree. 1: go on, 0: the frame is over. */
 static int link_round(c5_bd *b, c5_err *err)
@@ -86,19 +108,101 @@ static int link_round(c5_bd *b, c5_err *err)
     b->n_out = 0;
     if (more < 0)
         return -1;
-    for (size_t i = 0; i < n_in; i++) {
-        c5_bray r;
-        c5_bray_unpack(in[i], &b->cells, &r);
-        if ((int)r.cell >= b->cells.count || l->owner[r.cell] != l->self)
-            return c5_fail(err, "board %d received a ray for cell %u, which it does not own", l->self, r.cell);
-        r.node = C5_NODE_NONE;
-        r.shadow = C5_DEMAND_NONE;
-        c5_bd_dsp_queue(b, &r, 1);
-    }
-    st->link_received += n_in;
+    for (size_t i = 0; i < n_in; i++)
+        if (receive(b, in[i], err) != 0)
+            return -1;
     if (b->oom)
         return c5_fail(err, "out of memory for the DSP's SDRAM ray queues");
     return more;
+}
+
+/* Asynchronous: the packets of the in-box that have arrived by `now` into the queues. */
+static int deliver(c5_bd *b, uint64_t now, c5_err *err)
+{
+    for (; b->in_head < b->n_in && b->in_t[b->in_head] <= now; b->in_head++)
+        if (receive(b, b->in_pk[b->in_head], err) != 0)
+            return -1;
+    if (b->in_head == b->n_in)
+        b->in_head = b->n_in = 0;
+    return b->oom ? c5_fail(err, "out of memory for the DSP's SDRAM ray queues") : 0;
+}
+
+/* Asynchronous: the packets on their way to this board, after those already there (the link
+ * hands them over in the order they arrive). */
+static int inbox_add(c5_bd *b, const uint8_t (*in)[C5_PACKET_BYTES], const uint64_t *t_in, size_t n, c5_err *err)
+{
+    if (b->in_head) {
+        memmove(b->in_pk, b->in_pk + b->in_head, (b->n_in - b->in_head) * C5_PACKET_BYTES);
+        memmove(b->in_t, b->in_t + b->in_head, (b->n_in - b->in_head) * sizeof *b->in_t);
+        b->n_in -= b->in_head;
+        b->in_head = 0;
+    }
+    if (b->n_in + n > b->cap_in) {
+        size_t cap = b->cap_in ? b->cap_in : 1024;
+        while (cap < b->n_in + n)
+            cap *= 2;
+        void *p = realloc(b->in_pk, cap * C5_PACKET_BYTES);
+        if (p)
+            b->in_pk = p;
+        void *t = p ? realloc(b->in_t, cap * sizeof *b->in_t) : NULL;
+        if (!t)
+            return c5_fail(err, "out of memory for the link's in-box");
+        b->in_t = t;
+        b->cap_in = cap;
+    }
+    memcpy(b->in_pk + b->n_in, in, n * C5_PACKET_BYTES);
+    memcpy(b->in_t + b->n_in, t_in, n * sizeof *t_in);
+    b->n_in += n;
+    return 0;
+}
+
+/* Asynchronous: one exchange of the simulation (c5_board_link.exchange_async). */
+static int link_sync(c5_bd *b, uint64_t now, c5_err *err)
+{
+    const c5_board_link *l = b->o->link;
+    c5_link_report me = {UINT64_MAX, b->st->last_end};
+    if (b->queued)
+        me.next = now;
+    else if (b->in_head < b->n_in)
+        me.next = b->in_t[b->in_head];
+    size_t n_sent = 0, n_in = 0;
+    const uint8_t (*in)[C5_PACKET_BYTES] = NULL;
+    const uint64_t *t_in = NULL;
+    uint64_t bound = 0;
+    int more = l->exchange_async(l->ctx, &me, (const uint8_t (*)[C5_PACKET_BYTES])b->out_pk, b->out_dest, b->out_t,
+                                 b->n_out, &n_sent, &in, &t_in, &n_in, &bound, err);
+    if (more < 0)
+        return -1;
+    b->st->link_rounds++;
+    b->st->link_sent += n_sent;
+    b->n_out -= n_sent;
+    memmove(b->out_pk, b->out_pk + n_sent, b->n_out * C5_PACKET_BYTES);
+    memmove(b->out_dest, b->out_dest + n_sent, b->n_out * sizeof *b->out_dest);
+    memmove(b->out_t, b->out_t + n_sent, b->n_out * sizeof *b->out_t);
+    if (inbox_add(b, in, t_in, n_in, err) != 0)
+        return -1;
+    b->known_to = bound > UINT64_MAX - l->lookahead ? UINT64_MAX : bound + l->lookahead;
+    return more;
+}
+
+/* Asynchronous: the next cell to load at the board's clock, once every packet that can have
+ * arrived by then is known; with every queue empty the board waits for the next arrival. */
+static int next_async(c5_bd *b, int *sched_pos, c5_err *err)
+{
+    for (;;) {
+        uint64_t now = c5_bd_clock(b);
+        if (deliver(b, now, err) != 0)
+            return -2;
+        if (b->queued && now <= b->known_to)
+            return c5_bd_schedule(b, sched_pos);
+        if (!b->queued && b->in_head < b->n_in && b->in_t[b->in_head] <= b->known_to) {
+            b->st->cycles_idle += b->in_t[b->in_head] - now;
+            continue;
+        }
+        int more = link_sync(b, now, err);
+        if (more <= 0)
+            return more < 0 ? -2 : -1;
+    }
 }
 
 /* The next cell to load; with several boards, exchanges while this board's queues are empty
@@ -108,6 +212,8 @@ int c5_bd_next_cell(c5_bd *b, int *sched_pos, c5_err *err)
 {
     if (!b->o->link)
         return c5_bd_schedule(b, sched_pos);
+    if (b->o->link->exchange_async)
+        return next_async(b, sched_pos, err);
     while (!b->queued) {
         int more = link_round(b, err);
         if (more <= 0)

@@ -4,8 +4,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mb_async.h"
 #include "model_limits.h"
 #include "multi_board.h"
+
+const char *c5_mb_mode_name(c5_mb_mode m) { return m == C5_MB_ROUNDS ? "rounds" : "async"; }
+
+c5_mb_mode c5_mb_mode_parse(const char *s)
+{
+    return !strcmp(s, "async") ? C5_MB_ASYNC : !strcmp(s, "rounds") ? C5_MB_ROUNDS : 0;
+}
 
 const char *c5_assign_name(c5_assign_rule r)
 {
@@ -259,7 +267,8 @@ void c5_board_stats_add(c5_board_stats *a, const c5_board_stats *b)
     ADD(cache_misses); ADD(saturations); ADD(sched_loads); ADD(sched_skipped); ADD(sched_fallback);
     ADD(sched_switches); ADD(shadow_ops); ADD(node_count_ops); ADD(tree_tags); ADD(tree_reads); ADD(tree_writes);
     ADD(tree_wall_s); ADD(wall_s); ADD(link_sent); ADD(link_received); ADD(link_rounds); ADD(cycles_eye_owner);
-    MAX(queue_max); MAX(tree_nodes); MAX(tree_slots); MAX(tree_demand_nodes); MAX(tree_demand_slots);
+    ADD(cycles_idle); ADD(resident_loads);
+    MAX(queue_max); MAX(last_end); MAX(tree_nodes); MAX(tree_slots); MAX(tree_demand_nodes); MAX(tree_demand_slots);
     MAX(tree_demand_slots6);
 #undef ADD
 #undef MAX
@@ -277,7 +286,7 @@ static void finish_stats(c5_mb_stats *ms)
     uint64_t most = 0, all = 0;
     for (int k = 0; k < ms->boards; k++) {
         c5_mb_board *b = &ms->board[k];
-        b->idle_cycles = ms->frame_cycles - b->busy_cycles - b->link_cycles;
+        b->idle_cycles = ms->frame_cycles - b->busy_cycles - (ms->mode == C5_MB_ROUNDS ? b->link_cycles : 0);
         most = b->busy_cycles > most ? b->busy_cycles : most;
         all += b->busy_cycles;
     }
@@ -291,11 +300,13 @@ void c5_mb_add(c5_mb_stats *sum, const c5_mb_stats *f)
     int first = sum->boards == 0;
     if (first) {
         sum->boards = f->boards;
+        sum->mode = f->mode;
         sum->assign = f->assign;
         sum->link_bw = f->link_bw;
         sum->link_latency_s = f->link_latency_s;
     }
     sum->rounds += f->rounds;
+    sum->exchanges += f->exchanges;
     sum->frame_cycles += f->frame_cycles;
     sum->link_packets += f->link_packets;
     for (int k = 0; k < f->boards; k++) {
@@ -309,6 +320,7 @@ void c5_mb_add(c5_mb_stats *sum, const c5_mb_stats *f)
         a->fetches += b->fetches;
         a->fetch_bytes += b->fetch_bytes;
         a->rays_processed += b->rays_processed;
+        a->resident_loads += b->resident_loads;
     }
     if (first)
         sum->sum = f->sum;
@@ -345,6 +357,7 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     if (nb < 1 || nb > C5_MB_MAX_BOARDS)
         return c5_fail(err, "boards: %d is outside 1..%d", nb, C5_MB_MAX_BOARDS);
     ms->boards = nb;
+    ms->mode = mo->mode ? mo->mode : C5_MB_ASYNC;
     ms->assign = mo->assign ? mo->assign : C5_ASSIGN_KD;
     ms->link_bw = mo->link_bw > 0 ? mo->link_bw : C5_LINK_BW_DEFAULT;
     ms->link_latency_s = mo->link_latency_s > 0 ? mo->link_latency_s : mo->link_latency_s < 0 ? 0 : C5_LINK_LATENCY_DEFAULT;
@@ -375,7 +388,14 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     for (int c = 0; c < count; c++)
         ms->board[owner[c]].cells++;
     mb_link ml = {t, ms, 0, all};
-    c5_board_link link = {&ml, t->rank, nb, owner, mb_exchange};
+    c5_mb_async as;
+    int async = ms->mode == C5_MB_ASYNC && nb > 1;
+    if (async && c5_mb_async_init(&as, t, ms, err) != 0)
+        goto done;
+    c5_board_link link = {.ctx = &ml, .self = t->rank, .boards = nb, .owner = owner, .exchange = mb_exchange};
+    if (async)
+        link = (c5_board_link){.ctx = &as, .self = t->rank, .boards = nb, .owner = owner,
+                               .lookahead = as.lookahead, .exchange_async = c5_mb_async_exchange};
     c5_board_opts o = *base;
     memcpy(o.cells, n, sizeof o.cells);
     o.link = nb > 1 ? &link : NULL;
@@ -384,7 +404,13 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     k.moves = moves;
     c5_board_stats mine;
     c5_image img;
-    if (c5_board_render_keep(s, sv, frame, &o, &k, &img, &mine, err) != 0)
+    int rendered = c5_board_render_keep(s, sv, frame, &o, &k, &img, &mine, err);
+    uint64_t port = async ? (as.tx_busy > as.rx_busy ? as.tx_busy : as.rx_busy) : 0, *ports = NULL;
+    if (async) {
+        ms->exchanges = as.exchanges;
+        c5_mb_async_free(&as);
+    }
+    if (rendered != 0)
         goto done;
     c5_image_free(&img);
     if (nb == 1) {
@@ -394,6 +420,31 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     /* Every board's statistics to every board, the frame buffers added. */
     if (t->allgather(t->ctx, &mine, sizeof mine, every, err) != 0 || t->sum_u64(t->ctx, acc, nacc, err) != 0)
         goto done;
+    if (async) {
+        if (!(ports = malloc((size_t)nb * sizeof *ports))) {
+            c5_fail(err, "out of memory for %d boards", nb);
+            goto done;
+        }
+        if (t->allgather(t->ctx, &port, sizeof port, ports, err) != 0) {
+            free(ports);
+            goto done;
+        }
+        /* Credit recovery ends the frame: the last board to run out of work returns the last
+         * credit to board 0 (a latency), which announces the end (another). */
+        uint64_t last = 0, detect = 2 * (uint64_t)llround(ms->link_latency_s * C5_MB_CLOCK_HZ);
+        for (int b = 0; b < nb; b++) {
+            const c5_board_stats *e = &every[b];
+            last = e->last_end > last ? e->last_end : last;
+            ms->board[b].busy_cycles = e->cycles_process + e->cycles_fetch;
+            ms->board[b].link_cycles = (ports[b] + C5_MB_TICKS - 1) / C5_MB_TICKS;
+            ms->board[b].packets_sent = e->link_sent;
+            ms->board[b].packets_received = e->link_received;
+            ms->board[b].resident_loads = e->resident_loads;
+            ms->link_packets += e->link_sent;
+        }
+        free(ports);
+        ms->frame_cycles = last + detect;
+    }
     ms->sum = every[0];
     for (int k = 0; k < nb; k++) {
         if (k)

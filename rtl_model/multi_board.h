@@ -35,6 +35,18 @@ typedef enum {
                          * most rays with (the paper's proposal); kd in a run's first frame */
 } c5_assign_rule;
 
+/* How rays move between boards. */
+typedef enum {
+    C5_MB_ASYNC = 1,  /* each board on its own clock; a packet travels when it is handed on, and
+                       * the frame ends by credit recovery (mb_async.h; the default) */
+    C5_MB_ROUNDS = 2, /* bulk-synchronous: each board works off its queues, then all exchange;
+                       * a round that moves nothing ends the frame */
+} c5_mb_mode;
+
+const char *c5_mb_mode_name(c5_mb_mode m);
+/* "async", "rounds" -> the mode; 0: unknown. */
+c5_mb_mode c5_mb_mode_parse(const char *s);
+
 /* The tree rule works on a cells x cells table: up to this many cells (else kd). */
 #define C5_MB_TREE_MAX_CELLS 1024
 
@@ -65,6 +77,7 @@ typedef struct {
 } c5_mb_transport;
 
 typedef struct {
+    c5_mb_mode mode;        /* 0: C5_MB_ASYNC */
     c5_assign_rule assign;  /* 0: C5_ASSIGN_KD */
     double link_bw;         /* bytes/s a board's port moves each way, 0: C5_LINK_BW_DEFAULT */
     double link_latency_s;  /* per exchange, 0: C5_LINK_LATENCY_DEFAULT, < 0: none */
@@ -75,8 +88,11 @@ typedef struct {
 typedef struct {
     int cells;                 /* cells it owns */
     uint64_t busy_cycles;      /* its board cycles (process + fetch stalls, eye-owner set-up included) */
-    uint64_t link_cycles;      /* its port's time in the exchanges: latency + max(sent, received) / bandwidth */
-    uint64_t idle_cycles;      /* frame_cycles - busy - link: waiting for the slowest board */
+    uint64_t link_cycles;      /* rounds: its port's time in the exchanges (latency + max(sent, received) /
+                                * bandwidth); async: the time its busier port direction moved packets,
+                                * beside the board's work */
+    uint64_t idle_cycles;      /* rounds: frame_cycles - busy - link, async: frame_cycles - busy: waiting */
+    uint64_t resident_loads;   /* async: loads of the cell still in RDRAM, not fetched */
     uint64_t packets_sent, packets_received;
     uint64_t fetches, fetch_bytes;
     uint64_t rays_processed;   /* rays taken from its eDRAM sorter */
@@ -84,10 +100,14 @@ typedef struct {
 
 typedef struct {
     int boards;
+    c5_mb_mode mode;
     c5_assign_rule assign;
     double link_bw, link_latency_s; /* the link model used */
-    uint64_t rounds;                /* exchanges (the last moves nothing: the termination round) */
-    uint64_t frame_cycles;          /* sum over rounds of the slowest board's work and the slowest port */
+    uint64_t rounds;                /* rounds: exchanges (the last moves nothing: the termination round) */
+    uint64_t exchanges;             /* async: the simulation's exchanges (no modelled time) */
+    uint64_t frame_cycles;          /* rounds: sum over rounds of the slowest board's work and the slowest
+                                     * port; async: the last board's last load's end, and two
+                                     * latencies for the end to be detected and announced */
     double frame_s;                 /* frame_cycles at 100 MHz */
     uint64_t link_packets, link_bytes; /* between boards, all boards together */
     double balance;                 /* mean busy cycles / the largest: 1 is perfectly balanced */
