@@ -1,10 +1,12 @@
 /* --boards and friends; the per-board report. */
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "boards_cli.h"
 #include "cli.h"
+#include "mb_loopback.h"
 
 static int assign_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
@@ -52,6 +54,9 @@ const c5_opt c5_boards_opts[] = {
      "how rays move between boards: async (default: each board on its own clock, a packet sent as soon as it is "
      "handed on, the frame's end found by credit recovery) or rounds (bulk-synchronous: work off every queue, "
      "then all exchange)"},
+    {"--loopback", NULL, c5_opt_flag, offsetof(c5_boards_args, loopback), 0, 0, GIVEN,
+     "render, compare: run the N boards as threads of this one process instead of MPI ranks (no mpirun; the same "
+     "figures and image as N ranks)"},
     {"--link-bw", "MB/S", link_bw_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
      "inter-board link bandwidth each way per board (default 125: Gigabit Ethernet)"},
     {"--link-latency", "US", link_latency_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
@@ -88,6 +93,12 @@ int c5_boards_begin(c5_boards_args *b, c5_err *err)
     if (b->boards < 1)
         b->boards = 1;
     b->mo.history = &b->hist;
+    if (b->loopback && b->boards > 1) {
+        if (!(b->hist_lb = calloc((size_t)b->boards, sizeof *b->hist_lb)))
+            return c5_fail(err, "out of memory for %ld boards", b->boards);
+        b->t = (c5_mb_transport){NULL, 0, (int)b->boards, one_alltoall, one_allgather, one_sum};
+        return 0;
+    }
     if (b->boards == 1) {
         b->t = (c5_mb_transport){NULL, 0, 1, one_alltoall, one_allgather, one_sum};
         return 0;
@@ -100,8 +111,20 @@ int c5_boards_begin(c5_boards_args *b, c5_err *err)
 
 int c5_boards_leader(const c5_boards_args *b) { return !b->mpi || b->t.rank == 0; }
 
+int c5_boards_render(const c5_boards_args *b, const c5_scene *s, const c5_supervol *sv, int f, const c5_board_opts *o,
+                     const c5_board_out *keep, c5_image *img, c5_mb_stats *ms, c5_err *err)
+{
+    if (b->hist_lb)
+        return c5_mb_render_loopback(s, sv, f, o, keep, &b->mo, (int)b->boards, b->hist_lb, img, ms, err);
+    return c5_mb_render(s, sv, f, o, keep, &b->mo, &b->t, img, ms, err);
+}
+
 void c5_boards_end(c5_boards_args *b)
 {
+    for (long k = 0; b->hist_lb && k < b->boards; k++)
+        c5_mb_history_free(&b->hist_lb[k]);
+    free(b->hist_lb);
+    b->hist_lb = NULL;
     c5_mb_history_free(&b->hist);
     if (b->mpi)
         c5_mpi_end();

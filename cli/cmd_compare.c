@@ -232,7 +232,7 @@ int c5_cmd_compare(int argc, char **argv)
     bopts.progress_ctx = &pf;
     /* Several boards: the model first (every board), then cref on board 0 alone. */
     double tm = c5_now_s();
-    if (a.bd.given && c5_mb_render(&s, &sv, (int)a.frame, &bopts, NULL, &a.bd.mo, &a.bd.t, &r.test, &r.mb, &err) != 0) {
+    if (a.bd.given && c5_boards_render(&a.bd, &s, &sv, (int)a.frame, &bopts, NULL, &r.test, &r.mb, &err) != 0) {
         if (a.bd.mpi)
             c5_mpi_fail(&a.bd.t, err.msg, C5_EXIT_RUNTIME);
         goto fail;

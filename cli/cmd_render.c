@@ -283,7 +283,7 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
     opts.progress = c5_boards_leader(&a->bd) ? c5_progress_board : NULL;
     opts.progress_ctx = &pf;
     if (a->bd.given) {
-        if (c5_mb_render(s, sv, f, &opts, NULL, &a->bd.mo, &a->bd.t, img, mb, err) != 0)
+        if (c5_boards_render(&a->bd, s, sv, f, &opts, NULL, img, mb, err) != 0)
             return -1;
         *board = mb->sum;
     } else if (c5_board_render(s, sv, f, &opts, img, board, err) != 0) {

@@ -796,6 +796,11 @@ int c5_cmd_schedule(int argc, char **argv)
         goto fail;
     if (c5_cli_model_grid(&s, a.cells, label, &sv, &err) != 0)
         goto fail;
+    if (a.bd.loopback) {
+        c5_fail(&err, "--loopback: schedule runs its boards as MPI ranks ('mpirun -np N cube5 schedule ... --boards N'); "
+                      "--loopback is for render and compare");
+        goto fail;
+    }
     if (c5_boards_begin(&a.bd, &err) != 0)
         goto fail;
     rc = C5_EXIT_RUNTIME;

@@ -68,12 +68,6 @@ static int grow(c5_mb_async *a, size_t n_rec, size_t n_in, c5_err *err)
     return 0;
 }
 
-/* A packet's times beside it: when it reaches the switch (ticks), when it was handed on
- * (cycles). */
-typedef struct {
-    uint64_t at_switch, sent;
-} times;
-
 /* By the time at the switch, ties in the order received. */
 static int by_switch(const void *x, const void *y)
 {
@@ -92,7 +86,7 @@ static int send_all(c5_mb_async *a, const uint8_t (*out)[C5_PACKET_BYTES], const
         uint64_t ready = t_out[i] * C5_MB_TICKS;
         a->tx_free = (a->tx_free > ready ? a->tx_free : ready) + a->ser;
         a->tx_busy += a->ser;
-        times m = {a->tx_free + a->lat, t_out[i]};
+        c5_mb_wire m = {a->tx_free + a->lat, t_out[i]};
         memset(a->rec[i], 0, C5_PACKET_BYTES);
         memcpy(a->rec[i], &m, sizeof m);
     }
@@ -106,7 +100,7 @@ static int send_all(c5_mb_async *a, const uint8_t (*out)[C5_PACKET_BYTES], const
     if (n_rec != n_pk)
         return c5_fail(err, "link: %zu packets arrived with %zu times", n_pk, n_rec);
     for (size_t i = 0; i < n_pk; i++) {
-        times m;
+        c5_mb_wire m;
         memcpy(&m, rec[i], sizeof m);
         a->order[a->n_wait + i] = (c5_mb_arrival){m.at_switch, m.sent, a->received++, a->n_wait + i};
     }

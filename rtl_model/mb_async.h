@@ -28,6 +28,12 @@
 
 #define C5_MB_TICKS 256 /* link ticks a board cycle */
 
+/* What travels beside each packet in the simulation (in a 32-byte record of its own): when it
+ * reaches the switch (ticks) and when it was handed on (cycles). */
+typedef struct {
+    uint64_t at_switch, sent;
+} c5_mb_wire;
+
 /* A packet on its way to this board. */
 typedef struct {
     uint64_t at_switch, sent; /* when it reaches the switch (ticks), when it was handed on (cycles) */

@@ -36,11 +36,11 @@ field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)
 ref_crc=$(field "$tmp/one.json" "d['frames'][0]['crc32']")
 ref_rays=$(field "$tmp/one.json" "sorted(d['rays'].items())")
 
-for run in "2 kd" "3 kd" "3 slab" "3 mod" "2 tree"; do
+for run in "2 kd async" "3 kd async" "3 slab async" "3 mod async" "2 tree async" "3 kd rounds"; do
     set -- $run
-    n=$1 rule=$2 name="mpi_${1}_ranks_${2}_same_image_rays_conserved"
-    if ! timeout 120 "${mpirun[@]}" -np "$n" "$cube5" render "${scene[@]}" --boards "$n" --assign "$rule" --json \
-        -o "$tmp/img$n$rule.exr" >"$tmp/m.json" 2>"$tmp/err"; then
+    n=$1 rule=$2 mode=$3 name="mpi_${1}_ranks_${2}_${3}_same_image_rays_conserved"
+    if ! timeout 120 "${mpirun[@]}" -np "$n" "$cube5" render "${scene[@]}" --boards "$n" --assign "$rule" --exchange "$mode" \
+        --json -o "$tmp/img$n$rule$mode.exr" >"$tmp/m.json" 2>"$tmp/err"; then
         bad "$name" "mpirun failed" "$(tail -5 "$tmp/err")"
         continue
     fi
@@ -56,8 +56,19 @@ for run in "2 kd" "3 kd" "3 slab" "3 mod" "2 tree"; do
     if [ "$crc" != "$ref_crc" ]; then bad "$name" "crc32 $crc, one board $ref_crc"
     elif [ "$rays" != "$ref_rays" ]; then bad "$name" "rays $rays, one board $ref_rays"
     elif [ "$check" != "True True True True True" ]; then bad "$name" "conservation, packets, boards, frame time, cells: $check"
-    elif [ "$lines" -ne 1 ] || [ "$(ls "$tmp/img$n$rule"_*.exr | wc -l)" -ne 2 ]; then bad "$name" "board 0 alone prints ($lines lines) and writes the images"
+    elif [ "$lines" -ne 1 ] || [ "$(ls "$tmp/img$n$rule$mode"_*.exr | wc -l)" -ne 2 ]; then bad "$name" "board 0 alone prints ($lines lines) and writes the images"
     else ok "$name"; fi
+    # The same boards as threads of one process: every figure the same.
+    if [ "$rule" = kd ]; then
+        lname="mpi_${n}_ranks_${mode}_equal_loopback"
+        if "$cube5" render "${scene[@]}" --boards "$n" --assign "$rule" --exchange "$mode" --loopback --json >"$tmp/l.json" 2>"$tmp/err" &&
+            [ "$(field "$tmp/l.json" "json.dumps(d['multi_board'], sort_keys=True), d['frames'][0]['crc32']")" = \
+              "$(field "$tmp/m.json" "json.dumps(d['multi_board'], sort_keys=True), d['frames'][0]['crc32']")" ]; then
+            ok "$lname"
+        else
+            bad "$lname" "$(tail -3 "$tmp/err")" "$(field "$tmp/l.json" "d['multi_board']['frame_cycles']" 2>&1) against $(field "$tmp/m.json" "d['multi_board']['frame_cycles']")"
+        fi
+    fi
 done
 
 # compare: the same model image on 2 boards, so the same difference to cref.
@@ -88,7 +99,7 @@ fi
 
 # The text report: a line per board.
 if timeout 120 "${mpirun[@]}" -np 2 "$cube5" render "${scene[@]}" --boards 2 >"$tmp/t.txt" 2>"$tmp/err" &&
-    grep -q '^  boards   2 (kd assignment)' "$tmp/t.txt" && [ "$(grep -cE '^  [01] +[0-9]+ ' "$tmp/t.txt")" -eq 2 ]; then
+    grep -q '^  boards   2 (kd assignment, async)' "$tmp/t.txt" && [ "$(grep -cE '^  [01] +[0-9]+ ' "$tmp/t.txt")" -eq 2 ]; then
     ok mpi_text_report_per_board
 else
     bad mpi_text_report_per_board "$(cat "$tmp/t.txt" "$tmp/err")"
@@ -129,6 +140,19 @@ for args in "--boards 0" "--boards 65" "--assign diagonal" "--link-bw 0" "--link
 done
 err=$("$cube5" render brain_mirrors --size 40x40 --boards 2 2>&1 >/dev/null)
 judge mpi_boards_only_with_rtl 2 $? "$err" "only with --model rtl" && ok mpi_boards_only_with_rtl
+
+# The boards as threads: a board that fails mid-frame ends the run with its error, no hang;
+# schedule refuses them.
+start=$(date +%s)
+err=$(C5_LOOPBACK_TEST_FAIL=2:1 timeout 60 "$cube5" render "${scene[@]}" --boards 3 --loopback -o "$tmp/lf.png" 2>&1 >/dev/null)
+rc=$? took=$(($(date +%s) - start))
+if [ "$rc" -ne 0 ] && [ "$rc" -ne 124 ] && [ "$took" -le 20 ] && [[ "$err" == *"board 2: a failure on purpose"* ]] && [ ! -e "$tmp/lf.png" ]; then
+    ok loopback_failed_board_ends_the_run
+else
+    bad loopback_failed_board_ends_the_run "exit $rc after ${took}s: $err"
+fi
+err=$("$cube5" schedule brain_mirrors --size 16x16 --boards 2 --loopback 2>&1 >/dev/null)
+judge loopback_refused_by_schedule 2 $? "$err" "--loopback: schedule runs its boards as MPI ranks" && ok loopback_refused_by_schedule
 
 # A build without MPI: one board works (the same image), more say how to get MPI.
 nompi="$build/cube5-nompi"

@@ -1,7 +1,9 @@
 /* Several boards on one super volume (rtl_model/multi_board.h), over the in-process loopback
- * transport: the assignment rules, the image bit-identical to one board's for any number of
- * boards and any assignment, every ray ending exactly once across the boards, the packets
- * and the modelled link. tests/mpi_test.sh runs the same over real MPI ranks. */
+ * transport (mb_loopback.h): the assignment rules, the image bit-identical to one board's for
+ * any number of boards, any assignment and either exchange (rounds, async), every ray ending
+ * exactly once across the boards, the packets and the modelled link.
+ * tests/mpi_test.sh runs the same over real MPI ranks. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,6 +21,23 @@ typedef struct {
 static int same_image(const c5_image *a, const c5_image *b)
 {
     return a->w == b->w && a->h == b->h && !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * a->h);
+}
+
+/* The loopback render, its error printed. */
+static int mb_render_hist(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *o,
+                          const c5_mb_opts *mo, int boards, c5_mb_history *hist, c5_image *img, c5_mb_stats *ms)
+{
+    c5_err err;
+    int rc = c5_mb_render_loopback(s, sv, frame, o, NULL, mo, boards, hist, img, ms, &err);
+    if (rc != 0)
+        fprintf(stderr, "loopback: %s\n", err.msg);
+    return rc;
+}
+
+static int mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_board_opts *o,
+                     const c5_mb_opts *mo, int boards, c5_image *img, c5_mb_stats *ms)
+{
+    return mb_render_hist(s, sv, frame, o, mo, boards, NULL, img, ms);
 }
 
 /* Every ray created on any board ends exactly once on some board. */
@@ -88,13 +107,15 @@ TEST(mb_image_identical_and_rays_conserved_for_any_boards)
         c5_board_stats one;
         c5_err err;
         CHECK(c5_board_render(&l.s, &l.sv, 0, &o, &ref, &one, &err) == 0);
-        for (int r = 0; r < 3; r++)
+        for (int r = 0; r < 6; r++)
             for (size_t bi = 0; bi < sizeof boards / sizeof boards[0]; bi++) {
-                c5_mb_opts mo = {.assign = rules[r]};
+                c5_mb_mode mode = r < 3 ? C5_MB_ROUNDS : C5_MB_ASYNC;
+                c5_mb_opts mo = {.mode = mode, .assign = rules[r % 3]};
                 c5_image img;
                 c5_mb_stats ms;
-                CHECK(c5t_mb_render(&l.s, &l.sv, 0, &o, &mo, boards[bi], &img, &ms) == 0);
-                const char *rn = c5_assign_name(rules[r]);
+                CHECK(mb_render(&l.s, &l.sv, 0, &o, &mo, boards[bi], &img, &ms) == 0);
+                char rn[32];
+                snprintf(rn, sizeof rn, "%s %s", c5_assign_name(rules[r % 3]), c5_mb_mode_name(mode));
                 CHECK_MSG(same_image(&ref, &img), "%s %s %d boards: image differs", scenes[si], rn, boards[bi]);
                 CHECK_MSG(conserved(&ms.sum), "%s %s %d boards: rays not conserved", scenes[si], rn, boards[bi]);
                 for (int t = 0; t < C5_RAY_TYPES; t++)
@@ -110,7 +131,10 @@ TEST(mb_image_identical_and_rays_conserved_for_any_boards)
                     received += ms.board[k].packets_received;
                     cells += ms.board[k].cells;
                     most = ms.board[k].busy_cycles > most ? ms.board[k].busy_cycles : most;
-                    CHECK(ms.board[k].busy_cycles + ms.board[k].link_cycles <= ms.frame_cycles);
+                    if (mode == C5_MB_ROUNDS)
+                        CHECK(ms.board[k].busy_cycles + ms.board[k].link_cycles <= ms.frame_cycles);
+                    else /* the port works beside the board */
+                        CHECK(ms.board[k].busy_cycles + ms.board[k].idle_cycles == ms.frame_cycles);
                 }
                 CHECK_INT(sent, received);
                 CHECK_INT(sent, ms.link_packets);
@@ -120,7 +144,13 @@ TEST(mb_image_identical_and_rays_conserved_for_any_boards)
                 CHECK_INT(cells, 64);
                 CHECK_MSG(sent > 0, "%s %s %d boards: no ray crossed a board", scenes[si], rn, boards[bi]);
                 CHECK(ms.frame_cycles > most && ms.balance > 0 && ms.balance <= 1);
-                CHECK(ms.rounds >= 2); /* at least one round that moves rays, and the last, which moves none */
+                if (mode == C5_MB_ROUNDS) { /* one round that moves rays, and the last, which moves none */
+                    CHECK(ms.rounds >= 2);
+                } else { /* the end: the last board's last load, and two latencies to detect and announce it */
+                    CHECK_INT(ms.rounds, 0);
+                    CHECK(ms.exchanges >= 2);
+                    CHECK_INT(ms.frame_cycles, ms.sum.last_end + 2 * 5000);
+                }
                 c5_image_free(&img);
             }
         c5_image_free(&ref);
@@ -140,7 +170,7 @@ TEST(mb_one_board_is_the_board)
     CHECK(c5_board_render(&l.s, &l.sv, 0, &o, &ref, &one, &err) == 0);
     c5_mb_opts mo = {0};
     c5_mb_stats ms;
-    CHECK(c5t_mb_render(&l.s, &l.sv, 0, &o, &mo, 1, &img, &ms) == 0);
+    CHECK(mb_render(&l.s, &l.sv, 0, &o, &mo, 1, &img, &ms) == 0);
     CHECK(same_image(&ref, &img));
     CHECK_INT(ms.frame_cycles, one.cycles);
     CHECK_INT(ms.sum.fetches, one.fetches);
@@ -152,8 +182,8 @@ TEST(mb_one_board_is_the_board)
     c5_supervol_free(&l.sv);
 }
 
-/* The link model: the frame grows by the latency once a round, and by the bytes of the
- * busiest port each round over the bandwidth; the work itself does not change. */
+/* The link model in rounds: the frame grows by the latency once a round, and by the bytes of
+ * the busiest port each round over the bandwidth; the work itself does not change. */
 TEST(mb_link_model_latency_and_bandwidth)
 {
     loaded l;
@@ -161,11 +191,12 @@ TEST(mb_link_model_latency_and_bandwidth)
     c5_board_opts o = {.cells = {4, 4, 4}};
     c5_image a, b, c;
     c5_mb_stats fast, slow, narrow;
-    c5_mb_opts mf = {.link_latency_s = -1, .link_bw = 1e15}, ms_ = {.link_latency_s = 1e-3, .link_bw = 1e15},
-               mn = {.link_latency_s = -1, .link_bw = 1e6};
-    CHECK(c5t_mb_render(&l.s, &l.sv, 0, &o, &mf, 3, &a, &fast) == 0);
-    CHECK(c5t_mb_render(&l.s, &l.sv, 0, &o, &ms_, 3, &b, &slow) == 0);
-    CHECK(c5t_mb_render(&l.s, &l.sv, 0, &o, &mn, 3, &c, &narrow) == 0);
+    c5_mb_opts mf = {.mode = C5_MB_ROUNDS, .link_latency_s = -1, .link_bw = 1e15},
+               ms_ = {.mode = C5_MB_ROUNDS, .link_latency_s = 1e-3, .link_bw = 1e15},
+               mn = {.mode = C5_MB_ROUNDS, .link_latency_s = -1, .link_bw = 1e6};
+    CHECK(mb_render(&l.s, &l.sv, 0, &o, &mf, 3, &a, &fast) == 0);
+    CHECK(mb_render(&l.s, &l.sv, 0, &o, &ms_, 3, &b, &slow) == 0);
+    CHECK(mb_render(&l.s, &l.sv, 0, &o, &mn, 3, &c, &narrow) == 0);
     CHECK(same_image(&a, &b) && same_image(&a, &c));
     CHECK_INT(slow.rounds, fast.rounds);
     CHECK_INT(slow.link_packets, fast.link_packets);
@@ -252,8 +283,8 @@ TEST(mb_tree_rule_second_frame_same_image)
                 want[owner[c]]++;
         }
         CHECK(c5_board_render(&l.s, &l.sv, f, &o, &ref, &one, &err) == 0);
-        CHECK(c5t_mb_render_hist(&l.s, &l.sv, f, &o, &tree, 4, hist, &img, &ms) == 0);
-        CHECK(c5t_mb_render(&l.s, &l.sv, f, &o, &kd, 4, &kimg, &mk) == 0);
+        CHECK(mb_render_hist(&l.s, &l.sv, f, &o, &tree, 4, hist, &img, &ms) == 0);
+        CHECK(mb_render(&l.s, &l.sv, f, &o, &kd, 4, &kimg, &mk) == 0);
         CHECK_MSG(same_image(&ref, &img), "frame %d: image differs", f);
         CHECK(conserved(&ms.sum));
         for (int t = 0; t < C5_RAY_TYPES; t++)
