@@ -12,7 +12,7 @@ static int assign_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
     c5_mb_opts *mo = field;
     if (!(mo->assign = c5_assign_parse(v)))
-        return c5_fail(err, "%s: expected kd, slab, mod or tree, got '%s'", o->name, v);
+        return c5_fail(err, "%s: expected kd, slab, mod, tree or load, got '%s'", o->name, v);
     return 0;
 }
 
@@ -48,8 +48,9 @@ const c5_opt c5_boards_opts[] = {
      "rtl only: N boards share the super volume, one MPI rank each: run as 'mpirun -np N cube5 ... --boards N' "
      "(docs/multi-board.md); the image is the same bits for any N"},
     {"--assign", "R", assign_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
-     "how cells go to boards: kd (default, a k-d split), slab, mod (scattered), or tree (from the previous frame's "
-     "rays between cells; kd in frame 0)"},
+     "how cells go to boards: kd (default, a k-d split), slab, mod (scattered), tree (from the previous frame's "
+     "rays between cells; kd in frame 0), or load (a k-d split balancing the board cycles each cell took in the "
+     "previous frame; kd in frame 0)"},
     {"--exchange", "M", mode_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
      "how rays move between boards: async (default: each board on its own clock, a packet sent as soon as it is "
      "handed on, the frame's end found by credit recovery) or rounds (bulk-synchronous: work off every queue, "

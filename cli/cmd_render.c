@@ -9,6 +9,7 @@
 
 #include "board.h"
 #include "boards_cli.h"
+#include "motion_cli.h"
 #include "cli.h"
 #include "cref.h"
 #include "frame_vcd.h"
@@ -26,6 +27,7 @@ typedef struct {
     double host_mbs, host_ms; /* --host-bw, --host-latency; 0: the model's defaults */
     int have_host;
     c5_boards_args bd;       /* --boards and the link */
+    c5_motion_args mv;       /* --orbit, --jumps, --dolly */
     const char *vcd;         /* --vcd FILE */
     long vcd_cycles, vcd_from;
     int have_vcd_window;     /* --vcd-cycles or --vcd-from given */
@@ -46,7 +48,7 @@ static const c5_opt opts[] = {
     {"--threads", "N", c5_opt_long, offsetof(render_args, threads), 1, 256, 0,
      "cref only: worker threads (default: one per CPU); the image is the same"},
     {"--frames", "N", c5_opt_long, offsetof(render_args, frames), 1, C5_MAX_FRAMES, 0,
-     "frames along the scene's camera path (default: the scene's)"},
+     "frames along the scene's camera path (default: the scene's, or 8 with a camera motion)"},
     {"--size", "N|WxH", c5_opt_size, offsetof(render_args, size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
     {"--volume", "[I=]FILE", c5_opt_volume, offsetof(render_args, volumes), 0, 0, 0,
      "replace volume I (default 0) by a raw or NRRD file"},
@@ -83,7 +85,8 @@ const c5_cmd_spec c5_spec_render = {
     "render", "[SCENE|FILE.json]",
     "Renders a built-in scene (default: 'default'; see 'cube5 scenes') or a scene file with cref, the "
     "double-precision reference renderer, or with the bit-accurate board model.",
-    {{opts, 0}, {c5_boards_opts, offsetof(render_args, bd)}, {c5_progress_opts, 0}},
+    {{opts, 0}, {c5_motion_opts, offsetof(render_args, mv)}, {c5_boards_opts, offsetof(render_args, bd)},
+     {c5_progress_opts, 0}},
 };
 
 static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
@@ -265,9 +268,31 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
 
 /* One frame through the chosen model: the image, the cref-shaped statistics and, for rtl,
  * the board's. */
+static int render_at(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
+                     c5_cref_stats *st, c5_board_stats *board, c5_mb_stats *mb, c5_progress *prog, const c5_taps *taps,
+                     c5_err *err);
+
 static int render_frame(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
                         c5_cref_stats *st, c5_board_stats *board, c5_mb_stats *mb, c5_progress *prog,
                         const c5_taps *taps, c5_err *err)
+{
+    if (!a->mv.given)
+        return render_at(a, s, sv, f, img, st, board, mb, prog, taps, err);
+    /* a camera motion: the scene with frame f's camera (a shallow copy: it shares the volumes) */
+    c5_scene *moved = malloc(sizeof *moved);
+    if (!moved)
+        return c5_fail(err, "out of memory");
+    *moved = *s;
+    moved->camera = c5_motion_camera(&s->camera, &a->mv.m, f);
+    moved->path.n_keys = 0;
+    int rc = render_at(a, moved, sv, f, img, st, board, mb, prog, taps, err);
+    free(moved);
+    return rc;
+}
+
+static int render_at(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
+                     c5_cref_stats *st, c5_board_stats *board, c5_mb_stats *mb, c5_progress *prog, const c5_taps *taps,
+                     c5_err *err)
 {
     if (!a->rtl) {
         c5_progress_frame pf = {prog, f, f};
@@ -302,10 +327,18 @@ static int setup(int argc, char **argv, render_args *a, c5_scene *s, char *label
     if (parse_args(argc, argv, a, err) != 0 ||
         c5_cli_scene_setup(a->scene_arg, &a->volumes, a->size[0], a->size[1], s, label, label_len, err) != 0)
         return -1;
-    if (a->frames) {
+    if (a->mv.given) { /* the motion from the path's first camera; render_frame sets each frame's */
+        int n = a->frames ? (int)a->frames : 8;
+        if (c5_motion_check_frames(&a->mv, s, n, label, err) != 0)
+            return -1;
+        s->path.n_keys = 1;
+        s->path.keys[0] = s->camera;
+        s->path.frames = n;
+    } else if (a->frames) {
         s->path.frames = (int)a->frames;
         if (s->path.n_keys == 0 && a->frames > 1)
-            return c5_fail(err, "--frames: the scene has no camera_path");
+            return c5_fail(err, "--frames: the scene has no camera_path (or give a camera motion: --orbit, --jumps, "
+                                "--dolly)");
         if (c5_scene_check_path(s, label, err) != 0)
             return -1;
     }

@@ -8,7 +8,7 @@
 
 #include "board.h"
 #include "camera.h"
-#include "camera_motion.h"
+#include "motion_cli.h"
 #include "boards_cli.h"
 #include "cli.h"
 #include "dsp_cost.h"
@@ -27,8 +27,7 @@ typedef struct {
     int partial; /* --on-overflow partial */
     long group;  /* --tree-group G: the tree over groups of GxGxG cells; 0: auto (c5_dsp_next_group) */
     int rule;         /* --split: a c5_split_rule */
-    c5_motion motion; /* --orbit, --jumps, --dolly */
-    int moving;       /* one of them given (--orbit 0 too: the path's first camera, still) */
+    c5_motion_args mv; /* --orbit, --jumps, --dolly */
     int stale_off;    /* --stale-check off */
     int tree_ram;     /* --tree-ram: TREE_RAM_AUTO (c5_dsp_tree_in_sdram), _ONCHIP or _SDRAM */
     c5_cli_volumes volumes;
@@ -54,21 +53,6 @@ static int group_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
         return 0;
     }
     return c5_cli_int(o->name, v, 1, C5_CLI_MAX_CELLS, field, err);
-}
-
-static int orbit_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
-{
-    return c5_motion_parse_orbit(o->name, v, field, err);
-}
-
-static int jumps_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
-{
-    return c5_motion_parse_jumps(o->name, v, field, err);
-}
-
-static int dolly_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
-{
-    return c5_motion_parse_dolly(o->name, v, field, err);
 }
 
 /* The split rules' names, in c5_split_rule order from C5_SPLIT_MOST_LEAVES: --split, the
@@ -100,7 +84,6 @@ static int check_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 }
 
 #define OFF(f) offsetof(sched_args, f)
-#define MOVING C5_SEEN(sched_args, moving)
 static const c5_opt opts[] = {
     {"--cells", "N|NxMxK", c5_opt_cells, OFF(cells), 0, 0, 0,
      "split into NxNxN (or NxMxK) cells; default 2: memory holds 1/8"},
@@ -140,15 +123,6 @@ static const c5_opt opts[] = {
     {"--on-overflow", "maxwork|partial", overflow_opt, OFF(partial), 0, 0, 0,
      "a tree that outgrew the RAM: no schedule, the next frame runs Max Work (default), or the schedule of the part "
      "it holds, then Max Work"},
-    {"--orbit", "DEG", orbit_opt, OFF(motion), 0, 0, MOVING,
-     "camera motion: the eye turns DEG degrees a frame about the target around the camera's up axis (0: still), "
-     "from the path's first camera"},
-    {"--jumps", "SEED[:EVERY|:pPROB]", jumps_opt, OFF(motion), 0, 0, MOVING,
-     "camera motion: cuts to a random view (an eye on the sphere about the target), every EVERY frames (default 4) "
-     "or with probability PROB a frame"},
-    {"--dolly", "F", dolly_opt, OFF(motion), 0, 0, MOVING,
-     "camera motion: the eye's distance to the target times F a frame (0.5..2; below 1 the eye moves in past "
-     "surfaces). With any motion, --frames defaults to 8"},
     {"--stale-check", "on|off", check_opt, OFF(stale_off), 0, 0, 0,
      "on (default): the board follows the schedule under its certificate (Max Work's shadow on the growing tree): "
      "never past Max Work plus the path's bank and one allowance; off: it follows the schedule to its end (the "
@@ -157,7 +131,6 @@ static const c5_opt opts[] = {
     {"--volume", "[I=]FILE", c5_opt_volume, OFF(volumes), 0, 0, 0, "replace volume I (default 0) by a raw or NRRD file"},
     {0},
 };
-#undef MOVING
 
 const c5_cmd_spec c5_spec_schedule = {
     "schedule", "[SCENE|FILE.json]",
@@ -169,7 +142,7 @@ const c5_cmd_spec c5_spec_schedule = {
     "be the same bits; a difference is reported as an error. docs/cell-tree.md.\n\n"
     "With --boards N, each board schedules its own cells from its own Cell Tree; the tree columns are board 0's, "
     "\"boards\" lines (JSON \"multi_board\") add up every board's fetches and lower bounds.",
-    {{opts, 0}, {c5_boards_opts, OFF(bd)}, {c5_progress_opts, 0}},
+    {{opts, 0}, {c5_motion_opts, OFF(mv)}, {c5_boards_opts, OFF(bd)}, {c5_progress_opts, 0}},
 };
 #undef OFF
 
@@ -184,7 +157,7 @@ static int parse_args(int argc, char **argv, sched_args *a, c5_err *err)
     a->tree_nodes = C5_TREE_MAX_SLOTS;
     if (c5_opt_parse(&c5_spec_schedule, argc, argv, a, &a->scene_arg, err) != 0)
         return -1;
-    if (a->still && a->moving)
+    if (a->still && a->mv.given)
         return c5_fail(err, "--still: a still camera cannot also move (--orbit, --jumps, --dolly)");
     return 0;
 }
@@ -456,7 +429,7 @@ static void print_json(const sched_args *a, const c5_scene *s, const frame_row *
     json_object_set_new(o, "cells_split", json_pack("[i, i, i]", a->cells[0], a->cells[1], a->cells[2]));
     json_object_set_new(o, "split_rule", json_string(rule_name(a->rule)));
     json_object_set_new(o, "still", json_boolean(a->still));
-    const c5_motion *m = &a->motion;
+    const c5_motion *m = &a->mv.m;
     json_object_set_new(o, "motion", json_pack("{s:f, s:o, s:i, s:f, s:f}", "orbit_deg", m->orbit_deg, "jumps_seed",
                                                m->jumps ? json_integer((json_int_t)m->jump_seed) : json_null(),
                                                "jumps_every", m->jumps ? m->jump_every : 0, "jumps_prob",
@@ -664,8 +637,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     c5_board_stats mw;
     int g = row->group;
     c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group}};
-    c5_camera cam = c5_motion_camera(&s->camera, &a->motion, f);
-    if (a->moving)
+    c5_camera cam = c5_motion_camera(&s->camera, &a->mv.m, f);
+    if (a->mv.given)
         o.camera = &cam;
     int ncells = a->cells[0] * a->cells[1] * a->cells[2];
     /* Packets tagged with each node of this frame's tree, for its replay (the run whose tree
@@ -732,7 +705,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
                         : row->ct.sched_fallback                ? "celltree, then maxwork"
                                                                 : "celltree";
     }
-    row->jump = c5_motion_jumps_at(&a->motion, f);
+    row->jump = c5_motion_jumps_at(&a->mv.m, f);
     row->rays = rays_of(&mw);
     row->fetches_maxwork = mw.fetches;
     row->fetches_celltree = row->ct.fetches;
@@ -776,20 +749,14 @@ int c5_cmd_schedule(int argc, char **argv)
     if (parse_args(argc, argv, &a, &err) != 0 ||
         c5_cli_scene_setup(a.scene_arg, &a.volumes, a.size[0], a.size[1], &s, label, sizeof label, &err) != 0)
         goto fail;
-    int moving = a.moving;
+    int moving = a.mv.given;
     if (a.still || moving) { /* the path's first camera: the still view, or the motion's base */
         s.camera = c5_scene_camera_at(&s, 0);
         s.path.n_keys = 0;
     }
     frames = a.frames ? (int)a.frames : moving ? 8 : c5_scene_frames(&s) > 1 ? c5_scene_frames(&s) : 2;
-    for (int f = 0; moving && f < frames; f++) {
-        c5_camera cam = c5_motion_camera(&s.camera, &a.motion, f);
-        const char *problem = c5_camera_problem(&cam);
-        if (problem) {
-            c5_fail(&err, "%s: camera motion: frame %d: %s", label, f, problem);
-            goto fail;
-        }
-    }
+    if (moving && c5_motion_check_frames(&a.mv, &s, frames, label, &err) != 0)
+        goto fail;
     if (s.path.n_keys > 0)
         s.path.frames = frames;
     if (c5_scene_check_path(&s, label, &err) != 0)

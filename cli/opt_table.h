@@ -48,7 +48,7 @@ typedef struct {
     size_t base;
 } c5_opt_group;
 
-#define C5_OPT_GROUPS 3
+#define C5_OPT_GROUPS 4
 typedef struct {
     const char *name;    /* "render" */
     const char *operand; /* "[SCENE|FILE.json]": one argument that is no option; NULL: none */

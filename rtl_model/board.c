@@ -379,6 +379,8 @@ static int frame_setup(c5_bd *b, const c5_supervol *sv, const c5_supervol *grid,
     const c5_board_out *k = b->keep;
     if (k->moves)
         memset(k->moves, 0, (size_t)b->cells.count * (size_t)b->cells.count * sizeof *k->moves);
+    if (k->cell_cycles)
+        memset(k->cell_cycles, 0, (size_t)b->cells.count * sizeof *k->cell_cycles);
     if (k->node_rays)
         memset(k->node_rays, 0, C5_TREE_SLOTS * sizeof *k->node_rays);
     if (o->sched == C5_SCHED_EXTERNAL && o->stale_check >= 0 && !o->link && b->sgroup[0] * b->sgroup[1] * b->sgroup[2] == 1 &&
@@ -410,6 +412,7 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
      * the cell just worked off: its queue is empty until another cell's load.) */
     int keep_resident = o->link && o->link->exchange_async;
     while (!b->oom && (cell = c5_bd_next_cell(b, &sched_pos, err)) >= 0) {
+        uint64_t fetched = 0; /* cycles */
         if (keep_resident && cell == b->resident) {
             stats->resident_loads++;
         } else {
@@ -422,7 +425,8 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
             if (b->keep->fetch_log && stats->fetches <= (uint64_t)b->keep->fetch_log_cap)
                 b->keep->fetch_log[stats->fetches - 1] = cell;
             stats->fetch_bytes += bytes;
-            stats->cycles_fetch += fetch_cycles(o, bytes);
+            fetched = fetch_cycles(o, bytes);
+            stats->cycles_fetch += fetched;
             b->resident = cell;
         }
         if (b->certify)
@@ -434,6 +438,8 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
         process_cell(b, cell);
         uint64_t work = b->proc.st.cycles - c0 + C5_CYC_PIPELINE, moved = stats->bus_packets - p0;
         stats->cycles_process += work > moved ? work : moved; /* the bus runs beside the pipeline */
+        if (b->keep->cell_cycles)
+            b->keep->cell_cycles[cell] += fetched + (work > moved ? work : moved);
         stats->last_end = c5_bd_clock(b);
         if (o->progress)
             o->progress(o->progress_ctx, &(c5_board_progress){stats->fetches, b->queued});

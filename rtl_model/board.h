@@ -172,6 +172,8 @@ typedef struct {
     uint32_t *moves;         /* [cells x cells]: rays handed on from the active cell (row) to
                               * another cell (column); rays the eye-ray set-up queues count on
                               * their cell's diagonal (the --assign tree rule's input) */
+    uint64_t *cell_cycles;   /* [cells]: the board cycles of each cell's loads, fetch and processing
+                              * (the --assign load rule's input) */
 } c5_board_out;
 
 /* Where a frame is (c5_board_opts.progress). */

@@ -17,13 +17,14 @@ c5_mb_mode c5_mb_mode_parse(const char *s)
 
 const char *c5_assign_name(c5_assign_rule r)
 {
-    return r == C5_ASSIGN_SLAB ? "slab" : r == C5_ASSIGN_MOD ? "mod" : r == C5_ASSIGN_TREE ? "tree" : "kd";
+    return r == C5_ASSIGN_SLAB ? "slab" : r == C5_ASSIGN_MOD ? "mod" : r == C5_ASSIGN_TREE ? "tree"
+           : r == C5_ASSIGN_LOAD ? "load" : "kd";
 }
 
 c5_assign_rule c5_assign_parse(const char *s)
 {
     return !strcmp(s, "slab") ? C5_ASSIGN_SLAB : !strcmp(s, "kd") ? C5_ASSIGN_KD : !strcmp(s, "mod") ? C5_ASSIGN_MOD
-           : !strcmp(s, "tree") ? C5_ASSIGN_TREE : 0;
+           : !strcmp(s, "tree") ? C5_ASSIGN_TREE : !strcmp(s, "load") ? C5_ASSIGN_LOAD : 0;
 }
 
 /* The axis with the most cells of the box [lo, hi); ties to the later axis (z, the volume's
@@ -163,9 +164,61 @@ int c5_mb_assign_tree(const int n[3], int boards, const uint64_t *moves, uint16_
     return 0;
 }
 
+int c5_mb_assign_load(const int n[3], int boards, const uint64_t *cost, uint16_t *owner, c5_err *err)
+{
+    if (boards < 1 || boards > C5_MB_MAX_BOARDS)
+        return c5_fail(err, "boards: %d is outside 1..%d", boards, C5_MB_MAX_BOARDS);
+    int count = n[0] * n[1] * n[2];
+    uint64_t *w = calloc((size_t)(count > 0 ? count : 1), sizeof *w);
+    if (!w)
+        return c5_fail(err, "out of memory");
+    for (int c = 0; c < count; c++) /* + 1: a cell nobody loaded still goes somewhere */
+        w[c] = cost[c] + 1;
+    int lo[3] = {0, 0, 0};
+    kd_weighted(n, lo, n, 0, boards, w, owner);
+    /* The k-d blocks balance only as finely as their cuts: then the busiest board hands a cell
+     * to a neighbouring board (a face away) while that lowers the busiest's cycles without
+     * making the other busier than it was; a bounded number of moves. */
+    uint64_t load[C5_MB_MAX_BOARDS] = {0};
+    int cells[C5_MB_MAX_BOARDS] = {0};
+    for (int c = 0; c < count; c++)
+        load[owner[c]] += w[c], cells[owner[c]]++;
+    for (int move = 0; move < count; move++) {
+        int big = 0;
+        for (int k = 1; k < boards; k++)
+            if (load[k] > load[big])
+                big = k;
+        int best_c = -1, best_k = -1;
+        uint64_t best_peak = load[big];
+        for (int c = 0; c < count && cells[big] > 1; c++) {
+            if (owner[c] != big)
+                continue;
+            int p[3] = {c % n[0], c / n[0] % n[1], c / (n[0] * n[1])};
+            for (int d = 0; d < 6; d++) {
+                int q[3] = {p[0], p[1], p[2]};
+                q[d / 2] += d % 2 ? 1 : -1;
+                if (q[d / 2] < 0 || q[d / 2] >= n[d / 2])
+                    continue;
+                int k = owner[q[0] + n[0] * (q[1] + n[1] * q[2])];
+                uint64_t peak = load[k] + w[c] > load[big] - w[c] ? load[k] + w[c] : load[big] - w[c];
+                if (k != big && peak < best_peak)
+                    best_peak = peak, best_c = c, best_k = k;
+            }
+        }
+        if (best_c < 0)
+            break;
+        owner[best_c] = (uint16_t)best_k;
+        load[big] -= w[best_c], load[best_k] += w[best_c];
+        cells[big]--, cells[best_k]++;
+    }
+    free(w);
+    return 0;
+}
+
 void c5_mb_history_free(c5_mb_history *h)
 {
     free(h->moves);
+    free(h->cost);
     memset(h, 0, sizeof *h);
 }
 
@@ -370,16 +423,22 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     round_rec *all = malloc((size_t)nb * sizeof *all);
     c5_board_stats *every = malloc((size_t)nb * sizeof *every);
     uint32_t *moves = NULL;
-    uint64_t *moves64 = NULL;
+    uint64_t *moves64 = NULL, *cost = NULL;
     int rc = -1;
     if (!owner || !acc || !all || !every) {
         c5_fail(err, "out of memory for %d boards", nb);
         goto done;
     }
     c5_mb_history *h = ms->assign == C5_ASSIGN_TREE && count <= C5_MB_TREE_MAX_CELLS ? mo->history : NULL;
-    if (h && h->cells == count ? c5_mb_assign_tree(n, nb, h->moves, owner, err) != 0
-                               : c5_mb_assign(ms->assign, n, nb, owner, err) != 0)
+    c5_mb_history *hl = ms->assign == C5_ASSIGN_LOAD ? mo->history : NULL;
+    if (h && h->cells == count && h->moves ? c5_mb_assign_tree(n, nb, h->moves, owner, err) != 0
+        : hl && hl->cells == count && hl->cost ? c5_mb_assign_load(n, nb, hl->cost, owner, err) != 0
+                                               : c5_mb_assign(ms->assign, n, nb, owner, err) != 0)
         goto done;
+    if (hl && !(cost = malloc((size_t)count * sizeof *cost))) {
+        c5_fail(err, "out of memory for the load rule's %d cells", count);
+        goto done;
+    }
     size_t nmoves = (size_t)count * (size_t)count;
     if (h && (!(moves = malloc(nmoves * sizeof *moves)) || !(moves64 = malloc(nmoves * sizeof *moves64)))) {
         c5_fail(err, "out of memory for the tree rule's %d x %d table", count, count);
@@ -400,6 +459,7 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     memcpy(o.cells, n, sizeof o.cells);
     o.link = nb > 1 ? &link : NULL;
     c5_board_out k = keep ? *keep : (c5_board_out){0};
+    k.cell_cycles = cost;
     k.frame_acc = acc;
     k.moves = moves;
     c5_board_stats mine;
@@ -463,6 +523,14 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
         moves64 = NULL;
         h->cells = count;
     }
+    if (hl) { /* every board's cycles per cell, for the next frame's assignment */
+        if (t->sum_u64(t->ctx, cost, (size_t)count, err) != 0)
+            goto done;
+        free(hl->cost);
+        hl->cost = cost;
+        cost = NULL;
+        hl->cells = count;
+    }
     uint64_t clamped = 0; /* one board clamped its own buffer, counted in its saturations */
     if (to_image(s, acc, out, &clamped, err) != 0)
         goto done;
@@ -479,5 +547,6 @@ done:
     free(every);
     free(moves);
     free(moves64);
+    free(cost);
     return rc;
 }

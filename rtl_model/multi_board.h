@@ -33,6 +33,10 @@ typedef enum {
     C5_ASSIGN_TREE = 4, /* from the previous frame's ray traffic between cells: a k-d split balancing
                          * the rays each cell received, then cells moved to the board they trade
                          * most rays with (the paper's proposal); kd in a run's first frame */
+    C5_ASSIGN_LOAD = 5, /* from what the boards measured in the previous frame: a k-d split
+                         * balancing each cell's board cycles (its loads' fetches and processing),
+                         * the dynamic load balance of the paper's future work; kd in a run's
+                         * first frame */
 } c5_assign_rule;
 
 /* How rays move between boards. */
@@ -53,9 +57,10 @@ c5_mb_mode c5_mb_mode_parse(const char *s);
 /* What the tree rule carries from frame to frame: the caller's, zeroed before the first
  * frame, c5_mb_history_free after the last. */
 typedef struct {
-    int cells;          /* the split's cells the table is for, 0: none yet */
-    uint64_t *moves;    /* [cells x cells] the last frame's rays handed from cell (row) to cell
-                         * (column) on all boards; set-up rays on their cell's diagonal */
+    int cells;          /* the split's cells the tables are for, 0: none yet */
+    uint64_t *moves;    /* tree rule: [cells x cells] the last frame's rays handed from cell (row)
+                         * to cell (column) on all boards; set-up rays on their cell's diagonal */
+    uint64_t *cost;     /* load rule: [cells] the last frame's board cycles of each cell */
 } c5_mb_history;
 
 void c5_mb_history_free(c5_mb_history *h);
@@ -131,6 +136,11 @@ int c5_mb_assign(c5_assign_rule rule, const int n[3], int boards, uint16_t *owne
  * 10 %, or the mean and the heaviest cell.
  * 0, or -1 with a message. */
 int c5_mb_assign_tree(const int n[3], int boards, const uint64_t *moves, uint16_t *owner, c5_err *err);
+
+/* The load rule on the board cycles each cell took (c5_mb_history.cost of this split): a k-d
+ * split cut where the cycles balance, each side keeping at least a cell a board. 0, or -1 with
+ * a message. */
+int c5_mb_assign_load(const int n[3], int boards, const uint64_t *cost, uint16_t *owner, c5_err *err);
 
 /* The cell split c5_board_render uses for these options and grid (the automatic one for
  * cells < 1). */

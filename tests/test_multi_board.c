@@ -303,3 +303,34 @@ TEST(mb_tree_rule_second_frame_same_image)
         c5_mb_history_free(&hist[k]);
     c5_supervol_free(&l.sv);
 }
+
+/* The load rule on made-up cycles: a corner of 4x4x4 cells costs 50 times the rest, so the
+ * boards holding it get fewer cells, and no board's cycles exceed the k-d split's. */
+TEST(mb_assign_load_balances_measured_cycles)
+{
+    int n[3] = {4, 4, 4};
+    uint64_t cost[64];
+    for (int c = 0; c < 64; c++) {
+        int x = c % 4, y = c / 4 % 4, z = c / 16;
+        cost[c] = x < 2 && y < 2 && z < 2 ? 50000 : 1000;
+    }
+    uint16_t load[64], kd[64];
+    c5_err err;
+    CHECK(c5_mb_assign_load(n, 8, cost, load, &err) == 0);
+    CHECK(c5_mb_assign(C5_ASSIGN_KD, n, 8, kd, &err) == 0);
+    uint64_t wl[8] = {0}, wk[8] = {0}, most_l = 0, most_k = 0;
+    int cells[8] = {0};
+    for (int c = 0; c < 64; c++)
+        wl[load[c]] += cost[c], wk[kd[c]] += cost[c], cells[load[c]]++;
+    int fewest = 64, most = 0;
+    for (int k = 0; k < 8; k++) {
+        most_l = wl[k] > most_l ? wl[k] : most_l;
+        most_k = wk[k] > most_k ? wk[k] : most_k;
+        fewest = cells[k] < fewest ? cells[k] : fewest;
+        most = cells[k] > most ? cells[k] : most;
+        CHECK(cells[k] >= 1);
+    }
+    CHECK_MSG(most_l < most_k, "load rule's busiest board %llu, kd's %llu", (unsigned long long)most_l,
+              (unsigned long long)most_k);
+    CHECK(fewest < most);
+}
