@@ -24,6 +24,13 @@ static int mode_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
     return 0;
 }
 
+static int link_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    if (!(*(const c5_link_preset **)field = c5_link_preset_find(v)))
+        return c5_fail(err, "%s: expected 1gbe, 10gbe or pcie4x16, got '%s'", o->name, v);
+    return 0;
+}
+
 static int link_bw_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
     double x;
@@ -58,6 +65,9 @@ const c5_opt c5_boards_opts[] = {
     {"--loopback", NULL, c5_opt_flag, offsetof(c5_boards_args, loopback), 0, 0, GIVEN,
      "render, compare: run the N boards as threads of this one process instead of MPI ranks (no mpirun; the same "
      "figures and image as N ranks)"},
+    {"--link", "NAME", link_opt, offsetof(c5_boards_args, link), 0, 0, GIVEN,
+     "the link between boards: 1gbe (default: 125 MB/s, 50 us), 10gbe (1250 MB/s, 15 us) or pcie4x16 (31500 MB/s, "
+     "1 us); --link-bw and --link-latency set either part"},
     {"--link-bw", "MB/S", link_bw_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
      "inter-board link bandwidth each way per board (default 125: Gigabit Ethernet)"},
     {"--link-latency", "US", link_latency_opt, offsetof(c5_boards_args, mo), 0, 0, GIVEN,
@@ -94,6 +104,10 @@ int c5_boards_begin(c5_boards_args *b, c5_err *err)
     if (b->boards < 1)
         b->boards = 1;
     b->mo.history = &b->hist;
+    if (b->link && b->mo.link_bw == 0)
+        b->mo.link_bw = b->link->bw;
+    if (b->link && b->mo.link_latency_s == 0)
+        b->mo.link_latency_s = b->link->latency_s;
     if (b->loopback && b->boards > 1) {
         if (!(b->hist_lb = calloc((size_t)b->boards, sizeof *b->hist_lb)))
             return c5_fail(err, "out of memory for %ld boards", b->boards);

@@ -14,6 +14,7 @@ typedef struct {
     c5_mb_opts mo;
     int given;            /* any of the options given */
     int loopback;         /* --loopback: the boards are threads of this process */
+    const c5_link_preset *link; /* --link NAME, or NULL; --link-bw and --link-latency win over it */
     int mpi;              /* c5_mpi_begin succeeded: t is the transport */
     c5_mb_transport t;
     c5_mb_history hist;   /* --assign tree: the previous frame's traffic */

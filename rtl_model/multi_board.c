@@ -8,6 +8,24 @@
 #include "model_limits.h"
 #include "multi_board.h"
 
+/* 1 GbE: 1000BASE-T, 125 MB/s; 50 us as above. 10 GbE: 1.25 GB/s; 15 us, MPI over TCP on
+ * 10 GbE is of that order. PCIe 4.0 x16: 16 GT/s x 16 lanes x 128/130 / 8 bits = 31.5 GB/s;
+ * 1 us, a switch hop and a DMA doorbell. */
+const c5_link_preset c5_link_presets[] = {
+    {"1gbe", 125e6, 50e-6},
+    {"10gbe", 1.25e9, 15e-6},
+    {"pcie4x16", 31.5e9, 1e-6},
+    {NULL, 0, 0},
+};
+
+const c5_link_preset *c5_link_preset_find(const char *name)
+{
+    for (const c5_link_preset *p = c5_link_presets; p->name; p++)
+        if (!strcmp(p->name, name))
+            return p;
+    return NULL;
+}
+
 const char *c5_mb_mode_name(c5_mb_mode m) { return m == C5_MB_ROUNDS ? "rounds" : "async"; }
 
 c5_mb_mode c5_mb_mode_parse(const char *s)

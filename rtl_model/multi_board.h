@@ -25,6 +25,18 @@
 #define C5_LINK_BW_DEFAULT 125e6
 #define C5_LINK_LATENCY_DEFAULT 50e-6
 
+/* Named links (cube5 --link; docs/multi-board.md, "Link model"): the line rate each way, and a
+ * latency of the order published for small messages on such a link (assumptions, not
+ * measured here). */
+typedef struct {
+    const char *name;
+    double bw, latency_s;
+} c5_link_preset;
+
+/* Its entry, or NULL. c5_link_presets: the list, ended by a NULL name. */
+const c5_link_preset *c5_link_preset_find(const char *name);
+extern const c5_link_preset c5_link_presets[];
+
 /* How cells are assigned to boards (c5_mb_assign). */
 typedef enum {
     C5_ASSIGN_SLAB = 1, /* contiguous runs of cells in order, the axis with the most cells slowest: slabs */
