@@ -132,9 +132,12 @@ static int deliver(c5_bd *b, uint64_t now, c5_err *err)
 static int inbox_add(c5_bd *b, const uint8_t (*in)[C5_PACKET_BYTES], const uint64_t *t_in, size_t n, c5_err *err)
 {
     if (b->in_head) {
-        memmove(b->in_pk, b->in_pk + b->in_head, (b->n_in - b->in_head) * C5_PACKET_BYTES);
-        memmove(b->in_t, b->in_t + b->in_head, (b->n_in - b->in_head) * sizeof *b->in_t);
-        b->n_in -= b->in_head;
+        size_t rest = b->n_in - b->in_head;
+        if (rest) {
+            memmove(b->in_pk, b->in_pk + b->in_head, rest * C5_PACKET_BYTES);
+            memmove(b->in_t, b->in_t + b->in_head, rest * sizeof *b->in_t);
+        }
+        b->n_in = rest;
         b->in_head = 0;
     }
     if (b->n_in + n > b->cap_in) {
@@ -150,6 +153,8 @@ static int inbox_add(c5_bd *b, const uint8_t (*in)[C5_PACKET_BYTES], const uint6
         b->in_t = t;
         b->cap_in = cap;
     }
+    if (!n)
+        return 0;
     memcpy(b->in_pk + b->n_in, in, n * C5_PACKET_BYTES);
     memcpy(b->in_t + b->n_in, t_in, n * sizeof *t_in);
     b->n_in += n;
@@ -176,9 +181,11 @@ static int link_sync(c5_bd *b, uint64_t now, c5_err *err)
     b->st->link_rounds++;
     b->st->link_sent += n_sent;
     b->n_out -= n_sent;
-    memmove(b->out_pk, b->out_pk + n_sent, b->n_out * C5_PACKET_BYTES);
-    memmove(b->out_dest, b->out_dest + n_sent, b->n_out * sizeof *b->out_dest);
-    memmove(b->out_t, b->out_t + n_sent, b->n_out * sizeof *b->out_t);
+    if (b->n_out) {
+        memmove(b->out_pk, b->out_pk + n_sent, b->n_out * C5_PACKET_BYTES);
+        memmove(b->out_dest, b->out_dest + n_sent, b->n_out * sizeof *b->out_dest);
+        memmove(b->out_t, b->out_t + n_sent, b->n_out * sizeof *b->out_t);
+    }
     if (inbox_add(b, in, t_in, n_in, err) != 0)
         return -1;
     b->known_to = bound > UINT64_MAX - l->lookahead ? UINT64_MAX : bound + l->lookahead;

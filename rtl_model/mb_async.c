@@ -94,7 +94,8 @@ static int send_all(c5_mb_async *a, const uint8_t (*out)[C5_PACKET_BYTES], const
     size_t n_pk = 0, n_rec = 0;
     if (t->alltoall(t->ctx, out, dest, n_out, &pk, &n_pk, err) != 0 || grow(a, 0, a->n_wait + n_pk, err) != 0)
         return -1;
-    memcpy(a->wait + a->n_wait, pk, n_pk * C5_PACKET_BYTES); /* the transport's memory is reused below */
+    if (n_pk) /* the transport's memory is reused below */
+        memcpy(a->wait + a->n_wait, pk, n_pk * C5_PACKET_BYTES);
     if (t->alltoall(t->ctx, (const uint8_t (*)[C5_PACKET_BYTES])a->rec, dest, n_out, &rec, &n_rec, err) != 0)
         return -1;
     if (n_rec != n_pk)
@@ -105,7 +106,8 @@ static int send_all(c5_mb_async *a, const uint8_t (*out)[C5_PACKET_BYTES], const
         a->order[a->n_wait + i] = (c5_mb_arrival){m.at_switch, m.sent, a->received++, a->n_wait + i};
     }
     a->n_wait += n_pk;
-    qsort(a->order, a->n_wait, sizeof *a->order, by_switch);
+    if (n_pk)
+        qsort(a->order, a->n_wait, sizeof *a->order, by_switch);
     return 0;
 }
 
@@ -137,7 +139,8 @@ static void take(c5_mb_async *a, uint64_t to)
         a->order[i - k].slot = i - k;
     }
     a->n_wait -= k;
-    memcpy(a->wait, a->spare, a->n_wait * C5_PACKET_BYTES);
+    if (a->n_wait)
+        memcpy(a->wait, a->spare, a->n_wait * C5_PACKET_BYTES);
 }
 
 int c5_mb_async_exchange(void *ctx, const c5_link_report *me, const uint8_t (*out)[C5_PACKET_BYTES],
