@@ -163,6 +163,14 @@ if [ -x "$nompi" ]; then
     err=$("$nompi" render "${scene[@]}" --boards 2 2>&1 >/dev/null)
     judge nompi_boards_say_how_to_get_mpi 2 $? "$err" "built without MPI.*libopenmpi-dev openmpi-bin.*mpirun -np 2" &&
         ok nompi_boards_say_how_to_get_mpi
+    # the boards as threads need no MPI: the same figures as the MPI build's
+    if "$nompi" render "${scene[@]}" --boards 3 --loopback --json >"$tmp/nl.json" 2>"$tmp/err" &&
+        "$cube5" render "${scene[@]}" --boards 3 --loopback --json >"$tmp/ml.json" 2>>"$tmp/err" &&
+        [ "$(field "$tmp/nl.json" "json.dumps(d['multi_board'], sort_keys=True)")" = "$(field "$tmp/ml.json" "json.dumps(d['multi_board'], sort_keys=True)")" ]; then
+        ok nompi_loopback_boards
+    else
+        bad nompi_loopback_boards "$(cat "$tmp/err")"
+    fi
 else
     bad nompi_build "no $nompi: make $nompi"
 fi
