@@ -20,6 +20,7 @@ suites=(
     "$build/tests/unit"
     "bash tests/deps_test.sh $build"
     "bash tests/mpi_test.sh $build"
+    "bash tests/boards_test.sh $build"
     "bash tests/vcd_test.sh $build"
     "bash tests/live_test.sh $build"
     "bash tests/link_test.sh $build"
