@@ -11,7 +11,6 @@ build=${1:-build}
 cube5="$build/cube5"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1"; }
 run=(--model rtl --size 128x128 --cells 4 --frames 1 --json)
 
 for want in "brain_mirrors 6" "default 5" "lobster_tunnel 5"; do
@@ -23,7 +22,7 @@ for want in "brain_mirrors 6" "default 5" "lobster_tunnel 5"; do
         bad "boards_speedup_$scene" "$(cat "$tmp/err")"
         continue
     fi
-    one=$(field "$tmp/one.json" "d['board']['cycles']")
+    one=$(json_field "$tmp/one.json" "d['board']['cycles']")
     verdict=$(python3 - "$tmp" "$min" <<'PY'
 import json, sys
 tmp, lo = sys.argv[1], float(sys.argv[2])
@@ -47,8 +46,8 @@ if "$cube5" render clouds_lake --model rtl --size 128x128 --cells 4 --orbit 0 --
         --assign load --json >"$tmp/load.json" 2>"$tmp/err" &&
     "$cube5" render clouds_lake --model rtl --size 128x128 --cells 4 --orbit 0 --frames 2 --boards 8 --loopback \
         --assign kd --json >"$tmp/kd.json" 2>>"$tmp/err"; then
-    l=$(field "$tmp/load.json" "d['frames'][1]['multi_board']['balance'], d['frames'][1]['multi_board']['frame_cycles']")
-    k=$(field "$tmp/kd.json" "d['frames'][1]['multi_board']['balance'], d['frames'][1]['multi_board']['frame_cycles']")
+    l=$(json_field "$tmp/load.json" "d['frames'][1]['multi_board']['balance'], d['frames'][1]['multi_board']['frame_cycles']")
+    k=$(json_field "$tmp/kd.json" "d['frames'][1]['multi_board']['balance'], d['frames'][1]['multi_board']['frame_cycles']")
     if python3 -c "import sys; l, k = sys.argv[1].split(), sys.argv[2].split(); sys.exit(0 if float(l[0]) > float(k[0]) and int(l[1]) < int(k[1]) else 1)" "$l" "$k"; then
         ok boards_load_rule_balances_clouds_lake
     else

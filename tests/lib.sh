@@ -5,6 +5,8 @@ passed=0 failed=0
 ok() { echo "ok   $1"; passed=$((passed + 1)); }
 bad() { echo "FAIL $1"; shift; printf '    %s\n' "$@"; failed=$((failed + 1)); }
 summary() { echo "SUMMARY passed=$passed failed=$failed"; [ "$failed" -eq 0 ]; exit; }
+# json_field FILE EXPR: a Python expression over the JSON object d of FILE, printed.
+json_field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1"; }
 # Whether BIN was built with AddressSanitizer (linked to libasan). ldd's output is captured
 # first: under pipefail, `ldd BIN | grep -q` fails whenever grep quits before ldd has written
 # everything (ldd dies of SIGPIPE; tests/pipefail_lint_test.sh keeps that pattern out).

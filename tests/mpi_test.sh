@@ -29,12 +29,10 @@ if ! command -v mpirun >/dev/null; then
 fi
 scene=(brain_mirrors --model rtl --size 40x40 --cells 4 --frames 2)
 
-# field FILE EXPR: a Python expression over the JSON object d.
-field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1"; }
 
 "$cube5" render "${scene[@]}" --json >"$tmp/one.json" 2>"$tmp/err" || { bad mpi_reference "$(cat "$tmp/err")"; summary; }
-ref_crc=$(field "$tmp/one.json" "d['frames'][0]['crc32']")
-ref_rays=$(field "$tmp/one.json" "sorted(d['rays'].items())")
+ref_crc=$(json_field "$tmp/one.json" "d['frames'][0]['crc32']")
+ref_rays=$(json_field "$tmp/one.json" "sorted(d['rays'].items())")
 
 for run in "2 kd async" "3 kd async" "3 slab async" "3 mod async" "2 tree async" "3 kd rounds"; do
     set -- $run
@@ -44,9 +42,9 @@ for run in "2 kd async" "3 kd async" "3 slab async" "3 mod async" "2 tree async"
         bad "$name" "mpirun failed" "$(tail -5 "$tmp/err")"
         continue
     fi
-    crc=$(field "$tmp/m.json" "d['frames'][0]['crc32']")
-    rays=$(field "$tmp/m.json" "sorted(d['rays'].items())")
-    check=$(field "$tmp/m.json" "' '.join(str(x) for x in [
+    crc=$(json_field "$tmp/m.json" "d['frames'][0]['crc32']")
+    rays=$(json_field "$tmp/m.json" "sorted(d['rays'].items())")
+    check=$(json_field "$tmp/m.json" "' '.join(str(x) for x in [
         sum(d['rays'].values()) == sum(v for k, v in d['ends'].items() if k not in ('bounce_limit', 'weight_cutoff')),
         sum(b['packets_sent'] for b in d['multi_board']['per_board']) == sum(b['packets_received'] for b in d['multi_board']['per_board']) == d['multi_board']['link_packets'] > 0,
         len(d['multi_board']['per_board']) == $n and d['multi_board']['assign'] == '$rule',
@@ -62,11 +60,11 @@ for run in "2 kd async" "3 kd async" "3 slab async" "3 mod async" "2 tree async"
     if [ "$rule" = kd ]; then
         lname="mpi_${n}_ranks_${mode}_equal_loopback"
         if "$cube5" render "${scene[@]}" --boards "$n" --assign "$rule" --exchange "$mode" --loopback --json >"$tmp/l.json" 2>"$tmp/err" &&
-            [ "$(field "$tmp/l.json" "json.dumps(d['multi_board'], sort_keys=True), d['frames'][0]['crc32']")" = \
-              "$(field "$tmp/m.json" "json.dumps(d['multi_board'], sort_keys=True), d['frames'][0]['crc32']")" ]; then
+            [ "$(json_field "$tmp/l.json" "json.dumps(d['multi_board'], sort_keys=True), d['frames'][0]['crc32']")" = \
+              "$(json_field "$tmp/m.json" "json.dumps(d['multi_board'], sort_keys=True), d['frames'][0]['crc32']")" ]; then
             ok "$lname"
         else
-            bad "$lname" "$(tail -3 "$tmp/err")" "$(field "$tmp/l.json" "d['multi_board']['frame_cycles']" 2>&1) against $(field "$tmp/m.json" "d['multi_board']['frame_cycles']")"
+            bad "$lname" "$(tail -3 "$tmp/err")" "$(json_field "$tmp/l.json" "d['multi_board']['frame_cycles']" 2>&1) against $(json_field "$tmp/m.json" "d['multi_board']['frame_cycles']")"
         fi
     fi
 done
@@ -75,8 +73,8 @@ done
 "$cube5" compare "${scene[@]:0:1}" --size 40x40 --cells 4 --json >"$tmp/c1.json" 2>"$tmp/err"
 if timeout 120 "${mpirun[@]}" -np 2 "$cube5" compare "${scene[@]:0:1}" --size 40x40 --cells 4 --boards 2 --json \
     >"$tmp/c2.json" 2>>"$tmp/err" &&
-    [ "$(field "$tmp/c1.json" "d['rmse'], d['max_abs_err']")" = "$(field "$tmp/c2.json" "d['rmse'], d['max_abs_err']")" ] &&
-    [ "$(field "$tmp/c2.json" "len(d['multi_board']['per_board']), d['fetches'] == sum(b['fetches'] for b in d['multi_board']['per_board'])")" = "2 True" ]; then
+    [ "$(json_field "$tmp/c1.json" "d['rmse'], d['max_abs_err']")" = "$(json_field "$tmp/c2.json" "d['rmse'], d['max_abs_err']")" ] &&
+    [ "$(json_field "$tmp/c2.json" "len(d['multi_board']['per_board']), d['fetches'] == sum(b['fetches'] for b in d['multi_board']['per_board'])")" = "2 True" ]; then
     ok mpi_compare_2_ranks_same_difference
 else
     bad mpi_compare_2_ranks_same_difference "$(tail -5 "$tmp/err")"
@@ -86,7 +84,7 @@ fi
 # image under the schedule differs from Max Work's); the fetches add up over the boards.
 if timeout 120 "${mpirun[@]}" -np 3 "$cube5" schedule "${scene[@]:0:1}" --size 24x24 --cells 2 --frames 3 --boards 3 \
     --json >"$tmp/s.json" 2>"$tmp/err"; then
-    check=$(field "$tmp/s.json" "all(len(r['multi_board']['per_board']) == 3 and
+    check=$(json_field "$tmp/s.json" "all(len(r['multi_board']['per_board']) == 3 and
         r['fetches_maxwork'] == sum(b['fetches_maxwork'] for b in r['multi_board']['per_board']) and
         r['fetches_celltree'] == sum(b['fetches_celltree'] for b in r['multi_board']['per_board']) and
         r['multi_board']['lower_bound_sum'] is not None and r['multi_board']['celltree']['frame_cycles'] > 0
@@ -158,7 +156,7 @@ judge loopback_refused_by_schedule 2 $? "$err" "--loopback: schedule runs its bo
 nompi="$build/cube5-nompi"
 if [ -x "$nompi" ]; then
     "$nompi" render "${scene[@]}" --boards 1 --json >"$tmp/n.json" 2>"$tmp/err"
-    if [ "$(field "$tmp/n.json" "d['frames'][0]['crc32']" 2>/dev/null)" = "$ref_crc" ]; then ok nompi_one_board
+    if [ "$(json_field "$tmp/n.json" "d['frames'][0]['crc32']" 2>/dev/null)" = "$ref_crc" ]; then ok nompi_one_board
     else bad nompi_one_board "$(cat "$tmp/err")"; fi
     err=$("$nompi" render "${scene[@]}" --boards 2 2>&1 >/dev/null)
     judge nompi_boards_say_how_to_get_mpi 2 $? "$err" "built without MPI.*libopenmpi-dev openmpi-bin.*mpirun -np 2" &&
@@ -166,7 +164,7 @@ if [ -x "$nompi" ]; then
     # the boards as threads need no MPI: the same figures as the MPI build's
     if "$nompi" render "${scene[@]}" --boards 3 --loopback --json >"$tmp/nl.json" 2>"$tmp/err" &&
         "$cube5" render "${scene[@]}" --boards 3 --loopback --json >"$tmp/ml.json" 2>>"$tmp/err" &&
-        [ "$(field "$tmp/nl.json" "json.dumps(d['multi_board'], sort_keys=True)")" = "$(field "$tmp/ml.json" "json.dumps(d['multi_board'], sort_keys=True)")" ]; then
+        [ "$(json_field "$tmp/nl.json" "json.dumps(d['multi_board'], sort_keys=True)")" = "$(json_field "$tmp/ml.json" "json.dumps(d['multi_board'], sort_keys=True)")" ]; then
         ok nompi_loopback_boards
     else
         bad nompi_loopback_boards "$(cat "$tmp/err")"
