@@ -62,7 +62,6 @@ typedef struct {
     uint64_t next;        /* the earliest time it may send another packet: its clock while rays
                            * wait in its queues, else the earliest arrival in its in-box;
                            * UINT64_MAX: neither */
-    uint64_t last_end;    /* when its last load (or the set-up) ended */
 } c5_link_report;
 
 /* One of several boards sharing the super volume (rtl_model/multi_board.h,

@@ -165,7 +165,7 @@ static int inbox_add(c5_bd *b, const uint8_t (*in)[C5_PACKET_BYTES], const uint6
 static int link_sync(c5_bd *b, uint64_t now, c5_err *err)
 {
     const c5_board_link *l = b->o->link;
-    c5_link_report me = {UINT64_MAX, b->st->last_end};
+    c5_link_report me = {UINT64_MAX};
     if (b->queued)
         me.next = now;
     else if (b->in_head < b->n_in)

@@ -1,14 +1,15 @@
 /* Several boards on one super volume (docs/multi-board.md): each board is a whole board model
  * (DSP, RDRAM, ray queues, Cell Tree) owning a part of the cells; a ray leaving for a cell
- * another board owns travels there as its 32-byte packet. Boards work in bulk-synchronous
- * rounds: each works off its queues, then all exchange the packets for each other and learn
- * how many moved; a round in which no packet moved ends the frame (every queue is empty and
- * nothing is in flight). The frame buffers' integer sums are added, so the image is the
- * same bits as one board's for any number of boards and any assignment.
+ * another board owns travels there as its 32-byte packet. By default each board runs on its
+ * own clock and a packet travels as soon as it is handed on (mb_async.h); in rounds, each
+ * board works off its queues, then all exchange the packets for each other and learn how
+ * many moved, and a round in which no packet moved ends the frame. The frame buffers'
+ * integer sums are added, so the image is the same bits as one board's for any number of
+ * boards, any assignment and either exchange.
  *
  * This layer is independent of the transport: c5_mb_transport carries the collectives
- * (cli/mpi_link.c over MPI; tests/mb_loopback.c over threads in one process). It also holds
- * the modelled cost of the inter-board link and each board's time. */
+ * (cli/mpi_link.c over MPI; mb_loopback.c over threads in one process). It also holds the
+ * modelled cost of the inter-board link and each board's time. */
 #ifndef C5_MULTI_BOARD_H
 #define C5_MULTI_BOARD_H
 
