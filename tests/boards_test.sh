@@ -3,8 +3,8 @@
 # speed-up of 8 asynchronous boards over one at 1/64 and 128x128, at least 6x on brain_mirrors
 # and 5x on default and lobster_tunnel (issue 35's targets; the frame times are counted board
 # cycles, the same on any machine), with one board's image; the same check fails for the
-# bulk-synchronous rounds, which the asynchronous boards replace; the load rule balances
-# clouds_lake's second frame better than the k-d split. Usage: boards_test.sh BUILD
+# bulk-synchronous rounds, which the asynchronous boards replace; the named links; the load
+# rule balances clouds_lake's second frame better than the k-d split. Usage: boards_test.sh BUILD
 set -uo pipefail
 build=${1:-build}
 . "$(dirname "$0")/lib.sh"
@@ -39,6 +39,24 @@ PY
     if [ "$1" = ok ]; then ok "boards_speedup_$scene (${2}x; rounds ${3}x)"
     else bad "boards_speedup_$scene" "8 asynchronous boards ${2}x (want >= ${min}x), rounds ${3}x (the check must fail there), one board $one cycles, images the same: see above"; fi
 done
+
+# The named links: each sets the bandwidth and latency the report states; --link-latency
+# overrides its part whatever the order.
+want_links="1gbe 125000000 5e-05|10gbe 1250000000 1.5e-05|pcie4x16 31500000000 1e-06|pcie4x16 31500000000 0.0001"
+i=0
+while IFS= read -r -d '|' w || [ -n "$w" ]; do
+    set -- $w
+    extra=()
+    [ "$i" -eq 3 ] && extra=(--link-latency 100)
+    i=$((i + 1))
+    if "$cube5" render brain_mirrors --model rtl --size 16x16 --cells 2 --frames 1 --boards 2 --loopback "${extra[@]}" \
+            --link "$1" --json >"$tmp/link.json" 2>"$tmp/err" &&
+        [ "$(json_field "$tmp/link.json" "'%d %g' % (d['multi_board']['link_bw'], d['multi_board']['link_latency_s'])")" = "$2 $3" ]; then
+        ok "boards_link_$1${extra[*]:+_latency_given}"
+    else
+        bad "boards_link_$1" "$(cat "$tmp/err")" "$(json_field "$tmp/link.json" "d['multi_board']['link_bw'], d['multi_board']['link_latency_s']" 2>&1)"
+    fi
+done <<<"$want_links"
 
 # clouds_lake: the work sits in the cloud's few cells; from the second frame of a still camera
 # the load rule balances better and is faster than kd.
