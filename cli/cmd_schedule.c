@@ -9,6 +9,7 @@
 #include "board.h"
 #include "camera.h"
 #include "motion_cli.h"
+#include "plan_deps.h"
 #include "boards_cli.h"
 #include "cli.h"
 #include "dsp_cost.h"
@@ -29,6 +30,7 @@ typedef struct {
     int rule;         /* --split: a c5_split_rule */
     c5_motion_args mv; /* --orbit, --jumps, --dolly */
     int stale_off;    /* --stale-check off */
+    int own_trees;    /* --plan own: with several boards, each board follows its own tree's schedule */
     int tree_ram;     /* --tree-ram: TREE_RAM_AUTO (c5_dsp_tree_in_sdram), _ONCHIP or _SDRAM */
     c5_cli_volumes volumes;
     c5_boards_args bd;
@@ -83,6 +85,12 @@ static int check_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
     return c5_opt_pick(o, v, names, 0, field, err);
 }
 
+static int plan_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+{
+    static const char *const names[] = {"pooled", "own", NULL};
+    return c5_opt_pick(o, v, names, 0, field, err);
+}
+
 #define OFF(f) offsetof(sched_args, f)
 static const c5_opt opts[] = {
     {"--cells", "N|NxMxK", c5_opt_cells, OFF(cells), 0, 0, 0,
@@ -127,6 +135,10 @@ static const c5_opt opts[] = {
      "on (default): the board follows the schedule under its certificate (Max Work's shadow on the growing tree): "
      "never past Max Work plus the path's bank and one allowance; off: it follows the schedule to its end (the "
      "paper's board). docs/cell-tree.md, \"The certificate\""},
+    {"--plan", "pooled|own", plan_opt, OFF(own_trees), 0, 0, 0,
+     "with several boards: pooled (default): the boards pool their Cell Trees between frames, schedule the pooled "
+     "tree as one board would, and each follows its own cells' entries, waiting for the entries of other boards "
+     "it depends on; own: each board schedules its own tree. docs/multi-board.md"},
     {"--json", NULL, c5_opt_flag, OFF(json), 0, 0, 0, "one JSON object instead of the text"},
     {"--volume", "[I=]FILE", c5_opt_volume, OFF(volumes), 0, 0, 0, "replace volume I (default 0) by a raw or NRRD file"},
     {0},
@@ -179,6 +191,7 @@ typedef struct {
     int jump;                /* the camera motion cut to a new view at this frame */
     uint32_t *start;         /* [cells] rays queued per cell after the set-up (the ledger's start overlap) */
     c5_stale_plan plan;      /* the DSP's replay of this frame's tree for the next frame */
+    int *dep;                /* several boards, the plan across boards: what each entry waits for */
     /* With --boards: both runs' per-board figures, and each board's tree's lower bound (-1:
      * its tree overflowed) and nodes. */
     c5_mb_stats *mb_mw, *mb_ct;
@@ -210,19 +223,28 @@ static int gather_bounds(const sched_args *a, frame_row *r, c5_err *err)
     return 0;
 }
 
+/* The boards' lower bound of the frame: the sum of their own trees' bounds, or with the plan
+ * across boards the pooled tree's, which every board scheduled (-1: a tree overflowed). */
+static long boards_bound(const sched_args *a, const frame_row *r)
+{
+    long bound = 0;
+    for (int k = 0; k < a->bd.t.size; k++)
+        bound = bound < 0 || r->lower_bound[k] < 0 ? -1 : bound + r->lower_bound[k];
+    return a->own_trees || bound < 0 ? bound : r->lower_bound[0];
+}
+
 static json_t *boards_json(const sched_args *a, const frame_row *r)
 {
     json_t *per = json_array();
-    long bound = 0;
-    for (int k = 0; k < a->bd.t.size; k++) {
+    for (int k = 0; k < a->bd.t.size; k++)
         json_array_append_new(per, json_pack("{s:i, s:I, s:I, s:i, s:i}", "board", k, "fetches_maxwork",
                                              (json_int_t)r->mb_mw->board[k].fetches, "fetches_celltree",
                                              (json_int_t)r->mb_ct->board[k].fetches, "lower_bound", r->lower_bound[k],
                                              "nodes", r->nodes[k]));
-        bound = bound < 0 || r->lower_bound[k] < 0 ? -1 : bound + r->lower_bound[k];
-    }
-    return json_pack("{s:o, s:o, s:o, s:o}", "maxwork", c5_cli_mb_json(r->mb_mw), "celltree", c5_cli_mb_json(r->mb_ct),
-                     "lower_bound_sum", bound < 0 ? json_null() : json_integer(bound), "per_board", per);
+    long bound = boards_bound(a, r);
+    return json_pack("{s:s, s:o, s:o, s:o, s:o}", "plan", a->own_trees ? "own" : "pooled", "maxwork",
+                     c5_cli_mb_json(r->mb_mw), "celltree", c5_cli_mb_json(r->mb_ct), "lower_bound_sum",
+                     bound < 0 ? json_null() : json_integer(bound), "per_board", per);
 }
 
 static uint64_t rays_of(const c5_board_stats *st)
@@ -483,12 +505,13 @@ static void print_text(const char *label, const sched_args *a, const c5_scene *s
                             : a->partial ? " (tree OVERFLOWED the DSP RAM: next frame follows what it holds)"
                                          : " (tree OVERFLOWED the DSP RAM: next frame runs Max Work)");
         if (a->bd.given) {
-            long bound = 0;
-            for (int k = 0; k < a->bd.t.size; k++)
-                bound = bound < 0 || r->lower_bound[k] < 0 ? -1 : bound + r->lower_bound[k];
-            printf("%5s boards %d: frame %llu cycles with Max Work, %llu following the Cell Trees; sum of the "
-                   "boards' lower bounds %ld%s\n", "", a->bd.t.size, (unsigned long long)r->mb_mw->frame_cycles,
-                   (unsigned long long)r->mb_ct->frame_cycles, bound, bound < 0 ? " (a tree overflowed)" : "");
+            long bound = boards_bound(a, r);
+            printf("%5s boards %d: frame %llu cycles with Max Work, %llu following the %s; %s %ld%s\n", "",
+                   a->bd.t.size, (unsigned long long)r->mb_mw->frame_cycles,
+                   (unsigned long long)r->mb_ct->frame_cycles,
+                   a->own_trees ? "boards' own Cell Trees" : "plan across boards (the pooled Cell Tree)",
+                   a->own_trees ? "sum of the boards' lower bounds" : "the pooled tree's lower bound", bound,
+                   bound < 0 ? " (a tree overflowed)" : "");
         }
         if (r->sdram)
             printf("%5s this frame's tree is in the DSP's SDRAM\n", "");
@@ -626,6 +649,26 @@ static void drop_tree(frame_row *row)
     row->tn = 0;
 }
 
+/* The plan across boards: the pooled tree's schedule (row->sch) and, for each entry, the last
+ * entry of each other board it waits for (c5_plan_deps). */
+static int plan_deps(const sched_args *a, const c5_ctree *pool, frame_row *row, c5_err *err)
+{
+    int nb = a->bd.t.size, len = row->sch.next.len, n = (int)pool->nodes, nn[3] = {a->cells[0], a->cells[1], a->cells[2]};
+    int *par = malloc(sizeof *par * (size_t)(n ? n : 1)), *cel = malloc(sizeof *cel * (size_t)(n ? n : 1));
+    uint32_t *ids = malloc(sizeof *ids * (size_t)(n ? n : 1));
+    uint16_t *owner = malloc(sizeof *owner * (size_t)(nn[0] * nn[1] * nn[2]));
+    row->dep = malloc(sizeof *row->dep * (size_t)len * (size_t)nb);
+    int rc = !par || !cel || !ids || !owner || !row->dep ? c5_fail(err, "out of memory for the plan across boards")
+                                                         : c5_mb_assign(a->bd.mo.assign ? a->bd.mo.assign : C5_ASSIGN_KD,
+                                                                        nn, nb, owner, err);
+    if (rc == 0) {
+        c5_ctree_export(pool, par, cel, ids);
+        c5_plan_deps(par, cel, n, row->sch.next.cells, len, owner, nb, row->dep);
+    }
+    free(par), free(cel), free(ids), free(owner);
+    return rc;
+}
+
 static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *sv, int f, const frame_row *pr,
                      c5_ctree *trees, frame_row *row, c5_progress *prog, c5_err *err)
 {
@@ -684,6 +727,7 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
         o.prev_start = prev_start;
         o.prev_start_len = prev_start ? ncells : 0;
         o.plan = prev_plan;
+        o.sched_dep = pr ? pr->dep : NULL;
         keep.start_counts = NULL;
         o.tree = tree = &trees[1];
         c5_ctree_init(tree, (uint32_t)a->tree_nodes);
@@ -705,6 +749,30 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
                         : row->ct.sched_fallback                ? "celltree, then maxwork"
                                                                 : "celltree";
     }
+    /* Several boards, the plan across boards: their pooled tree. A ray's cells do not depend on
+     * the boards or the order of loads, so the tree the boards' DSPs pool between frames is the
+     * tree one board builds of the frame: each rank builds it so (docs/multi-board.md). */
+    static c5_ctree pool;
+    int pooled = a->bd.given && a->bd.t.size > 1 && !a->own_trees && g == 1;
+    if (pooled) {
+        c5_board_opts o1 = o;
+        o1.sched = 0;
+        o1.schedule = NULL;
+        o1.schedule_len = 0;
+        o1.plan = NULL;
+        o1.sched_dep = NULL;
+        o1.link = NULL;
+        o1.sdram_tree = NULL;
+        o1.progress = NULL;
+        o1.tree = &pool;
+        c5_ctree_init(&pool, (uint32_t)a->tree_nodes);
+        c5_image im1;
+        c5_board_stats st1;
+        if (c5_board_render_keep(s, sv, f, &o1, &keep, &im1, &st1, err) != 0)
+            goto done;
+        c5_image_free(&im1);
+        tree = &pool;
+    }
     row->jump = c5_motion_jumps_at(&a->mv.m, f);
     row->rays = rays_of(&mw);
     row->fetches_maxwork = mw.fetches;
@@ -723,6 +791,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
                                       &row->plan, err);
     if (rc == 0)
         c5_stale_plan_settle(&row->plan, prev_plan, row->ct.fetches, row->ct.frame_key);
+    if (rc == 0 && pooled && !pool.overflow && row->sch.next.len > 0) /* what each entry waits for */
+        rc = plan_deps(a, &pool, row, err);
 done:
     if (sdt)
         c5_sdram_tree_free(sdt);
@@ -816,7 +886,7 @@ int c5_cmd_schedule(int argc, char **argv)
 fail:
     if (rows)
         for (int f = 0; f < frames; f++)
-            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), c5_stale_plan_free(&rows[f].plan),
+            c5_dsp_sched_free(&rows[f].sch), free(rows[f].start), c5_stale_plan_free(&rows[f].plan), free(rows[f].dep),
                 free(rows[f].mb_mw), drop_tree(&rows[f]), c5_schedule_free(&rows[f].refined);
     free(rows);
     c5_supervol_free(&sv);

@@ -246,6 +246,11 @@ static uint64_t fetch_cycles(const c5_board_opts *o, size_t bytes)
     return (uint64_t)ceil(s * C5_BD_CLOCK_HZ);
 }
 
+uint64_t c5_bd_fetch_cycles(const c5_bd *b, int cell)
+{
+    return fetch_cycles(b->o, c5_cell_bytes(&b->cells, cell));
+}
+
 /* The DSP's eye rays, pixel by pixel, through the processor's set-up unit. */
 int c5_bd_generate_eye_rays(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err)
 {
@@ -291,6 +296,8 @@ static void board_free(c5_bd *b)
     free(b->in_pk);
     free(b->in_t);
     free(b->px_owner);
+    for (int k = 0; k < 64; k++)
+        free(b->seen_prog[k]), free(b->seen_t[k]);
     c5_rdram_free(&b->mem);
     c5_cells_free(&b->cells);
 }
@@ -441,6 +448,11 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
         if (b->keep->cell_cycles)
             b->keep->cell_cycles[cell] += fetched + (work > moved ? work : moved);
         stats->last_end = c5_bd_clock(b);
+        if (b->cur_entry >= 0) {
+            b->progress = b->cur_entry;
+            b->progress_t = stats->last_end;
+            b->cur_entry = -1;
+        }
         if (o->progress)
             o->progress(o->progress_ctx, &(c5_board_progress){stats->fetches, b->queued});
     }
@@ -461,7 +473,8 @@ int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, co
     memset(stats, 0, sizeof *stats);
     c5_board_opts o = *opts;
     normalise_opts(&o, sv);
-    c5_bd b = {.s = s, .o = &o, .keep = keep ? keep : &none, .st = stats, .resident = -1};
+    c5_bd b = {.s = s, .o = &o, .keep = keep ? keep : &none, .st = stats, .resident = -1,
+             .wait_since = UINT64_MAX, .progress = -1, .cur_entry = -1};
     c5_camera frame_cam = o.camera ? *o.camera : c5_scene_camera_at(s, frame);
     stats->frame_key = c5_frame_key(&frame_cam, s->render.width, s->render.height);
     c5_supervol dummy;

@@ -62,6 +62,9 @@ typedef struct {
     uint64_t next;        /* the earliest time it may send another packet: its clock while rays
                            * wait in its queues, else the earliest arrival in its in-box;
                            * UINT64_MAX: neither */
+    int64_t progress;     /* the plan across boards: the last entry it passed (-1: none), and
+                           * when (its load's end) */
+    uint64_t progress_t;
 } c5_link_report;
 
 /* One of several boards sharing the super volume (rtl_model/multi_board.h,
@@ -87,6 +90,7 @@ typedef struct {
                           const uint16_t *dest, const uint64_t *t_out, size_t n_out, size_t *n_sent,
                           const uint8_t (**in)[C5_PACKET_BYTES], const uint64_t **t_in, size_t *n_in,
                           uint64_t *bound, c5_err *err);
+    const c5_link_report *(*reports)(void *ctx); /* every board's report at the last exchange */
     /* Called when this board's queues are empty: hands over the packets for other boards
      * (out[i] goes to board dest[i]) with the board's counters so far (cycles filled in),
      * and receives the packets the other boards sent this board (*in, *n_in: the link's
@@ -96,6 +100,9 @@ typedef struct {
                     const struct c5_board_stats *so_far, const uint8_t (**in)[C5_PACKET_BYTES], size_t *n_in,
                     c5_err *err);
 } c5_board_link;
+
+/* Boards a link joins at most (the multi-board layer's C5_MB_MAX_BOARDS). */
+#define C5_LINK_MAX_BOARDS 64
 
 /* Why the board stopped following a schedule (c5_board_stats.switch_reason). */
 typedef enum {
@@ -154,6 +161,11 @@ typedef struct {
      * link the board generates only the eye rays of its pixels (those whose first queued ray
      * is for a cell it owns; pixels with none: pixel index mod boards), and taps must be NULL. */
     const c5_board_link *link;
+    /* Several asynchronous boards, the plan across boards (docs/multi-board.md): the schedule
+     * is the pooled tree's, for every board's cells; this board follows its own cells' entries,
+     * and entry i waits until board k has passed entry sched_dep[i * boards + k] (-1: none;
+     * plan_deps.h). NULL: the schedule is this board's own. */
+    const int *sched_dep;
 } c5_board_opts;
 
 /* What a frame leaves beside its image and counters, each where the caller gives room for it
@@ -209,6 +221,8 @@ typedef struct c5_board_stats {
     uint64_t sched_loads;    /* fetches that followed the external schedule */
     uint64_t sched_skipped;  /* schedule entries passed over: the cell had no rays */
     uint64_t sched_fallback; /* fetches chosen by Max Work after the schedule ran out */
+    uint64_t sched_waits;    /* several boards following the plan across boards: waits for another
+                              * board's progress */
     uint64_t sched_switches; /* loads taken from Max Work's shadow while schedule entries were left */
     int64_t switched_at_load;  /* the fetch index (0-based) of the first of them; -1: none */
     c5_switch_reason switch_reason;

@@ -77,7 +77,23 @@ typedef struct {
     uint64_t known_to;
     int resident;
     uint64_t emit_base, emit_c0;
+    /* The plan across boards (opts.sched_dep): the entry waiting since, until at most; this
+     * board's progress (the last entry passed, when) and the entry being loaded; every board's
+     * progress as the exchanges reported it, each with when it was reached. */
+    uint64_t wait_since, wake;
+    int64_t progress, cur_entry;
+    uint64_t progress_t;
+    int64_t *seen_prog[C5_LINK_MAX_BOARDS];
+    uint64_t *seen_t[C5_LINK_MAX_BOARDS];
+    size_t seen_n[C5_LINK_MAX_BOARDS], seen_cap[C5_LINK_MAX_BOARDS];
 } c5_bd;
+
+/* c5_bd_schedule: the next entry waits (until b->wake). */
+#define C5_BD_WAIT (-4)
+/* The board cycles of fetching `cell` from the host. */
+uint64_t c5_bd_fetch_cycles(const c5_bd *b, int cell);
+/* After an exchange: every board's progress into seen_prog / seen_t. */
+void c5_bd_note_reports(c5_bd *b);
 
 /* The board's time (asynchronous boards): its cycles so far, waits included. */
 static inline uint64_t c5_bd_clock(const c5_bd *b)

@@ -162,13 +162,13 @@ static int inbox_add(c5_bd *b, const uint8_t (*in)[C5_PACKET_BYTES], const uint6
 }
 
 /* Asynchronous: one exchange of the simulation (c5_board_link.exchange_async). */
-static int link_sync(c5_bd *b, uint64_t now, c5_err *err)
+static int link_sync(c5_bd *b, uint64_t now, uint64_t wake, c5_err *err)
 {
     const c5_board_link *l = b->o->link;
-    c5_link_report me = {UINT64_MAX};
-    if (b->queued)
-        me.next = now;
-    else if (b->in_head < b->n_in)
+    c5_link_report me = {UINT64_MAX, b->progress, b->progress_t};
+    if (b->queued) /* waiting for another board's progress not yet known: it may load at once */
+        me.next = wake != UINT64_MAX && wake > now ? wake : now;
+    if (b->in_head < b->n_in && b->in_t[b->in_head] < me.next)
         me.next = b->in_t[b->in_head];
     size_t n_sent = 0, n_in = 0;
     const uint8_t (*in)[C5_PACKET_BYTES] = NULL;
@@ -189,6 +189,8 @@ static int link_sync(c5_bd *b, uint64_t now, c5_err *err)
     if (inbox_add(b, in, t_in, n_in, err) != 0)
         return -1;
     b->known_to = bound > UINT64_MAX - l->lookahead ? UINT64_MAX : bound + l->lookahead;
+    if (l->reports)
+        c5_bd_note_reports(b);
     return more;
 }
 
@@ -197,16 +199,22 @@ static int link_sync(c5_bd *b, uint64_t now, c5_err *err)
 static int next_async(c5_bd *b, int *sched_pos, c5_err *err)
 {
     for (;;) {
-        uint64_t now = c5_bd_clock(b);
+        uint64_t now = c5_bd_clock(b), wake = UINT64_MAX;
         if (deliver(b, now, err) != 0)
             return -2;
-        if (b->queued && now <= b->known_to)
-            return c5_bd_schedule(b, sched_pos);
-        if (!b->queued && b->in_head < b->n_in && b->in_t[b->in_head] <= b->known_to) {
-            b->st->cycles_idle += b->in_t[b->in_head] - now;
+        if (b->queued && now <= b->known_to) {
+            int c = c5_bd_schedule(b, sched_pos);
+            if (c != C5_BD_WAIT)
+                return c;
+            wake = b->wake;
+        }
+        uint64_t arrival = b->in_head < b->n_in ? b->in_t[b->in_head] : UINT64_MAX;
+        uint64_t until = arrival < wake ? arrival : wake;
+        if ((!b->queued || (wake != UINT64_MAX && wake > now)) && until <= b->known_to) {
+            b->st->cycles_idle += until - now;
             continue;
         }
-        int more = link_sync(b, now, err);
+        int more = link_sync(b, now, wake, err);
         if (more <= 0)
             return more < 0 ? -2 : -1;
     }
@@ -229,3 +237,29 @@ int c5_bd_next_cell(c5_bd *b, int *sched_pos, c5_err *err)
     return c5_bd_schedule(b, sched_pos);
 }
 
+
+void c5_bd_note_reports(c5_bd *b)
+{
+    const c5_board_link *l = b->o->link;
+    const c5_link_report *all = l->reports(l->ctx);
+    for (int k = 0; k < l->boards && k < C5_LINK_MAX_BOARDS; k++) {
+        int64_t p = all[k].progress;
+        if (p < 0 || (b->seen_n[k] && b->seen_prog[k][b->seen_n[k] - 1] >= p))
+            continue;
+        if (b->seen_n[k] == b->seen_cap[k]) {
+            size_t cap = b->seen_cap[k] ? 2 * b->seen_cap[k] : 64;
+            int64_t *pp = realloc(b->seen_prog[k], cap * sizeof *pp);
+            if (pp)
+                b->seen_prog[k] = pp;
+            uint64_t *tt = pp ? realloc(b->seen_t[k], cap * sizeof *tt) : NULL;
+            if (!tt) {
+                b->oom = 1;
+                return;
+            }
+            b->seen_t[k] = tt;
+            b->seen_cap[k] = cap;
+        }
+        b->seen_prog[k][b->seen_n[k]] = p;
+        b->seen_t[k][b->seen_n[k]++] = all[k].progress_t;
+    }
+}

@@ -177,3 +177,5 @@ int c5_mb_async_exchange(void *ctx, const c5_link_report *me, const uint8_t (*ou
     *n_in = a->n_in;
     return 1;
 }
+
+const c5_link_report *c5_mb_async_reports(void *ctx) { return ((c5_mb_async *)ctx)->all; }

@@ -72,4 +72,7 @@ int c5_mb_async_exchange(void *ctx, const c5_link_report *me, const uint8_t (*ou
                          const uint8_t (**in)[C5_PACKET_BYTES], const uint64_t **t_in, size_t *n_in,
                          uint64_t *bound, c5_err *err);
 
+/* c5_board_link.reports: every board's report at the last exchange. */
+const c5_link_report *c5_mb_async_reports(void *ctx);
+
 #endif

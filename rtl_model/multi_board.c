@@ -472,7 +472,8 @@ int c5_mb_render(const c5_scene *s, const c5_supervol *sv, int frame, const c5_b
     c5_board_link link = {.ctx = &ml, .self = t->rank, .boards = nb, .owner = owner, .exchange = mb_exchange};
     if (async)
         link = (c5_board_link){.ctx = &as, .self = t->rank, .boards = nb, .owner = owner,
-                               .lookahead = as.lookahead, .exchange_async = c5_mb_async_exchange};
+                               .lookahead = as.lookahead, .exchange_async = c5_mb_async_exchange,
+                               .reports = c5_mb_async_reports};
     c5_board_opts o = *base;
     memcpy(o.cells, n, sizeof o.cells);
     o.link = nb > 1 ? &link : NULL;

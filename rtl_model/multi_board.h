@@ -17,7 +17,7 @@
 
 #include "board.h"
 
-#define C5_MB_MAX_BOARDS 64
+#define C5_MB_MAX_BOARDS C5_LINK_MAX_BOARDS
 #define C5_MB_CLOCK_HZ 100e6      /* the board clock: modelled times are counted in its cycles */
 /* The inter-board link's defaults (docs/multi-board.md, "Link model"): one full-duplex
  * Gigabit Ethernet port a board into a switch (IEEE 802.3ab, 1000BASE-T: 1 Gbit/s =

@@ -83,8 +83,8 @@ TEST(mb_async_sender_port_in_order_handed_on)
     uint8_t out[3][C5_PACKET_BYTES] = {{1}, {2}, {3}};
     uint16_t dest[3] = {1, 1, 1};
     uint64_t when[3] = {100, 100, 5000};
-    c5_link_report me = {100};
-    s.peer = (c5_link_report){UINT64_MAX};
+    c5_link_report me = {.next = 100, .progress = -1};
+    s.peer = (c5_link_report){.next = UINT64_MAX, .progress = -1};
     size_t n_sent, n_in;
     const uint8_t (*in)[C5_PACKET_BYTES];
     const uint64_t *t_in;
@@ -119,8 +119,8 @@ TEST(mb_async_receiver_port_by_time_at_switch_and_held_beyond_the_bound)
         s.wire[i] = (c5_mb_wire){at[i], at[i] / T - 5000};
     }
     s.n = 4;
-    s.peer = (c5_link_report){20000};
-    c5_link_report me = {3000};
+    s.peer = (c5_link_report){.next = 20000, .progress = -1};
+    c5_link_report me = {.next = 3000, .progress = -1};
     size_t n_sent, n_in;
     const uint8_t (*in)[C5_PACKET_BYTES];
     const uint64_t *t_in;
@@ -146,8 +146,8 @@ TEST(mb_async_receiver_port_by_time_at_switch_and_held_beyond_the_bound)
     /* next exchange: nothing new; board 0 idle; the held packet bounds board 0's report and
      * goes through once the bound allows it */
     s.n = 0;
-    me = (c5_link_report){UINT64_MAX};
-    s.peer = (c5_link_report){UINT64_MAX};
+    me = (c5_link_report){.next = UINT64_MAX, .progress = -1};
+    s.peer = (c5_link_report){.next = UINT64_MAX, .progress = -1};
     CHECK_INT(c5_mb_async_exchange(&a, &me, NULL, NULL, NULL, 0, &n_sent, &in, &t_in, &n_in, &bound, &err), 1);
     CHECK_INT(s.mine.next, 9000000 / T);
     CHECK_INT(bound, 9000000 / T);
@@ -175,8 +175,8 @@ TEST(mb_async_arrival_never_sooner_than_the_lookahead)
     CHECK_INT(a.lookahead, 1);
     s.wire[0] = (c5_mb_wire){700 * T - 100, 700}; /* the switch time rounds to before the lookahead */
     s.n = 1;
-    s.peer = (c5_link_report){700};
-    c5_link_report me = {UINT64_MAX};
+    s.peer = (c5_link_report){.next = 700, .progress = -1};
+    c5_link_report me = {.next = UINT64_MAX, .progress = -1};
     size_t n_sent, n_in;
     const uint8_t (*in)[C5_PACKET_BYTES];
     const uint64_t *t_in;

@@ -5,6 +5,10 @@
 #include "board_internal.h"
 #include "ledger.h"
 
+/* The longest an entry of the plan across boards waits for the boards it depends on, in fetch
+ * times of its cell (plan_next). */
+#define C5_PLAN_WAIT_FETCHES 8
+
 /* The cell of group g with the most queued rays (ties: lowest id), -1: none holds a ray. */
 static int busiest_in_group(const c5_bd *b, int g)
 {
@@ -112,10 +116,75 @@ static int certified_next(c5_bd *b, int *pos)
     return next;
 }
 
+/* When this board learns that board k has passed entry d: a link latency after it did, as the
+ * exchanges reported it; UINT64_MAX: not known yet. */
+static uint64_t known_passed(const c5_bd *b, int k, int64_t d)
+{
+    for (size_t i = 0; i < b->seen_n[k]; i++)
+        if (b->seen_prog[k][i] >= d)
+            return b->seen_t[k][i] + b->o->link->lookahead;
+    return UINT64_MAX;
+}
+
+/* Several asynchronous boards following the plan across boards (the schedule of the boards'
+ * pooled Cell Tree, docs/multi-board.md): an entry of this board's cells waits until every
+ * entry of another board it depends on (o->sched_dep: whose loads hand rays on to its nodes)
+ * is known to be passed there, a link latency after it was, or at most C5_PLAN_WAIT_FETCHES
+ * fetch times of its cell: a board with no rays does not pass its entries, and the frame
+ * differs from the one the plan was made on. C5_BD_WAIT: until b->wake. */
+static int plan_next(c5_bd *b, int *pos)
+{
+    const c5_board_opts *o = b->o;
+    const c5_board_link *l = o->link;
+    uint64_t now = c5_bd_clock(b);
+    while (*pos < o->schedule_len) {
+        int c = o->schedule[*pos];
+        if (l->owner[c] != l->self) {
+            (*pos)++;
+            continue;
+        }
+        uint64_t ready = now;
+        for (int k = 0; k < l->boards && ready != UINT64_MAX; k++) {
+            int d = o->sched_dep[(size_t)*pos * (size_t)l->boards + (size_t)k];
+            if (d >= 0 && k != l->self) {
+                uint64_t t = known_passed(b, k, d);
+                ready = t > ready ? t : ready;
+            }
+        }
+        if (b->wait_since == UINT64_MAX)
+            b->wait_since = now;
+        uint64_t limit = b->wait_since + C5_PLAN_WAIT_FETCHES * c5_bd_fetch_cycles(b, c);
+        if (ready > now && now < limit) {
+            b->wake = ready < limit ? ready : limit;
+            b->st->sched_waits++;
+            return C5_BD_WAIT;
+        }
+        b->wait_since = UINT64_MAX;
+        int64_t at = (*pos)++;
+        if (c5_bd_queued_in(b, c)) {
+            b->cur_entry = at;
+            b->st->sched_loads++;
+            return c;
+        }
+        b->progress = at;
+        b->progress_t = now;
+        b->st->sched_skipped++;
+    }
+    return -3;
+}
+
 /* Which cell to load next, or -1 when every queue is empty. */
 int c5_bd_schedule(c5_bd *b, int *sched_pos)
 {
     const c5_board_opts *o = b->o;
+    if (o->sched == C5_SCHED_EXTERNAL && o->sched_dep && o->link && o->link->exchange_async) {
+        int c = plan_next(b, sched_pos);
+        if (c != -3)
+            return c;
+        c = pick_cell(b, 0);
+        b->st->sched_fallback += c >= 0;
+        return c;
+    }
     if (o->sched == C5_SCHED_EXTERNAL && b->sgroup[0] * b->sgroup[1] * b->sgroup[2] > 1) {
         for (;;) {
             int c = b->cur_group < 0 ? -1 : busiest_in_group(b, b->cur_group);
