@@ -15,11 +15,11 @@
 #  3. A camera path (brain_mirrors 1/64, 8 boards, orbiting 8 degrees a frame, 8 frames): per
 #     frame the speed-up and balance with the k-d split and with the load rule (the assignment
 #     from the previous frame's measured cycles). -> path.json, in curves.txt.
-#  4. Each board's own scheduling: `cube5 schedule` on brain_mirrors (SCHED_SIZE 32x32, 3x3x3
+#  4. Scheduling across boards: `cube5 schedule` on brain_mirrors (SCHED_SIZE 32x32, 3x3x3
 #     cells, SCHED_FRAMES 4 frames orbiting 2 degrees a frame) on SCHED_BOARDS ("1 2 4") boards:
-#     per board count the fetches of all boards with Max Work and following each board's own
-#     Cell Tree schedule (frames 1..), and the sum over boards and frames of each board's
-#     tree's lower bound: sched.txt and bench-boards-sched.json.
+#     per board count the fetches of all boards with Max Work and following the plan across
+#     boards (the pooled Cell Tree's schedule; frames 1..), and the lower bounds summed over
+#     frames: sched.txt and bench-boards-sched.json.
 # Environment: SIZE (128x128), CELLS (4), BOARDS ("1 2 4 8"), RULES ("kd slab mod"), EXCHANGES
 # ("async rounds"), SCENES (the built-in scenes), LINK_BW / LINK_LATENCY (MB/s, us; empty: the
 # defaults), RENDER=0, CURVES=0 or SCHED=0 to skip a part.
@@ -152,7 +152,7 @@ slist="$out/sched.list"
 for n in $SCHED_BOARDS; do
     f="$out/runs/sched_brain_mirrors_$n.json"
     mpirun --oversubscribe -np "$n" "$cube5" schedule brain_mirrors --size "$SCHED_SIZE" --cells 3 \
-        --frames "$SCHED_FRAMES" --orbit 2 --exact-states 1000 --boards "$n" "${link[@]}" --json >"$f"
+        --frames "$SCHED_FRAMES" --orbit 2 --exact-states 1000 --local-window 0 --boards "$n" "${link[@]}" --json >"$f"
     echo "$n $f" >>"$slist"
     echo "bench-boards: schedule on $n boards" >&2
 done
