@@ -753,7 +753,10 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
      * the boards or the order of loads, so the tree the boards' DSPs pool between frames is the
      * tree one board builds of the frame: each rank builds it so (docs/multi-board.md). */
     static c5_ctree pool;
-    int pooled = a->bd.given && a->bd.t.size > 1 && !a->own_trees && g == 1 && !row->sdram; /* on chip */
+    /* on chip, and under an assignment known before the frame (the tree and load rules make the
+     * next frame's from this one's traffic) */
+    int pooled = a->bd.given && a->bd.t.size > 1 && !a->own_trees && g == 1 && !row->sdram &&
+                 a->bd.mo.assign != C5_ASSIGN_TREE && a->bd.mo.assign != C5_ASSIGN_LOAD;
     if (pooled) {
         c5_board_opts o1 = o;
         o1.sched = 0;
