@@ -81,13 +81,13 @@ typedef struct {
      * common time B (every board's report.next is at least B) and then every board knows each
      * arrival up to B + lookahead: it loads cells while its clock is within that, else takes
      * part in the next exchange. out[i] goes to dest[i], handed on at t_out[i] (times not
-     * decreasing); the exchange takes the first *n_sent (all of them), and returns the
+     * decreasing); the exchange sends all of them, and returns the
      * packets for this board known to arrive by B + lookahead with their arrival times (the
      * link's memory, valid until the next call), and B. 1: go on, 0: every board is idle and
      * nothing is in flight, -1 with a message. */
     uint64_t lookahead;
     int (*exchange_async)(void *ctx, const c5_link_report *me, const uint8_t (*out)[C5_PACKET_BYTES],
-                          const uint16_t *dest, const uint64_t *t_out, size_t n_out, size_t *n_sent,
+                          const uint16_t *dest, const uint64_t *t_out, size_t n_out,
                           const uint8_t (**in)[C5_PACKET_BYTES], const uint64_t **t_in, size_t *n_in,
                           uint64_t *bound, c5_err *err);
     const c5_link_report *(*reports)(void *ctx); /* every board's report at the last exchange */

@@ -170,22 +170,17 @@ static int link_sync(c5_bd *b, uint64_t now, uint64_t wake, c5_err *err)
         me.next = wake != UINT64_MAX && wake > now ? wake : now;
     if (b->in_head < b->n_in && b->in_t[b->in_head] < me.next)
         me.next = b->in_t[b->in_head];
-    size_t n_sent = 0, n_in = 0;
+    size_t n_in = 0;
     const uint8_t (*in)[C5_PACKET_BYTES] = NULL;
     const uint64_t *t_in = NULL;
     uint64_t bound = 0;
     int more = l->exchange_async(l->ctx, &me, (const uint8_t (*)[C5_PACKET_BYTES])b->out_pk, b->out_dest, b->out_t,
-                                 b->n_out, &n_sent, &in, &t_in, &n_in, &bound, err);
+                                 b->n_out, &in, &t_in, &n_in, &bound, err);
     if (more < 0)
         return -1;
     b->st->link_rounds++;
-    b->st->link_sent += n_sent;
-    b->n_out -= n_sent;
-    if (b->n_out) {
-        memmove(b->out_pk, b->out_pk + n_sent, b->n_out * C5_PACKET_BYTES);
-        memmove(b->out_dest, b->out_dest + n_sent, b->n_out * sizeof *b->out_dest);
-        memmove(b->out_t, b->out_t + n_sent, b->n_out * sizeof *b->out_t);
-    }
+    b->st->link_sent += b->n_out; /* the exchange sent them all */
+    b->n_out = 0;
     if (inbox_add(b, in, t_in, n_in, err) != 0)
         return -1;
     b->known_to = bound > UINT64_MAX - l->lookahead ? UINT64_MAX : bound + l->lookahead;

@@ -144,18 +144,17 @@ static void take(c5_mb_async *a, uint64_t to)
 }
 
 int c5_mb_async_exchange(void *ctx, const c5_link_report *me, const uint8_t (*out)[C5_PACKET_BYTES],
-                         const uint16_t *dest, const uint64_t *t_out, size_t n_out, size_t *n_sent,
+                         const uint16_t *dest, const uint64_t *t_out, size_t n_out,
                          const uint8_t (**in)[C5_PACKET_BYTES], const uint64_t **t_in, size_t *n_in,
                          uint64_t *bound, c5_err *err)
 {
     c5_mb_async *a = ctx;
     const c5_mb_transport *t = a->t;
-    *n_sent = *n_in = 0;
+    *n_in = 0;
     *in = NULL;
     *t_in = NULL;
     if (send_all(a, out, dest, t_out, n_out, err) != 0)
         return -1;
-    *n_sent = n_out;
     c5_link_report r = *me; /* a packet still at the switch wakes this board no sooner */
     if (a->n_wait && a->order[0].at_switch / C5_MB_TICKS < r.next)
         r.next = a->order[0].at_switch / C5_MB_TICKS;

@@ -68,7 +68,7 @@ void c5_mb_async_free(c5_mb_async *a);
 
 /* c5_board_link.exchange_async, ctx a c5_mb_async. */
 int c5_mb_async_exchange(void *ctx, const c5_link_report *me, const uint8_t (*out)[C5_PACKET_BYTES],
-                         const uint16_t *dest, const uint64_t *t_out, size_t n_out, size_t *n_sent,
+                         const uint16_t *dest, const uint64_t *t_out, size_t n_out,
                          const uint8_t (**in)[C5_PACKET_BYTES], const uint64_t **t_in, size_t *n_in,
                          uint64_t *bound, c5_err *err);
 
