@@ -302,9 +302,8 @@ static int load_input(const args *a, input *in, c5_err *err)
         memcpy(in->dims, sv.dims, sizeof in->dims);
         double sp[3] = {sv.spacing.x, sv.spacing.y, sv.spacing.z};
         memcpy(in->spacing, sp, sizeof sp);
-        in->vox = sv.v;
-        sv.v = NULL;
-        c5_supervol_free(&sv);
+        if (!(in->vox = c5_supervol_detach(&sv)))
+            return c5_fail(err, "%s: out of memory for %zu voxels", label, in->dims[0] * in->dims[1] * in->dims[2]);
         snprintf(in->name, sizeof in->name, "%s", a->input);
         if (!a->tf) {
             in->tf = s.tf;

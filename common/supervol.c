@@ -1,4 +1,5 @@
 #include "supervol.h"
+#include "block_range.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -6,6 +7,7 @@
 #include <string.h>
 
 #include <pthread.h>
+#include <sys/mman.h>
 
 #include "generators.h"
 #include "voxsrc.h"
@@ -64,7 +66,14 @@ static int sources_read(const struct c5_svstore *st, const size_t lo[3], const s
                         size_t sz, c5_err *err)
 {
     size_t w = hi[0] - lo[0];
-    for (size_t z = lo[2]; z < hi[2]; z++)
+    int covered = 0; /* a source covers the whole box: grid.fill shows nowhere */
+    for (int i = 0; i < st->n && !covered; i++) {
+        const size_t *d = c5_voxsrc_dims(st->src[i]);
+        covered = 1;
+        for (int a = 0; a < 3; a++)
+            covered &= (size_t)st->off[i][a] <= lo[a] && hi[a] <= (size_t)st->off[i][a] + d[a];
+    }
+    for (size_t z = lo[2]; z < hi[2] && !covered; z++)
         for (size_t y = lo[1]; y < hi[1]; y++)
             memset(out + (z - lo[2]) * sz + (y - lo[1]) * sy, (int)st->fill, w);
     for (int i = 0; i < st->n; i++) {
@@ -446,6 +455,18 @@ int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out,
                 s->source, *s->source ? ": " : "", key, v3_len(ext), samples, step, C5_MAX_RAY_SAMPLES);
         goto done;
     }
+    int whole_file = st->n == 1 && !st->off[0][0] && !st->off[0][1] && !st->off[0][2] &&
+                     !memcmp(c5_voxsrc_dims(st->src[0]), out->dims, sizeof out->dims);
+    if (!whole_file || c5_voxsrc_identity(st->src[0], out->file_id, sizeof out->file_id) != 0)
+        out->file_id[0] = 0;
+    if (n <= budget && whole_file) {
+        const uint8_t *data;
+        if (c5_voxsrc_map(st->src[0], &out->map_base, &out->map_len, &data) == 0) {
+            out->v = (uint8_t *)data; /* PROT_READ: a write would fault, never reach the file */
+            rc = 0;
+            goto done;
+        }
+    }
     if (n <= budget) {
         /* resident: the whole grid read from the sources, slab by slab of z */
         out->v = malloc(n);
@@ -471,8 +492,12 @@ int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out,
 done:
     store_free(st);
     if (rc != 0) {
-        free(out->v);
+        if (out->map_base)
+            munmap(out->map_base, out->map_len);
+        else
+            free(out->v);
         out->v = NULL;
+        out->map_base = NULL;
         out->store = NULL;
     }
     return rc;
@@ -480,9 +505,27 @@ done:
 
 void c5_supervol_free(c5_supervol *sv)
 {
-    free(sv->v);
+    if (sv->map_base)
+        munmap(sv->map_base, sv->map_len);
+    else
+        free(sv->v);
     store_free(sv->store);
+    c5_block_range_free(sv->ranges);
     memset(sv, 0, sizeof *sv);
+}
+
+uint8_t *c5_supervol_detach(c5_supervol *sv)
+{
+    uint8_t *v = sv->v;
+    if (sv->map_base) {
+        size_t n = sv->dims[0] * sv->dims[1] * sv->dims[2];
+        if ((v = malloc(n)) != NULL)
+            memcpy(v, sv->v, n);
+    } else {
+        sv->v = NULL;
+    }
+    c5_supervol_free(sv);
+    return v;
 }
 void c5_supervol_marschner_lobb(const c5_supervol *sv, double f_m, double alpha, c5_vec3 p, double *value,
                                 c5_vec3 *grad)

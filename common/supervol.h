@@ -27,6 +27,15 @@ typedef struct {
      * stay in their sources (files read at an offset, generators evaluated per voxel), read
      * box by box and through a brick cache of the budget's size; NULL when resident. */
     struct c5_svstore *store;
+    /* A resident grid that is one uint8 file's voxels is that file mapped read-only (v points
+     * into the mapping; never written): no copy, and only the pages a frame reads are read. */
+    void *map_base;
+    size_t map_len;
+    /* The grid is one file's voxels, at offset 0 and of the grid's dims: the file's identity
+     * (c5_voxsrc_identity), by which what is derived from the voxels is cached; "" otherwise. */
+    char file_id[320];
+    /* The value range of every 8^3 block, computed on first use (block_range.h), or NULL. */
+    struct c5_block_range *ranges;
 } c5_supervol;
 
 /* The memory budget, bytes: a grid of at most this many voxels is held whole (resident);
@@ -52,6 +61,9 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err);
 /* The same with the budget given (c5_supervol_build takes c5_mem_budget's). */
 int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out, c5_err *err);
 void c5_supervol_free(c5_supervol *sv);
+/* The resident voxels handed to the caller as a malloc'd array (a mapping copied), sv freed
+ * after; NULL: out of memory (sv freed too). */
+uint8_t *c5_supervol_detach(c5_supervol *sv);
 
 /* Voxels [lo, hi) of the grid (clamp-to-edge outside it) into out, x fastest, (hi - lo)
  * per axis: voxel (x, y, z) at out[((z - lo[2]) (hi[1] - lo[1]) + y - lo[1]) (hi[0] - lo[0])

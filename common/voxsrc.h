@@ -36,4 +36,13 @@ const char *c5_voxsrc_label(const c5_voxsrc *s);
 int c5_voxsrc_read(const c5_voxsrc *s, const size_t lo[3], const size_t hi[3], uint8_t *out, size_t sy, size_t sz,
                    c5_err *err);
 
+/* A file's identity for caches of what is derived from its voxels (block_range.h): device,
+ * inode, size, modification time to the nanosecond, the data's offset and type, the window
+ * (uint16) and the dims, in a string. -1 for a generator. After c5_voxsrc_prepare. */
+int c5_voxsrc_identity(const c5_voxsrc *s, char *buf, size_t n);
+/* A uint8 file's voxels mapped read-only (mmap): *data the first voxel, *base and *len what
+ * to munmap. 0, or -1 (a generator, uint16, or the system refused: the caller reads instead).
+ * A file cut short while mapped ends the run with the message of a failed read. */
+int c5_voxsrc_map(const c5_voxsrc *s, void **base, size_t *len, const uint8_t **data);
+
 #endif

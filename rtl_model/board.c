@@ -425,7 +425,7 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
         } else {
             if ((host ? c5_rdram_place(&b->mem, &b->cells, cell, err) != 0 ||
                             host->fetch(host->ctx, cell, b->mem.v, c5_cell_bytes(&b->cells, cell), err) != 0
-                      : c5_rdram_load(&b->mem, &b->cells, grid, cell, err) != 0))
+                      : c5_rdram_view(&b->mem, &b->cells, grid, cell, err) != 0))
                 return -3;
             size_t bytes = c5_cell_bytes(&b->cells, cell);
             stats->fetches++;

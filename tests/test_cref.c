@@ -31,7 +31,7 @@ static int render_json(const char *json, int threads, const c5_field *field, c5_
 
 static c5_supervol grid_of(size_t nx, size_t ny, size_t nz, const uint8_t *vals)
 {
-    c5_supervol sv = {{nx, ny, nz}, v3(0, 0, 0), v3(1, 1, 1), (uint8_t *)vals, 0, {{0}}, {0}, NULL};
+    c5_supervol sv = {.dims = {nx, ny, nz}, .origin = v3(0, 0, 0), .spacing = v3(1, 1, 1), .v = (uint8_t *)vals};
     return sv;
 }
 

@@ -2,6 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "block_range.h"
 #include "cells.h"
 
 /* No sample whose trilinear corners lie in a voxel range of values vmin..vmax can have
@@ -22,29 +23,6 @@ static void minmax(const uint8_t *p, size_t n, unsigned *mn, unsigned *mx)
     }
     *mn = a;
     *mx = b;
-}
-
-/* Bytes of one read of the flag passes: they stream the grid in pieces of this size (or one
- * row of blocks, (dims_x + 2) x 10 x 10), never the grid or a cell whole. */
-#define FLAG_READ_BYTES ((size_t)1 << 22)
-
-/* Values of voxels [lo, hi] (inclusive, clamped) read in rows of planes of at most
- * FLAG_READ_BYTES bytes through buf. */
-static int box_range(const c5_supervol *sv, const int lo[3], const int hi[3], uint8_t *buf, unsigned *mn,
-                     unsigned *mx, c5_err *err)
-{
-    size_t w = (size_t)(hi[0] - lo[0] + 1), band = FLAG_READ_BYTES / w > 0 ? FLAG_READ_BYTES / w : 1;
-    *mn = 255;
-    *mx = 0;
-    for (int z = lo[2]; z <= hi[2]; z++)
-        for (int y = lo[1]; y <= hi[1]; y += (int)band) {
-            int y1 = y + (int)band - 1 < hi[1] ? y + (int)band - 1 : hi[1];
-            long blo[3] = {lo[0], y, z}, bhi[3] = {(long)hi[0] + 1, (long)y1 + 1, (long)z + 1};
-            if (c5_supervol_read_box(sv, blo, bhi, buf, err) != 0)
-                return -1;
-            minmax(buf, w * (size_t)(y1 - y + 1), mn, mx);
-        }
-    return 0;
 }
 
 void c5_cell_box(const c5_cells *c, int cell, int lo[3], int hi[3])
@@ -94,51 +72,153 @@ oom:
     return c5_fail(err, "out of memory for the cell tables");
 }
 
+/* The flags, exactly as if every box were read, from the blocks' ranges (block_range.h). A
+ * block's box with its apron is what its apron range covers; so is a cell's whose faces lie
+ * on block boundaries, the union of its blocks'. For any other cell's box, the blocks it
+ * overlaps give a range that holds the box's (if that is empty, so is the box's) and the
+ * blocks wholly inside it a range the box's holds (if that is not empty, neither is the
+ * box's). Only a box between the two is read, and of it only the blocks it cuts whose range
+ * could still widen what is known. */
+typedef struct {
+    const c5_cells *c;
+    const c5_supervol *sv;
+    const c5_block_range *br;
+    int nz_prefix[257];
+    uint8_t *buf;
+    c5_err *err;
+} flag_ctx;
+
+_Static_assert(C5_BLOCK == C5_RANGE_BLOCK, "the leaping blocks are the blocks whose ranges are kept");
+
+/* range_empty of [mn, mx], where mn > mx is no voxel at all. */
+static int span_empty(const flag_ctx *f, unsigned mn, unsigned mx)
+{
+    return mn > mx || range_empty(mn, mx, f->nz_prefix);
+}
+
+static size_t block_id(const c5_cells *c, int bx, int by, int bz)
+{
+    return ((size_t)bz * c->bdims[1] + (size_t)by) * c->bdims[0] + (size_t)bx;
+}
+
+/* Whether voxels [lo, hi] (inclusive, inside the grid) are empty: 1, 0, or -1 (a read
+ * failed, err set). */
+static int box_empty(flag_ctx *f, const int lo[3], const int hi[3])
+{
+    const c5_cells *c = f->c;
+    int b0[3], b1[3];
+    for (int a = 0; a < 3; a++) {
+        b0[a] = lo[a] / C5_BLOCK;
+        b1[a] = hi[a] / C5_BLOCK;
+    }
+    unsigned smn = 255, smx = 0, imn = 255, imx = 0;
+    for (int bz = b0[2]; bz <= b1[2]; bz++)
+        for (int by = b0[1]; by <= b1[1]; by++)
+            for (int bx = b0[0]; bx <= b1[0]; bx++) {
+                size_t id = block_id(c, bx, by, bz);
+                unsigned mn = f->br->mn[id], mx = f->br->mx[id];
+                smn = mn < smn ? mn : smn;
+                smx = mx > smx ? mx : smx;
+                int b[3] = {bx, by, bz}, inside = 1;
+                for (int a = 0; a < 3; a++) {
+                    int e = (b[a] + 1) * C5_BLOCK - 1 < c->dims[a] - 1 ? (b[a] + 1) * C5_BLOCK - 1 : c->dims[a] - 1;
+                    inside &= b[a] * C5_BLOCK >= lo[a] && e <= hi[a];
+                }
+                if (inside) {
+                    imn = mn < imn ? mn : imn;
+                    imx = mx > imx ? mx : imx;
+                }
+            }
+    if (span_empty(f, smn, smx))
+        return 1;
+    if (!span_empty(f, imn, imx))
+        return 0;
+    for (int bz = b0[2]; bz <= b1[2]; bz++)
+        for (int by = b0[1]; by <= b1[1]; by++)
+            for (int bx = b0[0]; bx <= b1[0]; bx++) {
+                size_t id = block_id(c, bx, by, bz);
+                if (imn <= imx && f->br->mn[id] >= imn && f->br->mx[id] <= imx)
+                    continue; /* inside what is known (the blocks wholly inside among them) */
+                int b[3] = {bx, by, bz};
+                long rlo[3], rhi[3];
+                for (int a = 0; a < 3; a++) {
+                    rlo[a] = b[a] * C5_BLOCK > lo[a] ? b[a] * C5_BLOCK : lo[a];
+                    rhi[a] = (b[a] + 1) * C5_BLOCK - 1 < hi[a] ? (b[a] + 1) * C5_BLOCK : hi[a] + 1;
+                }
+                if (c5_supervol_read_box(f->sv, rlo, rhi, f->buf, f->err) != 0)
+                    return -1;
+                minmax(f->buf, (size_t)(rhi[0] - rlo[0]) * (size_t)(rhi[1] - rlo[1]) * (size_t)(rhi[2] - rlo[2]), &imn,
+                       &imx);
+                if (!span_empty(f, imn, imx))
+                    return 0;
+            }
+    return span_empty(f, imn, imx);
+}
+
+/* [lo - 1, hi] of an axis clamped to the grid: the voxels a box with a one-voxel apron reads
+ * (clamp to edge repeats the grid's own voxels). */
+static void apron_box(const c5_cells *c, const int lo[3], const int hi[3], int blo[3], int bhi[3])
+{
+    for (int a = 0; a < 3; a++) {
+        blo[a] = lo[a] - 1 > 0 ? lo[a] - 1 : 0;
+        bhi[a] = hi[a] < c->dims[a] - 1 ? hi[a] : c->dims[a] - 1;
+    }
+}
+
+/* A cell whose faces lie on block boundaries (or the grid's far face): its box with the
+ * apron is the union of its blocks' apron boxes, so its range is theirs. 1, 0, or -1 (not
+ * aligned: box_empty reads what it must). */
+static int aligned_cell_empty(const flag_ctx *f, const int lo[3], const int hi[3])
+{
+    const c5_cells *c = f->c;
+    for (int a = 0; a < 3; a++)
+        if (lo[a] % C5_BLOCK || (hi[a] % C5_BLOCK && hi[a] != c->dims[a]))
+            return -1;
+    unsigned mn = 255, mx = 0;
+    for (int bz = lo[2] / C5_BLOCK; bz < (hi[2] + C5_BLOCK - 1) / C5_BLOCK; bz++)
+        for (int by = lo[1] / C5_BLOCK; by < (hi[1] + C5_BLOCK - 1) / C5_BLOCK; by++)
+            for (int bx = lo[0] / C5_BLOCK; bx < (hi[0] + C5_BLOCK - 1) / C5_BLOCK; bx++) {
+                size_t id = block_id(c, bx, by, bz);
+                mn = f->br->amn[id] < mn ? f->br->amn[id] : mn;
+                mx = f->br->amx[id] > mx ? f->br->amx[id] : mx;
+            }
+    return span_empty(f, mn, mx);
+}
+
 int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint8_t alpha_nz[256], c5_err *err)
 {
     if (cells_alloc(c, sv->dims, n, err) != 0)
         return -1;
-    int nz_prefix[257] = {0};
+    flag_ctx f = {.c = c, .sv = sv, .err = err};
     for (int i = 0; i < 256; i++)
-        nz_prefix[i + 1] = nz_prefix[i] + (alpha_nz[i] != 0);
-    /* one row of blocks with its apron: x in [-1, 8 bdims_x], 10 rows, 10 planes */
-    size_t row_w = (size_t)c->bdims[0] * C5_BLOCK + 2, row_bytes = row_w * (C5_BLOCK + 2) * (C5_BLOCK + 2);
-    size_t cap = row_bytes > FLAG_READ_BYTES + (size_t)c->dims[0] + 2 ? row_bytes : FLAG_READ_BYTES + (size_t)c->dims[0] + 2;
-    uint8_t *buf = malloc(cap);
-    if (!buf) {
-        c5_cells_free(c);
-        return c5_fail(err, "out of memory for the cell flags' read buffer (%zu bytes)", cap);
+        f.nz_prefix[i + 1] = f.nz_prefix[i] + (alpha_nz[i] != 0);
+    c5_block_range *owned = NULL;
+    if (!(f.br = c5_block_range_of(sv, &owned, err)))
+        goto fail;
+    if (!(f.buf = malloc(C5_BLOCK * C5_BLOCK * C5_BLOCK))) {
+        c5_fail(err, "out of memory for the cell flags");
+        goto fail;
     }
     for (int cell = 0; cell < c->count; cell++) {
-        int lo[3], hi[3];
-        unsigned mn, mx;
-        c5_cell_box(c, cell, lo, hi);
-        for (int a = 0; a < 3; a++)
-            lo[a]--; /* hi is already the first voxel past the cell: the upper corner */
-        if (box_range(sv, lo, hi, buf, &mn, &mx, err) != 0)
-            goto fail;
-        c->empty[cell] = (uint8_t)range_empty(mn, mx, nz_prefix);
-    }
-    for (int bz = 0; bz < c->bdims[2]; bz++)
-        for (int by = 0; by < c->bdims[1]; by++) {
-            long lo[3] = {-1, (long)by * C5_BLOCK - 1, (long)bz * C5_BLOCK - 1};
-            long hi[3] = {lo[0] + (long)row_w, lo[1] + C5_BLOCK + 2, lo[2] + C5_BLOCK + 2};
-            if (c5_supervol_read_box(sv, lo, hi, buf, err) != 0)
+        int lo[3], hi[3], blo[3], bhi[3];
+        c5_cell_box(c, cell, lo, hi); /* hi: the first voxel past the cell, the upper corner */
+        int e = aligned_cell_empty(&f, lo, hi);
+        if (e < 0) {
+            apron_box(c, lo, hi, blo, bhi);
+            if ((e = box_empty(&f, blo, bhi)) < 0)
                 goto fail;
-            for (int bx = 0; bx < c->bdims[0]; bx++) {
-                unsigned mn = 255, mx = 0;
-                for (int z = 0; z < C5_BLOCK + 2; z++)
-                    for (int y = 0; y < C5_BLOCK + 2; y++)
-                        minmax(buf + ((size_t)z * (C5_BLOCK + 2) + (size_t)y) * row_w + (size_t)bx * C5_BLOCK,
-                               C5_BLOCK + 2, &mn, &mx);
-                c->block_empty[((size_t)bz * c->bdims[1] + by) * c->bdims[0] + bx] =
-                    (uint8_t)range_empty(mn, mx, nz_prefix);
-            }
         }
-    free(buf);
+        c->empty[cell] = (uint8_t)e;
+    }
+    /* a block's apron box is exactly what its apron range covers */
+    for (size_t id = 0; id < c5_cells_blocks(c); id++)
+        c->block_empty[id] = (uint8_t)span_empty(&f, f.br->amn[id], f.br->amx[id]);
+    free(f.buf);
+    c5_block_range_free(owned);
     return 0;
 fail:
-    free(buf);
+    free(f.buf);
+    c5_block_range_free(owned);
     c5_cells_free(c);
     return -1;
 }
@@ -186,6 +266,7 @@ int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err)
         m->cap = need;
     }
     m->cell = cell;
+    m->view = NULL;
     return 0;
 }
 
@@ -196,6 +277,22 @@ int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
     long lo[3] = {m->org[0], m->org[1], m->org[2]};
     long hi[3] = {lo[0] + m->ext[0], lo[1] + m->ext[1], lo[2] + m->ext[2]};
     return c5_supervol_read_box(sv, lo, hi, m->v, err);
+}
+
+int c5_rdram_view(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err)
+{
+    if (!sv->v)
+        return c5_rdram_load(m, c, sv, cell, err);
+    c5_cell_box(c, cell, m->lo, m->hi);
+    for (int a = 0; a < 3; a++) {
+        m->org[a] = m->lo[a] - C5_GHOST;
+        m->ext[a] = m->hi[a] - m->lo[a] + 2 * C5_GHOST;
+    }
+    m->view = sv->v;
+    m->view_sy = (ptrdiff_t)sv->dims[0];
+    m->view_sz = (ptrdiff_t)(sv->dims[0] * sv->dims[1]);
+    m->cell = cell;
+    return 0;
 }
 
 void c5_rdram_free(c5_rdram *m)

@@ -34,7 +34,28 @@ typedef struct {
     int ext[3];            /* buffer extent = hi - lo + 4 */
     uint8_t *v;
     size_t cap;
+    /* A view instead of v (c5_rdram_view): the grid itself, where the voxels already lie in
+     * the host's memory, read with these strides; NULL: v, x fastest over ext. */
+    const uint8_t *view;
+    ptrdiff_t view_sy, view_sz;
 } c5_rdram;
+
+/* What the processor reads: buffer index (x, y, z) (from org) is data[o0 + x + y sy + z sz].
+ * The processor clamps every index to the grid before it reads, so a view is never read
+ * outside the grid, though its ghost layers may lie beyond the grid's faces. */
+static inline const uint8_t *c5_rdram_data(const c5_rdram *m, ptrdiff_t *o0, ptrdiff_t *sy, ptrdiff_t *sz)
+{
+    if (m->view) {
+        *sy = m->view_sy;
+        *sz = m->view_sz;
+        *o0 = m->org[0] + m->org[1] * *sy + m->org[2] * *sz;
+        return m->view;
+    }
+    *sy = m->ext[0];
+    *sz = (ptrdiff_t)m->ext[0] * m->ext[1];
+    *o0 = 0;
+    return m->v;
+}
 
 /* alpha_nz: 1 for table entries with alpha > 0 (after the step correction). */
 int c5_cells_init(c5_cells *c, const c5_supervol *sv, const int n[3], const uint8_t alpha_nz[256], c5_err *err);
@@ -61,6 +82,10 @@ size_t c5_cell_bytes(const c5_cells *c, int cell);
 int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err);
 /* Places the cell and copies it with its ghost layers from the super volume. */
 int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err);
+/* The same voxels for the processor without the copy: a resident grid is read where it lies
+ * (m->view); a grid out of core is copied (c5_rdram_load). With a view m->v holds nothing:
+ * only the processor's reads (c5_rdram_data) see the cell. */
+int c5_rdram_view(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err);
 void c5_rdram_free(c5_rdram *m);
 
 #endif

@@ -38,10 +38,11 @@ static inline void c5_gather_values(const c5_frame_regs *r, const c5_rdram *m, c
         i3[a] = i;
         inner &= i >= 0 && i + 1 <= r->dims[a] - 1; /* no clamp changes an index */
     }
-    const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
+    ptrdiff_t sx = 1, sy, sz, o0;
+    const uint8_t *v = c5_rdram_data(m, &o0, &sy, &sz);
     if (inner) {
         /* The same reads as below with the clamps left out (the model's hot path). */
-        const uint8_t *b = m->v + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz;
+        const uint8_t *b = v + (o0 + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz);
         k->v[0] = b[0];
         k->v[1] = b[sx];
         k->v[2] = b[sy];
@@ -59,7 +60,7 @@ static inline void c5_gather_values(const c5_frame_regs *r, const c5_rdram *m, c
     for (int kz = 0; kz < 2; kz++)
         for (int ky = 0; ky < 2; ky++)
             for (int kx = 0; kx < 2; kx++)
-                k->v[kx + 2 * ky + 4 * kz] = m->v[c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
+                k->v[kx + 2 * ky + 4 * kz] = v[o0 + c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
 }
 
 static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], c5_corners *k)
@@ -70,9 +71,10 @@ static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, co
         i3[a] = i;
         inner &= i >= 1 && i + 2 <= r->dims[a] - 1; /* i - 1 .. i + 2 inside: no clamp */
     }
-    const int sx = 1, sy = m->ext[0], sz = m->ext[0] * m->ext[1];
+    ptrdiff_t sx = 1, sy, sz, o0;
+    const uint8_t *v = c5_rdram_data(m, &o0, &sy, &sz);
     if (inner) {
-        const uint8_t *b = m->v + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz;
+        const uint8_t *b = v + (o0 + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz);
         const uint8_t *p[8] = {b, b + sx, b + sy, b + sx + sy, b + sz, b + sx + sz, b + sy + sz, b + sx + sy + sz};
         for (int j = 0; j < 8; j++) {
             k->d[0][j] = p[j][sx] - p[j][-sx];
@@ -94,12 +96,12 @@ static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, co
         for (int ky = 0; ky < 2; ky++)
             for (int kx = 0; kx < 2; kx++) {
                 int j = kx + 2 * ky + 4 * kz;
-                k->d[0][j] = m->v[hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
-                             m->v[lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
-                k->d[1][j] = m->v[c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
-                             m->v[c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz];
-                k->d[2][j] = m->v[c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
-                             m->v[c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
+                k->d[0][j] = v[o0 + hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
+                             v[o0 + lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
+                k->d[1][j] = v[o0 + c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
+                             v[o0 + c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz];
+                k->d[2][j] = v[o0 + c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
+                             v[o0 + c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
             }
 }
 

@@ -1,0 +1,429 @@
+/* The grid's block ranges (common/block_range.h) and what the board builds on them: every
+ * range against a brute-force pass, the emptiness flags against the boxes read voxel by voxel
+ * (aligned and unaligned splits, every kind of transfer function), the cache (written, read
+ * back, refused when corrupt or when the file changed, off), the mapped grid (its voxels, a
+ * copy handed out, the message when the file is cut short under it) and the RDRAM view
+ * against the copied cell, sample by sample. */
+#include <fcntl.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "block_range.h"
+#include "board.h"
+#include "cells.h"
+#include "harness.h"
+#include "regs.h"
+#include "rng.h"
+#include "sample_pipe.h"
+#include "supervol.h"
+
+#define TAIL                                                                                                           \
+    "'transfer_function': {'opacity': [[0, 0], [70, 0], [140, 0.1], [255, 0.4]],"                                      \
+    "  'color': [[0, 0.2, 0.3, 0.9], [255, 1, 0.9, 0.6]]},"                                                            \
+    " 'camera': {'eye': [120, -160, 90], 'target': [0, 0, 0], 'up': [0, 0, 1], 'fov': 40, 'width': 32, 'height': 32}"
+
+/* Noise (kind 0), sparse blobs of values over zeros (1), or lone voxels (2): what real volumes
+ * and adversarial ones look like. */
+static void fill_grid(uint8_t *v, const size_t d[3], int kind, uint64_t seed)
+{
+    size_t n = d[0] * d[1] * d[2];
+    uint64_t s = seed;
+    if (kind == 0) {
+        for (size_t i = 0; i < n; i++)
+            v[i] = (uint8_t)(c5_splitmix64(&s) >> 56);
+        return;
+    }
+    memset(v, 0, n);
+    if (kind == 2) { /* lone voxels: only an apron reaches them from the next cell or block */
+        for (int k = 0; k < 24; k++)
+            v[(size_t)(c5_uniform(&s) * (double)n)] = (uint8_t)(128 + k);
+        return;
+    }
+    for (int b = 0; b < 6; b++) {
+        size_t c[3], r = 1 + (size_t)(c5_uniform(&s) * 5);
+        for (int a = 0; a < 3; a++)
+            c[a] = (size_t)(c5_uniform(&s) * (double)d[a]);
+        unsigned val = 1 + (unsigned)(c5_uniform(&s) * 254);
+        for (size_t z = 0; z < d[2]; z++)
+            for (size_t y = 0; y < d[1]; y++)
+                for (size_t x = 0; x < d[0]; x++) {
+                    size_t dx = x > c[0] ? x - c[0] : c[0] - x, dy = y > c[1] ? y - c[1] : c[1] - y,
+                           dz = z > c[2] ? z - c[2] : c[2] - z;
+                    if (dx <= r && dy <= r && dz <= r)
+                        v[(z * d[1] + y) * d[0] + x] = (uint8_t)val;
+                }
+    }
+}
+
+static void hand_grid(c5_supervol *sv, const size_t d[3], uint8_t *v)
+{
+    memset(sv, 0, sizeof *sv);
+    memcpy(sv->dims, d, sizeof sv->dims);
+    sv->spacing = v3(1, 1, 1);
+    sv->v = v;
+}
+
+/* Range of voxels [lo, hi] (inclusive) read one by one with clamp to edge. */
+static void ref_range(const c5_supervol *sv, const long lo[3], const long hi[3], unsigned *mn, unsigned *mx)
+{
+    *mn = 255;
+    *mx = 0;
+    for (long z = lo[2]; z <= hi[2]; z++)
+        for (long y = lo[1]; y <= hi[1]; y++)
+            for (long x = lo[0]; x <= hi[0]; x++) {
+                unsigned v = c5_supervol_at(sv, x, y, z);
+                *mn = v < *mn ? v : *mn;
+                *mx = v > *mx ? v : *mx;
+            }
+}
+
+/* The flag rule (cells.c) on a range: no table entry floor(min) .. max + 1 has alpha > 0. */
+static int ref_empty(const uint8_t nz[256], unsigned mn, unsigned mx)
+{
+    unsigned top = mx + 1 > 255 ? 255 : mx + 1;
+    for (unsigned i = mn; i <= top; i++)
+        if (nz[i])
+            return 0;
+    return 1;
+}
+
+static int ranges_match(const c5_supervol *sv, const c5_block_range *r)
+{
+    for (size_t bz = 0; bz < r->bdims[2]; bz++)
+        for (size_t by = 0; by < r->bdims[1]; by++)
+            for (size_t bx = 0; bx < r->bdims[0]; bx++) {
+                size_t id = (bz * r->bdims[1] + by) * r->bdims[0] + bx, b[3] = {bx, by, bz};
+                long lo[3], hi[3], alo[3], ahi[3];
+                for (int a = 0; a < 3; a++) {
+                    lo[a] = (long)(b[a] * 8);
+                    hi[a] = (long)(b[a] * 8 + 7 < sv->dims[a] - 1 ? b[a] * 8 + 7 : sv->dims[a] - 1);
+                    alo[a] = lo[a] - 1;
+                    ahi[a] = (long)b[a] * 8 + 8;
+                }
+                unsigned mn, mx, amn, amx;
+                ref_range(sv, lo, hi, &mn, &mx);
+                ref_range(sv, alo, ahi, &amn, &amx);
+                if (r->mn[id] != mn || r->mx[id] != mx || r->amn[id] != amn || r->amx[id] != amx) {
+                    fprintf(stderr, "block %zu %zu %zu: %u..%u / %u..%u, want %u..%u / %u..%u\n", bx, by, bz,
+                            r->mn[id], r->mx[id], r->amn[id], r->amx[id], mn, mx, amn, amx);
+                    return 0;
+                }
+            }
+    return 1;
+}
+
+static const size_t shapes[][3] = {{1, 1, 1}, {8, 8, 8}, {37, 21, 45}, {9, 17, 3}, {64, 40, 24}, {48, 32, 16}};
+
+TEST(block_range_every_block_and_apron_brute_force)
+{
+    for (size_t s = 0; s < sizeof shapes / sizeof *shapes; s++)
+        for (int kind = 0; kind < 3; kind++) {
+            size_t n = shapes[s][0] * shapes[s][1] * shapes[s][2];
+            uint8_t *v = malloc(n);
+            CHECK(v != NULL);
+            fill_grid(v, shapes[s], kind, 100 + s);
+            c5_supervol sv;
+            hand_grid(&sv, shapes[s], v);
+            c5_block_range *owned;
+            c5_err err;
+            const c5_block_range *r = c5_block_range_of(&sv, &owned, &err);
+            CHECK_MSG(r && owned == r && r->origin == C5_RANGE_COMPUTED, "%s", err.msg);
+            int ok = ranges_match(&sv, r);
+            c5_block_range_free(owned);
+            free(v);
+            CHECK_MSG(ok, "shape %zu kind %d", s, kind);
+        }
+}
+
+/* The flags c5_cells_init gives against the boxes read voxel by voxel. */
+static int flags_match(const c5_supervol *sv, const int n[3], const uint8_t nz[256], int *some_cells)
+{
+    c5_cells c;
+    c5_err err;
+    if (c5_cells_init(&c, sv, n, nz, &err) != 0) {
+        fprintf(stderr, "cells_init: %s\n", err.msg);
+        return 0;
+    }
+    int ok = 1;
+    for (int cell = 0; cell < c.count && ok; cell++) {
+        int lo[3], hi[3];
+        c5_cell_box(&c, cell, lo, hi);
+        long blo[3] = {lo[0] - 1, lo[1] - 1, lo[2] - 1}, bhi[3] = {hi[0], hi[1], hi[2]};
+        unsigned mn, mx;
+        ref_range(sv, blo, bhi, &mn, &mx);
+        ok = c.empty[cell] == ref_empty(nz, mn, mx);
+        *some_cells += c.empty[cell];
+        if (!ok)
+            fprintf(stderr, "cell %d: flag %d\n", cell, c.empty[cell]);
+    }
+    for (int bz = 0; bz < c.bdims[2] && ok; bz++)
+        for (int by = 0; by < c.bdims[1] && ok; by++)
+            for (int bx = 0; bx < c.bdims[0] && ok; bx++) {
+                long blo[3] = {bx * 8L - 1, by * 8L - 1, bz * 8L - 1}, bhi[3] = {bx * 8L + 8, by * 8L + 8, bz * 8L + 8};
+                unsigned mn, mx;
+                ref_range(sv, blo, bhi, &mn, &mx);
+                size_t id = ((size_t)bz * c.bdims[1] + by) * c.bdims[0] + bx;
+                ok = c.block_empty[id] == ref_empty(nz, mn, mx);
+                if (!ok)
+                    fprintf(stderr, "block %d %d %d: flag %d\n", bx, by, bz, c.block_empty[id]);
+            }
+    c5_cells_free(&c);
+    return ok;
+}
+
+TEST(cell_and_block_flags_equal_boxes_read_voxel_by_voxel)
+{
+    /* splits aligned to the blocks (64x40x24 in 8, 5, 3 and 2, 5, 1; 48x32x16 in 6, 4, 2) and
+     * not; tables empty,
+     * full, a threshold, narrow bands (the range's span, not its ends, decides) */
+    static const int splits[][3] = {{1, 1, 1}, {8, 5, 3}, {2, 5, 1}, {3, 3, 5}, {2, 1, 4}, {6, 4, 2}};
+    uint64_t st = 7;
+    int tables = 0, some_empty = 0;
+    for (size_t s = 0; s < sizeof shapes / sizeof *shapes; s++)
+        for (int kind = 0; kind < 3; kind++) {
+            size_t n = shapes[s][0] * shapes[s][1] * shapes[s][2];
+            uint8_t *v = malloc(n);
+            CHECK(v != NULL);
+            fill_grid(v, shapes[s], kind, 200 + s);
+            c5_supervol sv;
+            hand_grid(&sv, shapes[s], v);
+            for (int t = 0; t < 6; t++) {
+                uint8_t nz[256];
+                unsigned a = (unsigned)(c5_uniform(&st) * 256), b = a + (unsigned)(c5_uniform(&st) * 40);
+                for (unsigned i = 0; i < 256; i++)
+                    nz[i] = t == 0 ? 0 : t == 1 ? 1 : t == 2 ? i >= a : (i >= a && i <= b);
+                for (size_t k = 0; k < sizeof splits / sizeof *splits; k++) {
+                    int sp[3];
+                    for (int ax = 0; ax < 3; ax++)
+                        sp[ax] = splits[k][ax] < (int)shapes[s][ax] ? splits[k][ax] : (int)shapes[s][ax];
+                    int ok = flags_match(&sv, sp, nz, &some_empty);
+                    tables++;
+                    if (!ok)
+                        free(v);
+                    CHECK_MSG(ok, "shape %zu kind %d table %d split %d %d %d", s, kind, t, sp[0], sp[1], sp[2]);
+                }
+            }
+            free(v);
+        }
+    CHECK(tables == 6 * 3 * 6 * 6 && some_empty > 0);
+}
+
+/* A scene of one raw file, the whole grid: its voxels mapped. */
+static int build_file_scene(const char *name, c5_scene *s, c5_supervol *sv, size_t budget)
+{
+    char json[512];
+    c5_err err;
+    snprintf(json, sizeof json, "{'grid': {'center': [0, 0, 0], 'size': 80}, 'volumes': [{'file': '%s'}], " TAIL "}",
+             name);
+    if (c5_scene_parse(c5t_json(json), c5t_tmpdir(), "test", s, &err) != 0 ||
+        c5_supervol_build_budget(s, budget, sv, &err) != 0) {
+        fprintf(stderr, "build: %s\n", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+static int same_arrays(const c5_block_range *a, const c5_block_range *b)
+{
+    size_t n = a->bdims[0] * a->bdims[1] * a->bdims[2];
+    return !memcmp(a->bdims, b->bdims, sizeof a->bdims) && !memcmp(a->mn, b->mn, n) && !memcmp(a->mx, b->mx, n) &&
+           !memcmp(a->amn, b->amn, n) && !memcmp(a->amx, b->amx, n);
+}
+
+/* The one file in dir, or "" */
+static void only_file(const char *dir, char *out, size_t n)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "ls %s", dir);
+    FILE *p = popen(cmd, "r");
+    char name[256] = "";
+    if (p && fgets(name, sizeof name, p))
+        name[strcspn(name, "\n")] = 0;
+    if (p)
+        pclose(p);
+    snprintf(out, n, "%s/%s", dir, name);
+}
+
+TEST(block_range_cache_written_read_refused_off)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    CHECK(v != NULL);
+    fill_grid(v, d, 1, 31);
+    const char *raw = c5t_path(0, "g_37x21x45_uint8.raw");
+    CHECK(c5t_write_file(raw, NULL, v, n) == 0);
+    char cache[1024];
+    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    setenv("C5_CACHE_DIR", cache, 1);
+    c5_supervol ref;
+    hand_grid(&ref, d, v);
+    c5_block_range *want;
+    c5_err err;
+    CHECK(c5_block_range_of(&ref, &want, &err) != NULL);
+    c5_range_origin seen[5];
+    int ok = 1;
+    for (int run = 0; run < 5 && ok; run++) {
+        if (run == 2) { /* the cache file cut short: made again */
+            char f[1400];
+            only_file(cache, f, sizeof f);
+            ok &= truncate(f, 100) == 0;
+        }
+        if (run == 3) { /* the volume changed (new voxels, a later mtime): another file's cache */
+            v[n / 2] ^= 0x5a;
+            ok &= c5t_write_file(raw, NULL, v, n) == 0;
+            struct timespec ts[2] = {{0, UTIME_OMIT}, {2000000000, 0}};
+            ok &= utimensat(AT_FDCWD, raw, ts, 0) == 0;
+            c5_block_range_free(want);
+            ok &= c5_block_range_of(&ref, &want, &err) != NULL;
+        }
+        if (run == 4)
+            setenv("C5_CACHE_DIR", "off", 1);
+        c5_scene s;
+        c5_supervol sv;
+        ok &= build_file_scene("g_37x21x45_uint8.raw", &s, &sv, (size_t)1 << 30) == 0;
+        ok &= sv.map_base != NULL && sv.file_id[0] && !memcmp(sv.v, v, n);
+        c5_block_range *owned;
+        const c5_block_range *r = c5_block_range_of(&sv, &owned, &err);
+        ok &= r != NULL && owned == NULL && sv.ranges == r && c5_block_range_of(&sv, &owned, &err) == r;
+        if (r) {
+            seen[run] = r->origin;
+            ok &= same_arrays(r, want);
+        }
+        c5_supervol_free(&sv);
+    }
+    unsetenv("C5_CACHE_DIR");
+    c5_block_range_free(want);
+    free(v);
+    CHECK(ok);
+    CHECK(seen[0] == C5_RANGE_CACHED_NOW && seen[1] == C5_RANGE_FROM_CACHE && seen[2] == C5_RANGE_CACHED_NOW &&
+          seen[3] == C5_RANGE_CACHED_NOW && seen[4] == C5_RANGE_COMPUTED);
+}
+
+TEST(mapped_grid_detach_and_cut_short_file)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    CHECK(v != NULL);
+    fill_grid(v, d, 0, 41);
+    CHECK(c5t_write_file(c5t_path(0, "m_37x21x45_uint8.raw"), NULL, v, n) == 0);
+    c5_scene s;
+    c5_supervol sv;
+    CHECK(build_file_scene("m_37x21x45_uint8.raw", &s, &sv, (size_t)1 << 30) == 0);
+    CHECK(sv.map_base != NULL && !memcmp(sv.v, v, n));
+    uint8_t *copy = c5_supervol_detach(&sv); /* the caster frees what it is handed */
+    CHECK(copy != NULL && !memcmp(copy, v, n) && sv.v == NULL && sv.map_base == NULL);
+    free(copy);
+    /* another process cuts the file short under the mapping: the message of a failed read */
+    CHECK(build_file_scene("m_37x21x45_uint8.raw", &s, &sv, (size_t)1 << 30) == 0);
+    int fds[2];
+    CHECK(pipe(fds) == 0);
+    pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fds[1], 2);
+        if (truncate(c5t_path(0, "m_37x21x45_uint8.raw"), 0) != 0)
+            _exit(9);
+        volatile unsigned sum = 0;
+        for (size_t i = 0; i < n; i += 4096)
+            sum += sv.v[i];
+        _exit(0);
+    }
+    close(fds[1]);
+    char msg[512] = "";
+    ssize_t got = read(fds[0], msg, sizeof msg - 1);
+    msg[got > 0 ? got : 0] = 0;
+    close(fds[0]);
+    int status;
+    waitpid(pid, &status, 0);
+    c5_supervol_free(&sv);
+    free(v);
+    CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 2, "status %d", status);
+    CHECK_MSG(strstr(msg, "m_37x21x45_uint8.raw: read failed: the file ends early") != NULL, "%s", msg);
+}
+
+TEST(rdram_view_reads_what_the_copied_cell_holds)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    CHECK(v != NULL);
+    fill_grid(v, d, 0, 51);
+    c5_supervol sv;
+    hand_grid(&sv, d, v);
+    c5_frame_regs r;
+    memset(&r, 0, sizeof r);
+    for (int a = 0; a < 3; a++)
+        r.dims[a] = (int)d[a];
+    uint8_t nz[256];
+    memset(nz, 1, sizeof nz);
+    c5_cells c;
+    c5_err err;
+    int split[3] = {3, 2, 4}, bad = 0;
+    CHECK(c5_cells_init(&c, &sv, split, nz, &err) == 0);
+    uint64_t st = 5;
+    for (int cell = 0; cell < c.count; cell++) {
+        c5_rdram cp = {.cell = -1}, vw = {.cell = -1};
+        if (c5_rdram_load(&cp, &c, &sv, cell, &err) != 0 || c5_rdram_view(&vw, &c, &sv, cell, &err) != 0 ||
+            vw.view == NULL) {
+            bad++;
+            break;
+        }
+        for (int t = 0; t < 2000; t++) {
+            int64_t pos[3];
+            for (int a = 0; a < 3; a++) /* anywhere in the cell, its faces' voxels included */
+                pos[a] = (int64_t)((cp.lo[a] + c5_uniform(&st) * (cp.hi[a] - cp.lo[a])) * 32768.0);
+            c5_corners k1, k2;
+            memset(&k1, 0, sizeof k1);
+            memset(&k2, 0, sizeof k2);
+            c5_gather(&r, &cp, pos, 1, &k1);
+            c5_gather(&r, &vw, pos, 1, &k2);
+            bad += memcmp(&k1, &k2, sizeof k1) != 0;
+        }
+        c5_rdram_free(&cp);
+        c5_rdram_free(&vw);
+    }
+    c5_cells_free(&c);
+    free(v);
+    CHECK_INT(bad, 0);
+}
+
+TEST(mapped_grid_renders_as_out_of_core)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    CHECK(v != NULL);
+    fill_grid(v, d, 1, 61);
+    CHECK(c5t_write_file(c5t_path(0, "o_37x21x45_uint8.raw"), NULL, v, n) == 0);
+    free(v);
+    setenv("C5_CACHE_DIR", "off", 1);
+    c5_scene s;
+    c5_supervol res, ooc;
+    CHECK(build_file_scene("o_37x21x45_uint8.raw", &s, &res, (size_t)1 << 30) == 0);
+    CHECK(build_file_scene("o_37x21x45_uint8.raw", &s, &ooc, 20000) == 0);
+    CHECK(res.map_base != NULL && ooc.store != NULL);
+    int ok = 1;
+    for (int cells = 1; cells <= 3 && ok; cells++) {
+        c5_image a, b;
+        c5_board_stats sa, sb;
+        c5_err err;
+        c5_board_opts o = {.cells = {cells, cells, cells}};
+        ok &= c5_board_render(&s, &res, 0, &o, &a, &sb, &err) == 0;
+        ok &= c5_board_render(&s, &ooc, 0, &o, &b, &sa, &err) == 0;
+        ok &= !memcmp(a.rgb, b.rgb, sizeof(float) * 3 * (size_t)a.w * (size_t)a.h) && sa.cycles == sb.cycles &&
+              sa.samples == sb.samples && sa.samples_leaped == sb.samples_leaped && sa.cache_hits == sb.cache_hits &&
+              sa.fetches == sb.fetches && sa.samples > 0 && sa.samples_leaped > 0;
+        c5_image_free(&a);
+        c5_image_free(&b);
+    }
+    unsetenv("C5_CACHE_DIR");
+    c5_supervol_free(&res);
+    c5_supervol_free(&ooc);
+    CHECK(ok);
+}
