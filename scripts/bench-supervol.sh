@@ -8,7 +8,13 @@
 # group rule having settled; docs/cell-tree.md). The volume's voxels are written once to
 # BUILD/bench-data/ (about two minutes) and read from there.
 # Printed as a table and added to BUILD/bench.json as "supervolume".
-# SUPERVOL_SIZE (default 128x128), SUPERVOL_FRAMES (default 5), SUPERVOL=0 skips it all.
+# Then the frame's set-up at 1/512: the whole `cube5 render` process's wall and CPU seconds
+# (the volume in the page cache) with the grid's block ranges made in the run
+# (C5_CACHE_DIR=off) and read from the cache (docs/out-of-core.md, "Block ranges"), the
+# median of SETUP_REPS (3) interleaved runs each; with BASELINE=path/to/an/older/cube5 its
+# runs are interleaved with them and the ratio printed. Target: under 2 s from the cache.
+# SUPERVOL_SIZE (default 128x128), SUPERVOL_FRAMES (default 5), SUPERVOL_SPLITS (cells per axis,
+# default "2 3 4 8 16"; empty: the set-up alone), SUPERVOL=0 skips it all.
 # Usage: bench-supervol.sh BUILD
 set -euo pipefail
 build=${1:-build}
@@ -39,7 +45,7 @@ print("%s|%d|%d|%s" % (sys.argv[1], p.returncode, resource.getrusage(resource.RU
 PY
 }
 
-for n in 2 3 4 8 16; do
+for n in ${SUPERVOL_SPLITS-2 3 4 8 16}; do
     run "render|$n" "$cube5" render "$scene" --volume "$raw" --model rtl --cells "$n" --size "$size" --frames 1 \
         --json >>"$tmp/runs"
     rc=$(tail -n 1 "$tmp/runs" | cut -d'|' -f3)
@@ -48,11 +54,38 @@ for n in 2 3 4 8 16; do
         --frames "$frames" --exact-states 0 --split paper --json >>"$tmp/runs"
 done
 
+# setup LABEL CACHE_DIR CUBE5: one line setup|LABEL|WALL_S|CPU_S|MODEL_WALL_S
+setup() {
+    C5_CACHE_DIR=$2 python3 - "$1" "$3" "$scene" "$raw" "$size" "$tmp/setup.png" <<'PY'
+import json, resource, subprocess, sys, time
+label, cube5, scene, raw, size, png = sys.argv[1:]
+r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+t0 = time.perf_counter()
+p = subprocess.run([cube5, "render", scene, "--volume", raw, "--model", "rtl", "--cells", "8", "--size", size,
+                    "--frames", "1", "--json", "-o", png], stdout=subprocess.PIPE, text=True, check=True)
+wall = time.perf_counter() - t0
+r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+cpu = r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime
+print("setup|%s|%.3f|%.3f|%.3f" % (label, wall, cpu, json.loads(p.stdout)["wall_s"]))
+PY
+}
+mkdir -p "$tmp/cache"
+setup prime "$tmp/cache" "$cube5" >/dev/null
+for _ in $(seq "${SETUP_REPS:-3}"); do
+    setup made off "$cube5" >>"$tmp/runs"
+    setup cached "$tmp/cache" "$cube5" >>"$tmp/runs"
+    [ -n "${BASELINE:-}" ] && setup baseline off "$BASELINE" >>"$tmp/runs"
+done
+
 python3 - "$tmp/runs" "$build/bench.json" "$size" "$frames" <<'PY'
 import json, os, sys
 runs, out_path, size, frames = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
-rows = {}
+rows, setup = {}, {}
 for line in open(runs):
+    if line.startswith("setup|"):
+        _, label, wall, cpu, model = line.rstrip("\n").split("|")
+        setup.setdefault(label, []).append((float(wall), float(cpu), float(model)))
+        continue
     kind, n, rc, rss, text = line.rstrip("\n").split("|", 4)
     r = rows.setdefault(int(n), {"cells_per_axis": int(n), "memory_fraction": "1/%d" % int(n) ** 3})
     if kind == "render":
@@ -91,7 +124,20 @@ for r in table:
                                                                                       r.get("tree_group", 1))))
 print("  (tree: the frame's Cell Tree nodes in the 96 KB, ! = overflowed; tree needs: the RAM its dependencies"
       " need, tree_demand; MaxWork->CT: fetches of the last of %d still frames)" % frames)
+med = {k: sorted(v)[(len(v) - 1) // 2] for k, v in setup.items()}
+print("\nset-up, 1/512 at %s: the whole cube5 render process, median of %d runs" % (size, len(setup["made"])))
+print("%-36s %8s %8s %13s" % ("", "wall s", "CPU s", "model wall s"))
+names = {"made": "block ranges made in the run", "cached": "block ranges from the cache",
+         "baseline": "BASELINE (%s)" % os.environ.get("BASELINE", "")}
+for k in ("made", "cached", "baseline"):
+    if k in med:
+        print("%-36s %8.2f %8.2f %13.2f" % ((names[k],) + med[k]))
+if "baseline" in med:
+    print("  baseline / cached: %.1fx wall" % (med["baseline"][0] / med["cached"][0]))
+print("  target: under 2 s from the cache (%s)" % ("met" if med["cached"][0] < 2 else "NOT met"))
 doc = json.load(open(out_path)) if os.path.exists(out_path) else {}
-doc["supervolume"] = {"scene": "mirror_hall_1024", "voxels": 1024 ** 3, "size": size, "rows": table}
+doc["supervolume"] = {"scene": "mirror_hall_1024", "voxels": 1024 ** 3, "size": size, "rows": table,
+                      "setup": {k: {"wall_s": v[0], "cpu_s": v[1], "model_wall_s": v[2], "runs": len(setup[k])}
+                                for k, v in med.items()}}
 json.dump(doc, open(out_path, "w"), indent=1)
 PY
