@@ -8,6 +8,7 @@
 
 #include "atomic_file.h"
 #include "block_range.h"
+#include "cache_dir.h"
 
 #define MAGIC "cube5 block ranges 2\n"
 
@@ -140,32 +141,6 @@ done:
     return rc;
 }
 
-static uint64_t fnv1a(const char *s)
-{
-    uint64_t h = 0xcbf29ce484222325u;
-    for (; *s; s++)
-        h = (h ^ (unsigned char)*s) * 0x100000001b3u;
-    return h;
-}
-
-/* The cache folder (created), or -1: none wanted, or none can be made. */
-static int cache_dir(char *out, size_t n)
-{
-    const char *d = getenv("C5_CACHE_DIR"), *x = getenv("XDG_CACHE_HOME"), *home = getenv("HOME");
-    if (d && (!*d || !strcmp(d, "off")))
-        return -1;
-    if (d)
-        snprintf(out, n, "%s", d);
-    else if (x && *x)
-        snprintf(out, n, "%s/cube5", x);
-    else if (home && *home)
-        snprintf(out, n, "%s/.cache/cube5", home);
-    else
-        return -1;
-    c5_err e;
-    return c5_output_dir(out, &e);
-}
-
 static void header(const c5_supervol *sv, const c5_block_range *r, char *out, size_t n)
 {
     snprintf(out, n, MAGIC "%s\nblock %d bdims %zu %zu %zu\n", sv->file_id, C5_RANGE_BLOCK, r->bdims[0], r->bdims[1],
@@ -213,9 +188,9 @@ static c5_block_range *make_for_file(const c5_supervol *sv, c5_err *err)
     }
     char dir[3072], path[3200], head[512];
     header(sv, r, head, sizeof head);
-    int cached = cache_dir(dir, sizeof dir) == 0;
+    int cached = c5_cache_dir(dir, sizeof dir) == 0;
     if (cached) {
-        snprintf(path, sizeof path, "%s/ranges-%016llx.bin", dir, (unsigned long long)fnv1a(head));
+        snprintf(path, sizeof path, "%s/ranges-%016llx.bin", dir, (unsigned long long)c5_cache_hash(head));
         if (cache_read(path, head, r) == 0) {
             r->origin = C5_RANGE_FROM_CACHE;
             return r;

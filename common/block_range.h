@@ -1,13 +1,11 @@
-/* The value range (least and greatest voxel) of every 8^3 block of a super volume's grid,
- * and with a one-voxel apron: what the board model's emptiness flags are derived from
- * (rtl_model/mem/cells.c) for any split and transfer function, without reading the grid
+/* The value range (least and greatest voxel) of every 8^3 block of a super volume's grid, and
+ * of every block with a one-voxel apron: what the board model's emptiness flags are derived
+ * from (rtl_model/mem/cells.c) for any split and transfer function without reading the grid
  * again. 4 bytes a block: 8 MiB for a 1024^3 grid.
  *
  * A grid that is one file's voxels (c5_supervol.file_id) keeps its ranges with it once made,
- * and in a cache file named by the file's identity, so a later run reads the 4 MiB instead of
- * the grid (docs/out-of-core.md, "Block ranges"). The cache is a folder of cube5's own:
- * $C5_CACHE_DIR, else $XDG_CACHE_HOME/cube5, else $HOME/.cache/cube5; C5_CACHE_DIR=off keeps
- * none. Nothing is ever written beside the user's volume. */
+ * and in a file of cube5's cache (cache_dir.h) named by the file's identity, so a later run
+ * reads the 8 MiB instead of the grid (docs/out-of-core.md, "Block ranges"). */
 #ifndef C5_BLOCK_RANGE_H
 #define C5_BLOCK_RANGE_H
 

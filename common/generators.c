@@ -192,6 +192,8 @@ void c5_generate(const c5_volume_desc *d, uint8_t *out)
     c5_generate_box(d, &g, lo, d->gen_dims, out, d->gen_dims[0], d->gen_dims[0] * d->gen_dims[1]);
 }
 
+const char *c5_generators_build(void) { return __DATE__ " " __TIME__; }
+
 const char *c5_generator_name(c5_generator g)
 {
     static const char *names[] = {"marschner_lobb", "blobs", "cloud", "sphere", "constant", "ramp"};

@@ -40,5 +40,8 @@ void c5_generate_box(const c5_volume_desc *d, const c5_gen_state *g, const size_
                      uint8_t *out, size_t sy, size_t sz);
 
 const char *c5_generator_name(c5_generator g);
+/* When this code was compiled: part of a generated volume's identity (voxsrc.h), so that what
+ * a cache keeps of one build's voxels is not taken for another's. */
+const char *c5_generators_build(void);
 
 #endif

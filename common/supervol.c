@@ -8,6 +8,7 @@
 
 #include <pthread.h>
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include "generators.h"
 #include "voxsrc.h"
@@ -38,6 +39,11 @@ struct c5_svstore {
     uint64_t *tag;                /* [nsets * ways]: brick id + 1, 0 = empty */
     unsigned long long *used;     /* [nsets * ways]: the set's tick at the last use */
     uint8_t *data;                /* [nsets * ways] bricks of C5_BRICK^3 voxels, x fastest */
+    /* The grid is one uint8 file: also mapped read-only, for the board's cell reads in place
+     * (c5_supervol_data); map_data NULL otherwise. */
+    void *map_base;
+    size_t map_len;
+    const uint8_t *map_data;
 };
 
 #define BRICK_VOXELS ((size_t)1 << (3 * C5_BRICK_LOG2))
@@ -57,6 +63,8 @@ static void store_free(struct c5_svstore *st)
     free(st->tag);
     free(st->used);
     free(st->data);
+    if (st->map_base)
+        munmap(st->map_base, st->map_len);
     free(st);
 }
 
@@ -180,6 +188,18 @@ static int core_read(const c5_supervol *sv, const size_t lo[3], const size_t hi[
     if (!sv->store)
         return c5_fail(err, "the grid's voxels are not here (a shell: the host holds them)");
     size_t n = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    if (n >= C5_SV_DIRECT_VOXELS && sv->store->map_data) {
+        /* one mapped file: its rows copied (no read of the bytes around them, no system call
+         * a row), then the span's pages dropped from the process */
+        const uint8_t *d = sv->store->map_data;
+        size_t w = hi[0] - lo[0];
+        for (size_t z = lo[2]; z < hi[2]; z++)
+            for (size_t y = lo[1]; y < hi[1]; y++)
+                memcpy(out + (z - lo[2]) * sz + (y - lo[1]) * sy, d + (z * sv->dims[1] + y) * sv->dims[0] + lo[0], w);
+        long l[3] = {(long)lo[0], (long)lo[1], (long)lo[2]}, h[3] = {(long)hi[0], (long)hi[1], (long)hi[2]};
+        c5_supervol_done_reading(sv, l, h);
+        return 0;
+    }
     if (n >= C5_SV_DIRECT_VOXELS)
         return sources_read(sv->store, lo, hi, out, sy, sz, err);
     return cached_read(sv, lo, hi, out, sy, sz, err);
@@ -379,6 +399,23 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
     return c5_supervol_build_budget(s, budget, out, err);
 }
 
+static void grid_identity(const struct c5_svstore *st, c5_supervol *out)
+{
+    size_t used = (size_t)snprintf(out->grid_id, sizeof out->grid_id, "grid %zu %zu %zu fill %u", out->dims[0],
+                                   out->dims[1], out->dims[2], st->fill);
+    for (int i = 0; i < st->n; i++) {
+        char id[320];
+        if (c5_voxsrc_identity(st->src[i], id, sizeof id) != 0 || used >= sizeof out->grid_id) {
+            out->grid_id[0] = 0;
+            return;
+        }
+        used += (size_t)snprintf(out->grid_id + used, sizeof out->grid_id - used, "\n%s at %ld %ld %ld", id,
+                                 st->off[i][0], st->off[i][1], st->off[i][2]);
+    }
+    if (used >= sizeof out->grid_id)
+        out->grid_id[0] = 0;
+}
+
 int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out, c5_err *err)
 {
     memset(out, 0, sizeof *out);
@@ -455,11 +492,13 @@ int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out,
                 s->source, *s->source ? ": " : "", key, v3_len(ext), samples, step, C5_MAX_RAY_SAMPLES);
         goto done;
     }
-    int whole_file = st->n == 1 && !st->off[0][0] && !st->off[0][1] && !st->off[0][2] &&
+    int one_source = st->n == 1 && !st->off[0][0] && !st->off[0][1] && !st->off[0][2] &&
                      !memcmp(c5_voxsrc_dims(st->src[0]), out->dims, sizeof out->dims);
-    if (!whole_file || c5_voxsrc_identity(st->src[0], out->file_id, sizeof out->file_id) != 0)
+    if (!one_source || c5_voxsrc_is_generator(st->src[0]) ||
+        c5_voxsrc_identity(st->src[0], out->file_id, sizeof out->file_id) != 0)
         out->file_id[0] = 0;
-    if (n <= budget && whole_file) {
+    grid_identity(st, out);
+    if (n <= budget && one_source) {
         const uint8_t *data;
         if (c5_voxsrc_map(st->src[0], &out->map_base, &out->map_len, &data) == 0) {
             out->v = (uint8_t *)data; /* PROT_READ: a write would fault, never reach the file */
@@ -486,6 +525,8 @@ int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out,
     st->budget = budget;
     if (cache_make(st, out->dims, budget, err) != 0)
         goto done;
+    if (one_source && c5_voxsrc_map(st->src[0], &st->map_base, &st->map_len, &st->map_data) != 0)
+        st->map_data = NULL; /* the board copies its cells from the sources instead */
     out->store = st;
     st = NULL;
     rc = 0;
@@ -512,6 +553,50 @@ void c5_supervol_free(c5_supervol *sv)
     store_free(sv->store);
     c5_block_range_free(sv->ranges);
     memset(sv, 0, sizeof *sv);
+}
+
+const uint8_t *c5_supervol_data(const c5_supervol *sv)
+{
+    return sv->v ? sv->v : sv->store ? sv->store->map_data : NULL;
+}
+
+/* madvise over the pages of voxels [lo, hi) of a mapped out-of-core grid: per z plane (the
+ * kernel reads ahead what a plane's rows span), or the whole span at once. */
+static void advise_box(const c5_supervol *sv, const long lo[3], const long hi[3], int advice, int per_plane)
+{
+    if (sv->v || !sv->store || !sv->store->map_data)
+        return;
+    const struct c5_svstore *st = sv->store;
+    size_t nx = sv->dims[0], plane = nx * sv->dims[1], page = (size_t)sysconf(_SC_PAGESIZE);
+    size_t l[3], h[3];
+    for (int a = 0; a < 3; a++) {
+        l[a] = lo[a] < 0 ? 0 : (size_t)lo[a];
+        h[a] = hi[a] > (long)sv->dims[a] ? sv->dims[a] : (size_t)hi[a];
+        if (l[a] >= h[a])
+            return;
+    }
+    uintptr_t base = (uintptr_t)st->map_data;
+    for (size_t z = l[2]; z < h[2]; z = per_plane ? z + 1 : h[2]) {
+        uintptr_t a = base + z * plane + l[1] * nx + l[0];
+        uintptr_t b = base + (per_plane ? z : h[2] - 1) * plane + (h[1] - 1) * nx + h[0];
+        a &= ~(uintptr_t)(page - 1);
+        b = (b + page - 1) & ~(uintptr_t)(page - 1);
+        if (a < (uintptr_t)st->map_base)
+            a = (uintptr_t)st->map_base;
+        if (b > (uintptr_t)st->map_base + st->map_len)
+            b = (uintptr_t)st->map_base + st->map_len;
+        madvise((void *)a, b - a, advice);
+    }
+}
+
+void c5_supervol_will_read(const c5_supervol *sv, const long lo[3], const long hi[3])
+{
+    advise_box(sv, lo, hi, MADV_WILLNEED, 1);
+}
+
+void c5_supervol_done_reading(const c5_supervol *sv, const long lo[3], const long hi[3])
+{
+    advise_box(sv, lo, hi, MADV_DONTNEED, 0);
 }
 
 uint8_t *c5_supervol_detach(c5_supervol *sv)

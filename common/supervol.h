@@ -34,6 +34,9 @@ typedef struct {
     /* The grid is one file's voxels, at offset 0 and of the grid's dims: the file's identity
      * (c5_voxsrc_identity), by which what is derived from the voxels is cached; "" otherwise. */
     char file_id[320];
+    /* Every source's identity with its offset, the fill and the dims: the grid's, for caches
+     * of an out-of-core grid (rtl_model/mem/cell_store.h); "" when a source has none. */
+    char grid_id[C5_MAX_VOLUMES * 340 + 64];
     /* The value range of every 8^3 block, computed on first use (block_range.h), or NULL. */
     struct c5_block_range *ranges;
 } c5_supervol;
@@ -61,6 +64,17 @@ int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err);
 /* The same with the budget given (c5_supervol_build takes c5_mem_budget's). */
 int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out, c5_err *err);
 void c5_supervol_free(c5_supervol *sv);
+/* The grid's voxels where they lie in the host's address space, x fastest (voxel (x, y, z) at
+ * [(z Y + y) X + x]): the resident grid, or the read-only mapping of the one uint8 file an
+ * out-of-core grid is (its pages the kernel's, read from the file on demand); NULL: neither
+ * (out of core from other sources: read boxes). */
+const uint8_t *c5_supervol_data(const c5_supervol *sv);
+/* A reader of c5_supervol_data out of core is about to read voxels [lo, hi) (the kernel
+ * starts reading their pages now, plane by plane), or is done with them (the process's pages
+ * of the span are dropped, so host memory stays bounded; they are read again when needed).
+ * No-ops for a resident grid. */
+void c5_supervol_will_read(const c5_supervol *sv, const long lo[3], const long hi[3]);
+void c5_supervol_done_reading(const c5_supervol *sv, const long lo[3], const long hi[3]);
 /* The resident voxels handed to the caller as a malloc'd array (a mapping copied), sv freed
  * after; NULL: out of memory (sv freed too). */
 uint8_t *c5_supervol_detach(c5_supervol *sv);

@@ -9,30 +9,29 @@
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "generators.h"
 #include "volume.h"
 
 /* A mapped file cut short by another process faults (SIGBUS) where a read would have failed:
- * the run ends with the message a failed read gives, naming the file mapped last. */
-static char map_path[1024];
+ * the run ends with the message a failed read gives, naming the file mapped last (composed
+ * when it is mapped, written at once). */
+static char map_msg[1200];
 
 static void map_fault(int sig)
 {
     (void)sig;
-    static const char a[] = "cube5: error: ", b[] = ": read failed: the file ends early (it changed after it was "
-                                                   "checked)\n";
-    ssize_t r = write(2, a, sizeof a - 1);
-    r += write(2, map_path, strlen(map_path));
-    r += write(2, b, sizeof b - 1);
+    ssize_t r = write(2, map_msg, strlen(map_msg));
     (void)r;
     _exit(C5_EXIT_INPUT);
 }
 
 static void map_guard(const char *path)
 {
-    snprintf(map_path, sizeof map_path, "%s", path);
+    snprintf(map_msg, sizeof map_msg, "cube5: error: %s: read failed: the file ends early (it changed after it was "
+             "checked)\n", path);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = map_fault;
@@ -205,7 +204,20 @@ void c5_voxsrc_close(c5_voxsrc *s)
 int c5_voxsrc_identity(const c5_voxsrc *s, char *buf, size_t n)
 {
     struct stat st;
-    if (s->is_gen || s->f.fd < 0 || fstat(s->f.fd, &st) != 0)
+    if (s->is_gen) {
+        const c5_volume_desc *d = &s->d;
+        snprintf(buf, n, "generator %s dims %zu %zu %zu f_m %.17g alpha %.17g radius %.17g value %.17g count %d "
+                 "axis %d seed %llu built %s", c5_generator_name(d->generator), s->dims[0], s->dims[1], s->dims[2],
+                 d->f_m, d->alpha, d->radius, d->value, d->count, d->axis, (unsigned long long)d->seed,
+                 c5_generators_build());
+        return 0;
+    }
+    struct timespec now;
+    if (s->f.fd < 0 || fstat(s->f.fd, &st) != 0 || clock_gettime(CLOCK_REALTIME, &now) != 0)
+        return -1;
+    /* A file written in the last 2 s could be written again within one tick of its clock and
+     * keep its identity with other voxels (git's "racy" files): none until it has aged. */
+    if (st.st_mtim.tv_sec > now.tv_sec - C5_IDENTITY_AGE_S)
         return -1;
     snprintf(buf, n, "dev %llu ino %llu size %lld mtime %lld.%09ld offset %lld type %d be %d window %.17g %.17g "
              "dims %zu %zu %zu", (unsigned long long)st.st_dev, (unsigned long long)st.st_ino,
@@ -230,6 +242,7 @@ int c5_voxsrc_map(const c5_voxsrc *s, void **base, size_t *len, const uint8_t **
 }
 
 const size_t *c5_voxsrc_dims(const c5_voxsrc *s) { return s->dims; }
+int c5_voxsrc_is_generator(const c5_voxsrc *s) { return s->is_gen; }
 const double *c5_voxsrc_spacing(const c5_voxsrc *s) { return s->spacing; }
 const char *c5_voxsrc_label(const c5_voxsrc *s) { return s->label; }
 

@@ -24,6 +24,7 @@ int c5_voxsrc_prepare(c5_voxsrc *s, c5_err *err);
 void c5_voxsrc_close(c5_voxsrc *s);
 
 const size_t *c5_voxsrc_dims(const c5_voxsrc *s);
+int c5_voxsrc_is_generator(const c5_voxsrc *s);
 /* The file's own spacing, all 0 when it states none (raw files, generators); known after
  * c5_voxsrc_prepare. */
 const double *c5_voxsrc_spacing(const c5_voxsrc *s);
@@ -36,9 +37,14 @@ const char *c5_voxsrc_label(const c5_voxsrc *s);
 int c5_voxsrc_read(const c5_voxsrc *s, const size_t lo[3], const size_t hi[3], uint8_t *out, size_t sy, size_t sz,
                    c5_err *err);
 
-/* A file's identity for caches of what is derived from its voxels (block_range.h): device,
- * inode, size, modification time to the nanosecond, the data's offset and type, the window
- * (uint16) and the dims, in a string. -1 for a generator. After c5_voxsrc_prepare. */
+/* A source's identity for caches of what is derived from its voxels, in a string: a file's
+ * device, inode, size, modification time to the nanosecond, data offset and type, window
+ * (uint16) and dims; a generator's name, dims and parameters and when the generators were
+ * compiled. 0, or -1: a file not open, or modified less than C5_IDENTITY_AGE_S seconds ago
+ * (rewritten within one tick of the file system's clock it would keep its identity with
+ * other voxels; a cache made when it is older cannot be taken for a later rewrite's, whose
+ * time is later than the cache's). After c5_voxsrc_prepare. */
+#define C5_IDENTITY_AGE_S 2
 int c5_voxsrc_identity(const c5_voxsrc *s, char *buf, size_t n);
 /* A uint8 file's voxels mapped read-only (mmap): *data the first voxel, *base and *len what
  * to munmap. 0, or -1 (a generator, uint16, or the system refused: the caller reads instead).

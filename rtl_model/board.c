@@ -9,6 +9,7 @@
 
 #include "board_internal.h"
 #include "camera.h"
+#include "cell_store.h"
 #include "clock.h"
 #include "geom.h"
 #include "ledger.h"
@@ -299,6 +300,7 @@ static void board_free(c5_bd *b)
     for (int k = 0; k < 64; k++)
         free(b->seen_prog[k]), free(b->seen_t[k]);
     c5_rdram_free(&b->mem);
+    c5_cell_store_close(b->cstore);
     c5_cells_free(&b->cells);
 }
 
@@ -365,6 +367,10 @@ static int frame_setup(c5_bd *b, const c5_supervol *sv, const c5_supervol *grid,
     if ((host ? c5_cells_init_flags(&b->cells, grid->dims, o->cells, host->cell_empty, host->block_empty, err)
               : c5_cells_init(&b->cells, grid, o->cells, alpha_nz, err)) != 0)
         return -1;
+    if (!host && grid->store && c5_cell_store_open(grid, &b->cells, &b->cstore, err) != 0) {
+        c5_cells_free(&b->cells);
+        return -1;
+    }
     b->q = calloc((size_t)b->cells.count, sizeof *b->q);
     b->slot = malloc((size_t)o->queue_capacity * C5_PACKET_BYTES);
     b->slot_shadow = malloc((size_t)o->queue_capacity * sizeof *b->slot_shadow);
@@ -423,10 +429,20 @@ static int fetch_loop(c5_bd *b, const c5_supervol *grid, const c5_board_host *ho
         if (keep_resident && cell == b->resident) {
             stats->resident_loads++;
         } else {
-            if ((host ? c5_rdram_place(&b->mem, &b->cells, cell, err) != 0 ||
-                            host->fetch(host->ctx, cell, b->mem.v, c5_cell_bytes(&b->cells, cell), err) != 0
-                      : c5_rdram_view(&b->mem, &b->cells, grid, cell, err) != 0))
+            if (b->cstore) {
+                if (b->mem.cell >= 0)
+                    c5_cell_store_release(b->cstore, b->mem.cell);
+                c5_rdram_at(&b->mem, &b->cells, cell, c5_cell_store_cell(b->cstore, cell));
+                /* a schedule of cells known before the frame: the next one's pages asked of
+                 * the disk while this one is worked off */
+                if (o->sched == C5_SCHED_EXTERNAL && sched_pos < o->schedule_len &&
+                    b->sgroup[0] * b->sgroup[1] * b->sgroup[2] == 1)
+                    c5_cell_store_prefetch(b->cstore, o->schedule[sched_pos]);
+            } else if ((host ? c5_rdram_place(&b->mem, &b->cells, cell, err) != 0 ||
+                                   host->fetch(host->ctx, cell, b->mem.v, c5_cell_bytes(&b->cells, cell), err) != 0
+                             : c5_rdram_view(&b->mem, &b->cells, grid, cell, err) != 0)) {
                 return -3;
+            }
             size_t bytes = c5_cell_bytes(&b->cells, cell);
             stats->fetches++;
             if (b->keep->fetch_log && stats->fetches <= (uint64_t)b->keep->fetch_log_cap)

@@ -86,6 +86,7 @@ typedef struct {
     int64_t *seen_prog[C5_LINK_MAX_BOARDS];
     uint64_t *seen_t[C5_LINK_MAX_BOARDS];
     size_t seen_n[C5_LINK_MAX_BOARDS], seen_cap[C5_LINK_MAX_BOARDS];
+    struct c5_cell_store *cstore; /* an out-of-core grid's cells on disk (cell_store.h), or NULL */
 } c5_bd;
 
 /* c5_bd_schedule: the next entry waits (until b->wake). */

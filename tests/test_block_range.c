@@ -2,8 +2,8 @@
  * range against a brute-force pass, the emptiness flags against the boxes read voxel by voxel
  * (aligned and unaligned splits, every kind of transfer function), the cache (written, read
  * back, refused when corrupt or when the file changed, off), the mapped grid (its voxels, a
- * copy handed out, the message when the file is cut short under it) and the RDRAM view
- * against the copied cell, sample by sample. */
+ * copy handed out, the message when the file is cut short under it), the RDRAM view against
+ * the copied cell, sample by sample, and an out-of-core grid's cells on disk. */
 #include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -11,10 +11,12 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "block_range.h"
 #include "board.h"
+#include "cell_store.h"
 #include "cells.h"
 #include "harness.h"
 #include "regs.h"
@@ -228,6 +230,13 @@ static int build_file_scene(const char *name, c5_scene *s, c5_supervol *sv, size
     return 0;
 }
 
+/* The file's modification time set `ago` seconds back. */
+static int age_file(const char *path, long ago)
+{
+    struct timespec ts[2] = {{0, UTIME_OMIT}, {time(NULL) - ago, 0}};
+    return utimensat(AT_FDCWD, path, ts, 0);
+}
+
 static int same_arrays(const c5_block_range *a, const c5_block_range *b)
 {
     size_t n = a->bdims[0] * a->bdims[1] * a->bdims[2];
@@ -258,6 +267,7 @@ TEST(block_range_cache_written_read_refused_off)
     fill_grid(v, d, 1, 31);
     const char *raw = c5t_path(0, "g_37x21x45_uint8.raw");
     CHECK(c5t_write_file(raw, NULL, v, n) == 0);
+    CHECK(age_file(raw, 100) == 0); /* a file written just now has no identity yet */
     char cache[1024];
     snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
     setenv("C5_CACHE_DIR", cache, 1);
@@ -276,9 +286,7 @@ TEST(block_range_cache_written_read_refused_off)
         }
         if (run == 3) { /* the volume changed (new voxels, a later mtime): another file's cache */
             v[n / 2] ^= 0x5a;
-            ok &= c5t_write_file(raw, NULL, v, n) == 0;
-            struct timespec ts[2] = {{0, UTIME_OMIT}, {2000000000, 0}};
-            ok &= utimensat(AT_FDCWD, raw, ts, 0) == 0;
+            ok &= c5t_write_file(raw, NULL, v, n) == 0 && age_file(raw, 50) == 0;
             c5_block_range_free(want);
             ok &= c5_block_range_of(&ref, &want, &err) != NULL;
         }
@@ -425,5 +433,167 @@ TEST(mapped_grid_renders_as_out_of_core)
     unsetenv("C5_CACHE_DIR");
     c5_supervol_free(&res);
     c5_supervol_free(&ooc);
+    CHECK(ok);
+}
+
+/* ---- an out-of-core grid's cells on disk (rtl_model/mem/cell_store.h) ------------------- */
+
+static int file_and_generator_scene(c5_scene *s, c5_supervol *sv, size_t budget)
+{
+    c5_err err;
+    const char *json = "{'grid': {'center': [0, 0, 0], 'size': 80, 'fill': 3},"
+                       " 'volumes': [{'file': 'c_37x21x45_uint8.raw', 'offset': [2, 4, 3]},"
+                       "  {'generator': 'blobs', 'dims': [30, 33, 30], 'count': 6, 'seed': 2, 'offset': [30, 0, 0]}],"
+                       " " TAIL "}";
+    if (c5_scene_parse(c5t_json(json), c5t_tmpdir(), "test", s, &err) != 0 ||
+        c5_supervol_build_budget(s, budget, sv, &err) != 0) {
+        fprintf(stderr, "build: %s\n", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+TEST(cell_store_holds_each_cell_made_once_refused_when_stale)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    CHECK(v != NULL);
+    fill_grid(v, d, 0, 71);
+    CHECK(c5t_write_file(c5t_path(0, "c_37x21x45_uint8.raw"), NULL, v, n) == 0);
+    free(v);
+    char cache[1024];
+    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    setenv("C5_CACHE_DIR", cache, 1);
+    c5_scene s;
+    c5_supervol ooc, res;
+    /* a file written just now: no identity, so no store (it could be rewritten unseen) */
+    CHECK(file_and_generator_scene(&s, &ooc, 20000) == 0);
+    CHECK(ooc.store != NULL && !ooc.grid_id[0]);
+    c5_supervol_free(&ooc);
+    CHECK(age_file(c5t_path(0, "c_37x21x45_uint8.raw"), 100) == 0);
+    CHECK(file_and_generator_scene(&s, &ooc, 20000) == 0 && file_and_generator_scene(&s, &res, 1 << 30) == 0);
+    CHECK(ooc.store != NULL && ooc.grid_id[0] && res.v != NULL);
+    c5_cells c;
+    c5_err err;
+    uint8_t nz[256];
+    memset(nz, 1, sizeof nz);
+    int split[3] = {2, 3, 2}, ok = 1, cached[4] = {-1, -1, -1, -1};
+    CHECK(c5_cells_init(&c, &ooc, split, nz, &err) == 0);
+    for (int run = 0; run < 4 && ok; run++) {
+        if (run == 2) { /* the cache file cut short: made again */
+            char f[1400];
+            only_file(cache, f, sizeof f);
+            ok &= strstr(f, "/cells-") != NULL && truncate(f, 5000) == 0;
+        }
+        if (run == 3)
+            setenv("C5_CACHE_DIR", "off", 1);
+        c5_cell_store *cs;
+        ok &= c5_cell_store_open(&ooc, &c, &cs, &err) == 0;
+        if (run == 3) {
+            ok &= cs == NULL; /* the caller copies each cell */
+            break;
+        }
+        ok &= cs != NULL;
+        if (!cs)
+            break;
+        cached[run] = c5_cell_store_was_cached(cs);
+        for (int cell = 0; cell < c.count && ok; cell++) {
+            c5_rdram m = {.cell = -1};
+            ok &= c5_rdram_load(&m, &c, &res, cell, &err) == 0 &&
+                  !memcmp(c5_cell_store_cell(cs, cell), m.v, c5_cell_bytes(&c, cell));
+            c5_cell_store_release(cs, cell);
+            c5_rdram_free(&m);
+        }
+        c5_cell_store_close(cs);
+    }
+    c5_cell_store *none;
+    setenv("C5_CACHE_DIR", cache, 1);
+    ok &= c5_cell_store_open(&res, &c, &none, &err) == 0 && none == NULL; /* resident: read in place */
+    unsetenv("C5_CACHE_DIR");
+    c5_cells_free(&c);
+    c5_supervol_free(&ooc);
+    c5_supervol_free(&res);
+    CHECK(ok);
+    CHECK(cached[0] == 0 && cached[1] == 1 && cached[2] == 0);
+}
+
+TEST(board_out_of_core_from_the_cell_store_as_resident)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    CHECK(v != NULL);
+    fill_grid(v, d, 1, 81);
+    CHECK(c5t_write_file(c5t_path(0, "c_37x21x45_uint8.raw"), NULL, v, n) == 0 &&
+          age_file(c5t_path(0, "c_37x21x45_uint8.raw"), 100) == 0);
+    free(v);
+    char cache[1024];
+    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    c5_scene s;
+    c5_supervol ooc, res;
+    CHECK(file_and_generator_scene(&s, &ooc, 20000) == 0 && file_and_generator_scene(&s, &res, 1 << 30) == 0);
+    int ok = 1;
+    /* the cells from the store (twice: made, then cached), and copied with the cache off */
+    for (int k = 0; k < 3 && ok; k++) {
+        setenv("C5_CACHE_DIR", k < 2 ? cache : "off", 1);
+        for (int cells = 1; cells <= 3 && ok; cells++) {
+            c5_image a, b;
+            c5_board_stats sa, sb;
+            c5_err err;
+            int sched[64];
+            for (int i = 0; i < 64; i++)
+                sched[i] = i % (cells * cells * cells);
+            /* Max Work, and a schedule known before the frame (its next cell prefetched) */
+            c5_board_opts o = {.cells = {cells, cells, cells}};
+            if (cells == 2)
+                o.sched = C5_SCHED_EXTERNAL, o.schedule = sched, o.schedule_len = 64;
+            ok &= c5_board_render(&s, &res, 0, &o, &a, &sa, &err) == 0;
+            ok &= c5_board_render(&s, &ooc, 0, &o, &b, &sb, &err) == 0;
+            ok &= !memcmp(a.rgb, b.rgb, sizeof(float) * 3 * (size_t)a.w * (size_t)a.h) && sa.cycles == sb.cycles &&
+                  sa.samples == sb.samples && sa.samples_leaped == sb.samples_leaped &&
+                  sa.cache_hits == sb.cache_hits && sa.fetches == sb.fetches && sa.samples > 0;
+            c5_image_free(&a);
+            c5_image_free(&b);
+        }
+    }
+    unsetenv("C5_CACHE_DIR");
+    c5_supervol_free(&ooc);
+    c5_supervol_free(&res);
+    CHECK(ok);
+}
+
+TEST(generated_grid_ranges_follow_its_voxels)
+{
+    /* A generated grid has no file identity: its ranges are made from its voxels each time,
+     * never kept, so a caller that changes them after the build sees its own (the
+     * stability scenes do). */
+    char cache[1024];
+    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    setenv("C5_CACHE_DIR", cache, 1);
+    int ok = 1;
+    for (int run = 0; run < 2 && ok; run++) {
+        c5_scene s;
+        c5_supervol sv;
+        c5_err err;
+        ok &= c5_scene_parse(c5t_json("{'volumes': [{'generator': 'constant', 'dims': [16, 16, 16], 'value': 0}], "
+                                      TAIL "}"),
+                             c5t_tmpdir(), "test", &s, &err) == 0 &&
+              c5_supervol_build(&s, &sv, &err) == 0;
+        if (!ok)
+            break;
+        ok &= sv.file_id[0] == 0;
+        if (run == 1)
+            memset(sv.v, 255, 16 * 16 * 16);
+        uint8_t nz[256] = {0};
+        nz[255] = 1;
+        c5_cells c;
+        int split[3] = {2, 2, 2};
+        ok &= c5_cells_init(&c, &sv, split, nz, &err) == 0;
+        ok &= c.empty[0] == (run == 0) && c.block_empty[0] == (run == 0) && sv.ranges == NULL;
+        c5_cells_free(&c);
+        c5_supervol_free(&sv);
+    }
+    unsetenv("C5_CACHE_DIR");
     CHECK(ok);
 }

@@ -249,8 +249,23 @@ void c5_cells_free(c5_cells *c)
     memset(c, 0, sizeof *c);
 }
 
+/* An out-of-core view's span, no longer read: its pages dropped. */
+static void release_view(c5_rdram *m)
+{
+    if (!m->view_of)
+        return;
+    long lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        lo[a] = m->org[a];
+        hi[a] = (long)m->org[a] + m->ext[a];
+    }
+    c5_supervol_done_reading(m->view_of, lo, hi);
+    m->view_of = NULL;
+}
+
 int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err)
 {
+    release_view(m);
     c5_cell_box(c, cell, m->lo, m->hi);
     size_t need = 1;
     for (int a = 0; a < 3; a++) {
@@ -281,22 +296,48 @@ int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
 
 int c5_rdram_view(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err)
 {
-    if (!sv->v)
+    release_view(m);
+    const uint8_t *data = c5_supervol_data(sv);
+    if (!data)
         return c5_rdram_load(m, c, sv, cell, err);
+    c5_cell_box(c, cell, m->lo, m->hi);
+    long lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        m->org[a] = m->lo[a] - C5_GHOST;
+        m->ext[a] = m->hi[a] - m->lo[a] + 2 * C5_GHOST;
+        lo[a] = m->org[a];
+        hi[a] = (long)m->org[a] + m->ext[a];
+    }
+    m->view = data;
+    m->view_sy = (ptrdiff_t)sv->dims[0];
+    m->view_sz = (ptrdiff_t)(sv->dims[0] * sv->dims[1]);
+    m->view_o0 = m->org[0] + m->org[1] * m->view_sy + m->org[2] * m->view_sz;
+    m->cell = cell;
+    if (!sv->v) {
+        c5_supervol_will_read(sv, lo, hi);
+        m->view_of = sv;
+    }
+    return 0;
+}
+
+void c5_rdram_at(c5_rdram *m, const c5_cells *c, int cell, const uint8_t *bytes)
+{
+    release_view(m);
     c5_cell_box(c, cell, m->lo, m->hi);
     for (int a = 0; a < 3; a++) {
         m->org[a] = m->lo[a] - C5_GHOST;
         m->ext[a] = m->hi[a] - m->lo[a] + 2 * C5_GHOST;
     }
-    m->view = sv->v;
-    m->view_sy = (ptrdiff_t)sv->dims[0];
-    m->view_sz = (ptrdiff_t)(sv->dims[0] * sv->dims[1]);
+    m->view = bytes;
+    m->view_sy = m->ext[0];
+    m->view_sz = (ptrdiff_t)m->ext[0] * m->ext[1];
+    m->view_o0 = 0;
     m->cell = cell;
-    return 0;
 }
 
 void c5_rdram_free(c5_rdram *m)
 {
+    release_view(m);
     free(m->v);
     memset(m, 0, sizeof *m);
     m->cell = -1;

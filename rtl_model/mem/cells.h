@@ -37,7 +37,9 @@ typedef struct {
     /* A view instead of v (c5_rdram_view): the grid itself, where the voxels already lie in
      * the host's memory, read with these strides; NULL: v, x fastest over ext. */
     const uint8_t *view;
-    ptrdiff_t view_sy, view_sz;
+    ptrdiff_t view_sy, view_sz, view_o0;
+    const c5_supervol *view_of; /* an out-of-core grid viewed: its span is released when the
+                                 * RDRAM is placed again or freed */
 } c5_rdram;
 
 /* What the processor reads: buffer index (x, y, z) (from org) is data[o0 + x + y sy + z sz].
@@ -48,7 +50,7 @@ static inline const uint8_t *c5_rdram_data(const c5_rdram *m, ptrdiff_t *o0, ptr
     if (m->view) {
         *sy = m->view_sy;
         *sz = m->view_sz;
-        *o0 = m->org[0] + m->org[1] * *sy + m->org[2] * *sz;
+        *o0 = m->view_o0;
         return m->view;
     }
     *sy = m->ext[0];
@@ -82,10 +84,15 @@ size_t c5_cell_bytes(const c5_cells *c, int cell);
 int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err);
 /* Places the cell and copies it with its ghost layers from the super volume. */
 int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err);
-/* The same voxels for the processor without the copy: a resident grid is read where it lies
- * (m->view); a grid out of core is copied (c5_rdram_load). With a view m->v holds nothing:
- * only the processor's reads (c5_rdram_data) see the cell. */
+/* The same voxels for the processor without the copy: a resident grid, or an out-of-core
+ * grid that is one mapped file (c5_supervol_data), is read where it lies (m->view; out of
+ * core the cell's pages are asked for now and dropped when the next cell is placed); any
+ * other grid is copied (c5_rdram_load). With a view m->v holds nothing: only the processor's
+ * reads (c5_rdram_data) see the cell. */
 int c5_rdram_view(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err);
+/* The cell's bytes as the RDRAM holds them (c5_cell_bytes, x fastest over ext), read where
+ * they are (an out-of-core grid's cell store, cell_store.h). */
+void c5_rdram_at(c5_rdram *m, const c5_cells *c, int cell, const uint8_t *bytes);
 void c5_rdram_free(c5_rdram *m);
 
 #endif

@@ -1,0 +1,141 @@
+/* An out-of-core grid's cells on disk as the RDRAM holds them (cell_store.h). */
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "atomic_file.h"
+#include "cache_dir.h"
+#include "cell_store.h"
+
+#define PAGE 4096
+#define MAGIC "cube5 cells 1\n"
+
+struct c5_cell_store {
+    uint8_t *base;
+    size_t len;
+    size_t *off;     /* [count + 1]: each cell's first byte; off[count] the file's size */
+    int count, cached;
+};
+
+static size_t round_page(size_t n) { return (n + PAGE - 1) & ~(size_t)(PAGE - 1); }
+
+static void header(const c5_supervol *sv, const c5_cells *c, char *out, size_t n)
+{
+    snprintf(out, n, MAGIC "%s\nsplit %d %d %d ghost %d\n", sv->grid_id, c->n[0], c->n[1], c->n[2], C5_GHOST);
+}
+
+/* Writes every cell, in cell order, read as c5_rdram_load reads it. 0, -1 with err (a read of
+ * the grid failed), or 1 (the cache file could not be written). */
+static int build(const c5_supervol *sv, const c5_cells *c, const char *path, const char *head, const size_t *off,
+                 c5_err *err)
+{
+    c5_afile a;
+    c5_err werr;
+    if (c5_afile_open(&a, path, &werr) != 0)
+        return 1;
+    static const uint8_t zeros[PAGE];
+    size_t hl = strlen(head);
+    c5_afile_write(&a, head, hl);
+    c5_afile_write(&a, zeros, off[0] - hl);
+    c5_rdram m = {.cell = -1};
+    int rc = 0;
+    for (int cell = 0; cell < c->count && rc == 0; cell++) {
+        if (c5_rdram_load(&m, c, sv, cell, err) != 0) {
+            rc = -1;
+            break;
+        }
+        size_t bytes = c5_cell_bytes(c, cell);
+        c5_afile_write(&a, m.v, bytes);
+        c5_afile_write(&a, zeros, off[cell + 1] - off[cell] - bytes);
+    }
+    c5_rdram_free(&m);
+    if (rc != 0) {
+        c5_afile_abort(&a);
+        return rc;
+    }
+    return c5_afile_commit(&a, &werr) == 0 ? 0 : 1;
+}
+
+/* The file mapped if it is this grid's and split's, whole. */
+static int map_existing(const char *path, const char *head, size_t total, c5_cell_store *s)
+{
+    int fd = open(path, O_RDONLY);
+    if (fd < 0)
+        return -1;
+    struct stat st;
+    size_t hl = strlen(head);
+    char *got = malloc(hl);
+    int ok = got && fstat(fd, &st) == 0 && (size_t)st.st_size == total && pread(fd, got, hl, 0) == (ssize_t)hl &&
+             !memcmp(got, head, hl);
+    free(got);
+    void *p = ok ? mmap(NULL, total, PROT_READ, MAP_PRIVATE, fd, 0) : MAP_FAILED;
+    close(fd);
+    if (p == MAP_FAILED)
+        return -1;
+    s->base = p;
+    s->len = total;
+    return 0;
+}
+
+int c5_cell_store_open(const c5_supervol *sv, const c5_cells *c, c5_cell_store **out, c5_err *err)
+{
+    *out = NULL;
+    char dir[3072], path[3200], head[C5_MAX_VOLUMES * 340 + 200];
+    if (sv->v || !sv->store || !sv->grid_id[0] || c5_cache_dir(dir, sizeof dir) != 0)
+        return 0;
+    header(sv, c, head, sizeof head);
+    c5_cell_store *s = calloc(1, sizeof *s);
+    if (!s || !(s->off = malloc(((size_t)c->count + 1) * sizeof *s->off))) {
+        free(s);
+        return 0;
+    }
+    s->count = c->count;
+    s->off[0] = round_page(strlen(head));
+    for (int i = 0; i < c->count; i++)
+        s->off[i + 1] = round_page(s->off[i] + c5_cell_bytes(c, i));
+    snprintf(path, sizeof path, "%s/cells-%016llx.bin", dir, (unsigned long long)c5_cache_hash(head));
+    if (map_existing(path, head, s->off[c->count], s) == 0) {
+        s->cached = 1;
+    } else {
+        int rc = build(sv, c, path, head, s->off, err);
+        if (rc != 0 || map_existing(path, head, s->off[c->count], s) != 0) {
+            c5_cell_store_close(s);
+            return rc < 0 ? -1 : 0;
+        }
+    }
+    *out = s;
+    return 0;
+}
+
+void c5_cell_store_prefetch(c5_cell_store *s, int cell)
+{
+    if (cell >= 0 && cell < s->count)
+        madvise(s->base + s->off[cell], s->off[cell + 1] - s->off[cell], MADV_WILLNEED);
+}
+
+const uint8_t *c5_cell_store_cell(c5_cell_store *s, int cell)
+{
+    c5_cell_store_prefetch(s, cell);
+    return s->base + s->off[cell];
+}
+
+void c5_cell_store_release(c5_cell_store *s, int cell)
+{
+    madvise(s->base + s->off[cell], s->off[cell + 1] - s->off[cell], MADV_DONTNEED);
+}
+
+int c5_cell_store_was_cached(const c5_cell_store *s) { return s->cached; }
+
+void c5_cell_store_close(c5_cell_store *s)
+{
+    if (!s)
+        return;
+    if (s->base)
+        munmap(s->base, s->len);
+    free(s->off);
+    free(s);
+}
