@@ -110,7 +110,7 @@ static int compute(const c5_supervol *sv, c5_block_range *r, c5_err *err)
         rc = c5_fail(err, "out of memory for the grid's block ranges");
         goto done;
     }
-    for (size_t bz = 0; bz < r->bdims[2] && rc == 0; bz++)
+    for (size_t bz = 0; bz < r->bdims[2] && rc == 0; bz++) {
         for (size_t by = 0; by < r->bdims[1]; by++) {
             size_t z0, z1, y0, y1;
             axis_span(bz, nz, 1, &z0, &z1);
@@ -134,6 +134,11 @@ static int compute(const c5_supervol *sv, c5_block_range *r, c5_err *err)
             fold_columns(outer, no, nx, cmn, cmx);
             fold_blocks(r, nx, 1, cmn, cmx, r->amn + base, r->amx + base);
         }
+        /* out of core, a mapped file's planes below the next row of blocks are done with */
+        long lo[3] = {0, 0, (long)(bz * C5_RANGE_BLOCK) - 1},
+             hi[3] = {(long)nx, (long)ny, (long)((bz + 1) * C5_RANGE_BLOCK) - 1};
+        c5_supervol_done_reading(sv, lo, hi);
+    }
 done:
     free(cmn);
     free(cmx);
@@ -141,9 +146,17 @@ done:
     return rc;
 }
 
+/* What the ranges are kept by: a file's identity; an out-of-core grid's (its voxels are only
+ * in its sources, which nobody changes through it); "" for any other grid, whose voxels the
+ * caller may change after the build. */
+static const char *identity(const c5_supervol *sv)
+{
+    return sv->file_id[0] ? sv->file_id : !sv->v && sv->store ? sv->grid_id : "";
+}
+
 static void header(const c5_supervol *sv, const c5_block_range *r, char *out, size_t n)
 {
-    snprintf(out, n, MAGIC "%s\nblock %d bdims %zu %zu %zu\n", sv->file_id, C5_RANGE_BLOCK, r->bdims[0], r->bdims[1],
+    snprintf(out, n, MAGIC "%s\nblock %d bdims %zu %zu %zu\n", identity(sv), C5_RANGE_BLOCK, r->bdims[0], r->bdims[1],
              r->bdims[2]);
 }
 
@@ -186,7 +199,7 @@ static c5_block_range *make_for_file(const c5_supervol *sv, c5_err *err)
         c5_fail(err, "out of memory for the grid's block ranges");
         return NULL;
     }
-    char dir[3072], path[3200], head[512];
+    char dir[3072], path[3200], head[sizeof sv->grid_id + 128];
     header(sv, r, head, sizeof head);
     int cached = c5_cache_dir(dir, sizeof dir) == 0;
     if (cached) {
@@ -207,7 +220,7 @@ static c5_block_range *make_for_file(const c5_supervol *sv, c5_err *err)
 const c5_block_range *c5_block_range_of(const c5_supervol *sv, c5_block_range **owned, c5_err *err)
 {
     *owned = NULL;
-    if (!sv->file_id[0]) {
+    if (!identity(sv)[0]) {
         c5_block_range *r = alloc_range(sv);
         if (!r) {
             c5_fail(err, "out of memory for the grid's block ranges");

@@ -3,9 +3,9 @@
  * from (rtl_model/mem/cells.c) for any split and transfer function without reading the grid
  * again. 4 bytes a block: 8 MiB for a 1024^3 grid.
  *
- * A grid that is one file's voxels (c5_supervol.file_id) keeps its ranges with it once made,
- * and in a file of cube5's cache (cache_dir.h) named by the file's identity, so a later run
- * reads the 8 MiB instead of the grid (docs/out-of-core.md, "Block ranges"). */
+ * A grid that is one file's voxels (c5_supervol.file_id), or out of core, keeps its ranges
+ * with it once made, and in a file of cube5's cache (cache_dir.h) named by its identity, so a
+ * later run reads the 8 MiB instead of the grid (docs/out-of-core.md, "Block ranges"). */
 #ifndef C5_BLOCK_RANGE_H
 #define C5_BLOCK_RANGE_H
 
@@ -28,10 +28,12 @@ typedef struct c5_block_range {
     c5_range_origin origin;
 } c5_block_range;
 
-/* The ranges of sv's grid (resident or out of core). A grid from one file: kept in sv (made
- * once, thread-safe; sv frees them) and in the cache; *owned = NULL. Any other grid: made
- * now into *owned, which the caller frees with c5_block_range_free. NULL with err: a read of
- * the grid failed, or out of memory. */
+/* The ranges of sv's grid (resident or out of core). A grid from one file, or out of core
+ * with an identity (c5_supervol.grid_id: a generated volume too): kept in sv (made once,
+ * thread-safe; sv frees them) and in the cache; *owned = NULL. Any other grid (a resident one
+ * whose voxels the caller may change after the build): made now into *owned, which the
+ * caller frees with c5_block_range_free. NULL with err: a read of the grid failed, or out of
+ * memory. */
 const c5_block_range *c5_block_range_of(const c5_supervol *sv, c5_block_range **owned, c5_err *err);
 void c5_block_range_free(c5_block_range *r);
 /* The block of voxel index i along an axis. */

@@ -190,14 +190,13 @@ static int core_read(const c5_supervol *sv, const size_t lo[3], const size_t hi[
     size_t n = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
     if (n >= C5_SV_DIRECT_VOXELS && sv->store->map_data) {
         /* one mapped file: its rows copied (no read of the bytes around them, no system call
-         * a row), then the span's pages dropped from the process */
+         * a row); the reader drops the pages when it is done with the span
+         * (c5_supervol_done_reading) */
         const uint8_t *d = sv->store->map_data;
         size_t w = hi[0] - lo[0];
         for (size_t z = lo[2]; z < hi[2]; z++)
             for (size_t y = lo[1]; y < hi[1]; y++)
                 memcpy(out + (z - lo[2]) * sz + (y - lo[1]) * sy, d + (z * sv->dims[1] + y) * sv->dims[0] + lo[0], w);
-        long l[3] = {(long)lo[0], (long)lo[1], (long)lo[2]}, h[3] = {(long)hi[0], (long)hi[1], (long)hi[2]};
-        c5_supervol_done_reading(sv, l, h);
         return 0;
     }
     if (n >= C5_SV_DIRECT_VOXELS)

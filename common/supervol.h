@@ -69,10 +69,10 @@ void c5_supervol_free(c5_supervol *sv);
  * out-of-core grid is (its pages the kernel's, read from the file on demand); NULL: neither
  * (out of core from other sources: read boxes). */
 const uint8_t *c5_supervol_data(const c5_supervol *sv);
-/* A reader of c5_supervol_data out of core is about to read voxels [lo, hi) (the kernel
- * starts reading their pages now, plane by plane), or is done with them (the process's pages
- * of the span are dropped, so host memory stays bounded; they are read again when needed).
- * No-ops for a resident grid. */
+/* A reader of an out-of-core grid (c5_supervol_data, or large boxes of one mapped file) is
+ * about to read voxels [lo, hi) (the kernel starts reading their pages now, plane by plane),
+ * or is done with them (the process's pages of the span are dropped, so host memory stays
+ * bounded; they are read again when needed). No-ops for a resident grid. */
 void c5_supervol_will_read(const c5_supervol *sv, const long lo[3], const long hi[3]);
 void c5_supervol_done_reading(const c5_supervol *sv, const long lo[3], const long hi[3]);
 /* The resident voxels handed to the caller as a malloc'd array (a mapping copied), sv freed

@@ -597,3 +597,37 @@ TEST(generated_grid_ranges_follow_its_voxels)
     unsetenv("C5_CACHE_DIR");
     CHECK(ok);
 }
+
+TEST(out_of_core_generated_grid_ranges_kept_and_cached)
+{
+    /* out of core, a generated grid's voxels are only in its generator: its ranges are kept
+     * by its identity, so a later run does not generate the grid again to make them */
+    char cache[1024];
+    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    setenv("C5_CACHE_DIR", cache, 1);
+    const char *json = "{'volumes': [{'generator': 'blobs', 'dims': [40, 36, 44], 'count': 5, 'seed': 4}], " TAIL "}";
+    c5_scene s;
+    c5_supervol res;
+    c5_err err;
+    CHECK(c5_scene_parse(c5t_json(json), c5t_tmpdir(), "test", &s, &err) == 0 &&
+          c5_supervol_build_budget(&s, 1 << 30, &res, &err) == 0);
+    c5_block_range *want;
+    CHECK(c5_block_range_of(&res, &want, &err) != NULL && want != NULL); /* resident: not kept */
+    c5_range_origin seen[2] = {C5_RANGE_COMPUTED, C5_RANGE_COMPUTED};
+    int ok = 1;
+    for (int run = 0; run < 2; run++) {
+        c5_supervol ooc;
+        ok &= c5_supervol_build_budget(&s, 20000, &ooc, &err) == 0 && ooc.store && ooc.grid_id[0];
+        c5_block_range *owned;
+        const c5_block_range *r = ok ? c5_block_range_of(&ooc, &owned, &err) : NULL;
+        ok &= r != NULL && owned == NULL && ooc.ranges == r && same_arrays(r, want);
+        if (r)
+            seen[run] = r->origin;
+        c5_supervol_free(&ooc);
+    }
+    unsetenv("C5_CACHE_DIR");
+    c5_block_range_free(want);
+    c5_supervol_free(&res);
+    CHECK(ok);
+    CHECK(seen[0] == C5_RANGE_CACHED_NOW && seen[1] == C5_RANGE_FROM_CACHE);
+}

@@ -42,15 +42,27 @@ static int build(const c5_supervol *sv, const c5_cells *c, const char *path, con
     c5_afile_write(&a, head, hl);
     c5_afile_write(&a, zeros, off[0] - hl);
     c5_rdram m = {.cell = -1};
-    int rc = 0;
+    int rc = 0, layer = c->n[0] * c->n[1];
     for (int cell = 0; cell < c->count && rc == 0; cell++) {
-        if (c5_rdram_load(&m, c, sv, cell, err) != 0) {
+        int lo[3], hi[3];
+        c5_cell_box(c, cell, lo, hi);
+        long blo[3], bhi[3];
+        for (int a = 0; a < 3; a++)
+            blo[a] = lo[a] - C5_GHOST, bhi[a] = hi[a] + C5_GHOST;
+        if (c5_rdram_place(&m, c, cell, err) != 0 || c5_supervol_read_box(sv, blo, bhi, m.v, err) != 0) {
             rc = -1;
             break;
         }
         size_t bytes = c5_cell_bytes(c, cell);
         c5_afile_write(&a, m.v, bytes);
         c5_afile_write(&a, zeros, off[cell + 1] - off[cell] - bytes);
+        /* a layer of cells shares its planes: they leave the process after its last cell, not
+         * after each (a mapped file's pages; c5_supervol_done_reading) */
+        if ((cell + 1) % layer == 0) {
+            blo[0] = blo[1] = 0;
+            bhi[0] = c->dims[0], bhi[1] = c->dims[1], bhi[2] -= 2 * C5_GHOST;
+            c5_supervol_done_reading(sv, blo, bhi);
+        }
     }
     c5_rdram_free(&m);
     if (rc != 0) {
