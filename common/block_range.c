@@ -177,11 +177,11 @@ static int cache_read(const char *path, const char *want, c5_block_range *r)
 }
 
 /* 0: written. A cache that cannot be written costs the next run the pass, nothing else. */
-static int cache_write(const char *path, const char *head, const c5_block_range *r)
+static int cache_write(const char *dir, const char *path, const char *head, const c5_block_range *r)
 {
     c5_afile a;
     c5_err e;
-    if (c5_afile_open(&a, path, &e) != 0)
+    if (c5_cache_make_room(dir, strlen(head) + 4 * count(r)) != 0 || c5_afile_open(&a, path, &e) != 0)
         return -1;
     c5_afile_write(&a, head, strlen(head));
     c5_afile_write(&a, r->mn, count(r));
@@ -205,6 +205,7 @@ static c5_block_range *make_for_file(const c5_supervol *sv, c5_err *err)
     if (cached) {
         snprintf(path, sizeof path, "%s/ranges-%016llx.bin", dir, (unsigned long long)c5_cache_hash(head));
         if (cache_read(path, head, r) == 0) {
+            c5_cache_touch(path);
             r->origin = C5_RANGE_FROM_CACHE;
             return r;
         }
@@ -213,7 +214,7 @@ static c5_block_range *make_for_file(const c5_supervol *sv, c5_err *err)
         c5_block_range_free(r);
         return NULL;
     }
-    r->origin = cached && cache_write(path, head, r) == 0 ? C5_RANGE_CACHED_NOW : C5_RANGE_COMPUTED;
+    r->origin = cached && cache_write(dir, path, head, r) == 0 ? C5_RANGE_CACHED_NOW : C5_RANGE_COMPUTED;
     return r;
 }
 

@@ -1,5 +1,6 @@
 #include "supervol.h"
 #include "block_range.h"
+#include "cache_dir.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -314,10 +315,10 @@ static int cache_make(struct c5_svstore *st, const size_t dims[3], size_t budget
     return 0;
 }
 
-int c5_mem_budget(size_t *out, c5_err *err)
+int c5_env_bytes(const char *name, size_t dflt, size_t *out, c5_err *err)
 {
-    const char *e = getenv("C5_MEM_BUDGET");
-    *out = C5_MEM_BUDGET_DEFAULT;
+    const char *e = getenv(name);
+    *out = dflt;
     if (!e)
         return 0;
     const char *p = e;
@@ -325,7 +326,7 @@ int c5_mem_budget(size_t *out, c5_err *err)
     int digits = 0;
     for (; *p >= '0' && *p <= '9'; p++, digits++) {
         if (v > (~0ull - 9) / 10)
-            return c5_fail(err, "C5_MEM_BUDGET: '%.40s' is too large", e);
+            return c5_fail(err, "%s: '%.40s' is too large", name, e);
         v = v * 10 + (unsigned)(*p - '0');
     }
     int shift = 0;
@@ -343,14 +344,21 @@ int c5_mem_budget(size_t *out, c5_err *err)
         }
     }
     if (!digits || shift < 0 || *p)
-        return c5_fail(err, "C5_MEM_BUDGET: expected a byte count such as 268435456, 512M or 4G, got '%.40s'", e);
+        return c5_fail(err, "%s: expected a byte count such as 268435456, 512M or 4G, got '%.40s'", name, e);
     if (v > (SIZE_MAX >> shift) || v == 0)
-        return c5_fail(err, "C5_MEM_BUDGET: '%.40s' is %s", e, v ? "too large" : "zero: give at least one byte");
-    if ((size_t)(v << shift) < C5_MEM_BUDGET_MIN)
+        return c5_fail(err, "%s: '%.40s' is %s", name, e, v ? "too large" : "zero: give at least one byte");
+    *out = (size_t)(v << shift);
+    return 0;
+}
+
+int c5_mem_budget(size_t *out, c5_err *err)
+{
+    if (c5_env_bytes("C5_MEM_BUDGET", C5_MEM_BUDGET_DEFAULT, out, err) != 0)
+        return -1;
+    if (*out < C5_MEM_BUDGET_MIN)
         return c5_fail(err, "C5_MEM_BUDGET: '%.40s' is below the least a grid is held in, %zu bytes (%d bricks of "
                             "%d^3 voxels: the 2x2x2 voxels of one sample may lie in 8)",
-                       e, (size_t)C5_MEM_BUDGET_MIN, CACHE_WAYS, C5_BRICK);
-    *out = (size_t)(v << shift);
+                       getenv("C5_MEM_BUDGET"), (size_t)C5_MEM_BUDGET_MIN, CACHE_WAYS, C5_BRICK);
     return 0;
 }
 
@@ -390,8 +398,8 @@ static int resolve_spacing(const c5_scene *s, const double file_sp[][3], c5_supe
 
 int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
 {
-    size_t budget;
-    if (c5_mem_budget(&budget, err) != 0) {
+    size_t budget, cache_max;
+    if (c5_mem_budget(&budget, err) != 0 || c5_cache_max(&cache_max, err) != 0) {
         memset(out, 0, sizeof *out);
         return -1;
     }

@@ -51,6 +51,10 @@ typedef struct {
 /* C5_MEM_BUDGET from the environment (a byte count, with an optional suffix K, M, G or T,
  * powers of 1024), else C5_MEM_BUDGET_DEFAULT; -1 with err when set but not such a size. */
 int c5_mem_budget(size_t *out, c5_err *err);
+/* A byte count from environment variable `name` (digits, an optional K, M, G or T, powers of
+ * 1024, and an optional B or iB), else dflt; -1 with "NAME: ..." when set but not such a
+ * count, or zero. */
+int c5_env_bytes(const char *name, size_t dflt, size_t *out, c5_err *err);
 /* The brick cache's bricks: C5_BRICK^3 voxels, aligned to the grid. */
 #define C5_BRICK_LOG2 5
 #define C5_BRICK (1 << C5_BRICK_LOG2)

@@ -631,3 +631,92 @@ TEST(out_of_core_generated_grid_ranges_kept_and_cached)
     CHECK(ok);
     CHECK(seen[0] == C5_RANGE_CACHED_NOW && seen[1] == C5_RANGE_FROM_CACHE);
 }
+
+/* Bytes of cube5's cache files in dir whose names start with prefix; -1 when path is absent. */
+static long long cache_bytes(const char *dir, const char *prefix)
+{
+    char cmd[1300];
+    snprintf(cmd, sizeof cmd, "cat %s/%s*.bin 2>/dev/null | wc -c", dir, prefix);
+    FILE *p = popen(cmd, "r");
+    long long n = -1;
+    if (p && fscanf(p, "%lld", &n) != 1)
+        n = -1;
+    if (p)
+        pclose(p);
+    return n;
+}
+
+/* The store of the scene's out-of-core grid at split n: 1 made, 2 found in the cache, 0 none. */
+static int store_at(const c5_supervol *sv, int n)
+{
+    c5_cells c;
+    c5_err err;
+    uint8_t nz[256];
+    memset(nz, 1, sizeof nz);
+    int split[3] = {n, n, 1}, rc = 0;
+    if (c5_cells_init(&c, sv, split, nz, &err) != 0)
+        return -1;
+    c5_cell_store *cs;
+    if (c5_cell_store_open(sv, &c, &cs, &err) == 0 && cs)
+        rc = c5_cell_store_was_cached(cs) ? 2 : 1;
+    c5_cell_store_close(cs);
+    c5_cells_free(&c);
+    usleep(20000); /* the next file's time is later than this one's */
+    return rc;
+}
+
+TEST(cache_holds_at_most_c5_cache_max_least_recently_used_out)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    CHECK(v != NULL);
+    fill_grid(v, d, 0, 91);
+    CHECK(c5t_write_file(c5t_path(0, "c_37x21x45_uint8.raw"), NULL, v, n) == 0 &&
+          age_file(c5t_path(0, "c_37x21x45_uint8.raw"), 100) == 0);
+    free(v);
+    char cache[1024];
+    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    setenv("C5_CACHE_DIR", cache, 1);
+    c5_scene s;
+    c5_supervol sv;
+    CHECK(file_and_generator_scene(&s, &sv, 20000) == 0 && sv.grid_id[0]);
+    /* each store's size with no cap */
+    long long size[4];
+    for (int k = 1; k <= 3; k++) {
+        char cmd[1200];
+        snprintf(cmd, sizeof cmd, "rm -f %s/cells-*.bin", cache);
+        CHECK(system(cmd) == 0 && store_at(&sv, k) == 1);
+        size[k] = cache_bytes(cache, "cells-");
+    }
+    long long ranges = cache_bytes(cache, "ranges-");
+    CHECK(ranges > 0 && size[1] > 0 && size[2] > 0 && size[3] > 0);
+    char cmd[1200], max[64];
+    snprintf(cmd, sizeof cmd, "rm -f %s/cells-*.bin", cache);
+    CHECK(system(cmd) == 0);
+    /* room for two stores, not three and the ranges: the third makes the least recently used
+     * files go, the ranges (kept in memory since, not read again) and store 2 (store 1 was
+     * used after it) */
+    snprintf(max, sizeof max, "%lld", size[1] + size[2] + size[3] - 1);
+    setenv("C5_CACHE_MAX", max, 1);
+    int r1 = store_at(&sv, 1), r2 = store_at(&sv, 2), r1b = store_at(&sv, 1), r3 = store_at(&sv, 3);
+    long long after = cache_bytes(cache, "cells-"), ranges_after = cache_bytes(cache, "ranges-");
+    int r2b = store_at(&sv, 2), r1c = store_at(&sv, 1); /* 2 makes 1 go, then 1 makes 3 go */
+    long long last = cache_bytes(cache, "cells-");
+    /* a store larger than the cap is not made: the frame copies its cells */
+    snprintf(max, sizeof max, "%lld", size[1] / 2);
+    setenv("C5_CACHE_MAX", max, 1);
+    int too_big = store_at(&sv, 3);
+    setenv("C5_CACHE_MAX", "lots", 1);
+    c5_supervol bad;
+    c5_err err;
+    int refused = c5_supervol_build(&s, &bad, &err) != 0 && strstr(err.msg, "C5_CACHE_MAX: expected a byte count");
+    unsetenv("C5_CACHE_MAX");
+    unsetenv("C5_CACHE_DIR");
+    c5_supervol_free(&sv);
+    CHECK_MSG(r1 == 1 && r2 == 1 && r1b == 2 && r3 == 1, "%d %d %d %d", r1, r2, r1b, r3);
+    CHECK(after == size[1] + size[3] && ranges_after == 0);
+    CHECK_MSG(r2b == 1 && r1c == 1 && last == size[1] + size[2], "%d %d %lld", r2b, r1c, last);
+    CHECK(too_big == 0);
+    CHECK(refused);
+}

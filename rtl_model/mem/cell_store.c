@@ -112,8 +112,9 @@ int c5_cell_store_open(const c5_supervol *sv, const c5_cells *c, c5_cell_store *
     snprintf(path, sizeof path, "%s/cells-%016llx.bin", dir, (unsigned long long)c5_cache_hash(head));
     if (map_existing(path, head, s->off[c->count], s) == 0) {
         s->cached = 1;
+        c5_cache_touch(path);
     } else {
-        int rc = build(sv, c, path, head, s->off, err);
+        int rc = c5_cache_make_room(dir, s->off[c->count]) != 0 ? 1 : build(sv, c, path, head, s->off, err);
         if (rc != 0 || map_existing(path, head, s->off[c->count], s) != 0) {
             c5_cell_store_close(s);
             return rc < 0 ? -1 : 0;

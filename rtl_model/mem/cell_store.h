@@ -19,8 +19,9 @@ typedef struct c5_cell_store c5_cell_store;
 
 /* The store of sv's grid split as c: opened if the cache holds it, else made (one pass over
  * the grid). 0 with *out set; 0 with *out NULL when there is none to have (a resident grid, a
- * source without identity, the cache off or not writable: the caller copies each cell from
- * the sources); -1 with err when a read of the grid failed. */
+ * source without identity, the cache off, not writable, or without the room: C5_CACHE_MAX,
+ * cache_dir.h; the caller copies each cell from the sources); -1 with err when a read of the
+ * grid failed. */
 int c5_cell_store_open(const c5_supervol *sv, const c5_cells *c, c5_cell_store **out, c5_err *err);
 /* The cell's bytes (c5_cell_bytes of them), its pages asked of the disk now. */
 const uint8_t *c5_cell_store_cell(c5_cell_store *s, int cell);
