@@ -237,6 +237,29 @@ static int age_file(const char *path, long ago)
     return utimensat(AT_FDCWD, path, ts, 0);
 }
 
+/* The 37x21x45 grid of `kind` (fill_grid) written to NAME in the test's folder and made `age`
+ * seconds old (0: just written); 0 on success. */
+static int grid_file(const char *name, int kind, uint64_t seed, long age)
+{
+    static const size_t d[3] = {37, 21, 45};
+    size_t n = d[0] * d[1] * d[2];
+    uint8_t *v = malloc(n);
+    if (!v)
+        return -1;
+    fill_grid(v, d, kind, seed);
+    int rc = c5t_write_file(c5t_path(0, name), NULL, v, n);
+    free(v);
+    return rc != 0 ? -1 : age ? age_file(c5t_path(0, name), age) : 0;
+}
+
+/* The test's own cache folder (inside its temporary folder). */
+static const char *test_cache(void)
+{
+    static char cache[1024];
+    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    return cache;
+}
+
 static int same_arrays(const c5_block_range *a, const c5_block_range *b)
 {
     size_t n = a->bdims[0] * a->bdims[1] * a->bdims[2];
@@ -268,8 +291,7 @@ TEST(block_range_cache_written_read_refused_off)
     const char *raw = c5t_path(0, "g_37x21x45_uint8.raw");
     CHECK(c5t_write_file(raw, NULL, v, n) == 0);
     CHECK(age_file(raw, 100) == 0); /* a file written just now has no identity yet */
-    char cache[1024];
-    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    const char *cache = test_cache();
     setenv("C5_CACHE_DIR", cache, 1);
     c5_supervol ref;
     hand_grid(&ref, d, v);
@@ -403,13 +425,7 @@ TEST(rdram_view_reads_what_the_copied_cell_holds)
 
 TEST(mapped_grid_renders_as_out_of_core)
 {
-    static const size_t d[3] = {37, 21, 45};
-    size_t n = d[0] * d[1] * d[2];
-    uint8_t *v = malloc(n);
-    CHECK(v != NULL);
-    fill_grid(v, d, 1, 61);
-    CHECK(c5t_write_file(c5t_path(0, "o_37x21x45_uint8.raw"), NULL, v, n) == 0);
-    free(v);
+    CHECK(grid_file("o_37x21x45_uint8.raw", 1, 61, 0) == 0);
     setenv("C5_CACHE_DIR", "off", 1);
     c5_scene s;
     c5_supervol res, ooc;
@@ -455,15 +471,8 @@ static int file_and_generator_scene(c5_scene *s, c5_supervol *sv, size_t budget)
 
 TEST(cell_store_holds_each_cell_made_once_refused_when_stale)
 {
-    static const size_t d[3] = {37, 21, 45};
-    size_t n = d[0] * d[1] * d[2];
-    uint8_t *v = malloc(n);
-    CHECK(v != NULL);
-    fill_grid(v, d, 0, 71);
-    CHECK(c5t_write_file(c5t_path(0, "c_37x21x45_uint8.raw"), NULL, v, n) == 0);
-    free(v);
-    char cache[1024];
-    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    CHECK(grid_file("c_37x21x45_uint8.raw", 0, 71, 0) == 0);
+    const char *cache = test_cache();
     setenv("C5_CACHE_DIR", cache, 1);
     c5_scene s;
     c5_supervol ooc, res;
@@ -520,16 +529,8 @@ TEST(cell_store_holds_each_cell_made_once_refused_when_stale)
 
 TEST(board_out_of_core_from_the_cell_store_as_resident)
 {
-    static const size_t d[3] = {37, 21, 45};
-    size_t n = d[0] * d[1] * d[2];
-    uint8_t *v = malloc(n);
-    CHECK(v != NULL);
-    fill_grid(v, d, 1, 81);
-    CHECK(c5t_write_file(c5t_path(0, "c_37x21x45_uint8.raw"), NULL, v, n) == 0 &&
-          age_file(c5t_path(0, "c_37x21x45_uint8.raw"), 100) == 0);
-    free(v);
-    char cache[1024];
-    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    CHECK(grid_file("c_37x21x45_uint8.raw", 1, 81, 100) == 0);
+    const char *cache = test_cache();
     c5_scene s;
     c5_supervol ooc, res;
     CHECK(file_and_generator_scene(&s, &ooc, 20000) == 0 && file_and_generator_scene(&s, &res, 1 << 30) == 0);
@@ -568,9 +569,7 @@ TEST(generated_grid_ranges_follow_its_voxels)
     /* A generated grid has no file identity: its ranges are made from its voxels each time,
      * never kept, so a caller that changes them after the build sees its own (the
      * stability scenes do). */
-    char cache[1024];
-    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
-    setenv("C5_CACHE_DIR", cache, 1);
+    setenv("C5_CACHE_DIR", test_cache(), 1);
     int ok = 1;
     for (int run = 0; run < 2 && ok; run++) {
         c5_scene s;
@@ -602,9 +601,7 @@ TEST(out_of_core_generated_grid_ranges_kept_and_cached)
 {
     /* out of core, a generated grid's voxels are only in its generator: its ranges are kept
      * by its identity, so a later run does not generate the grid again to make them */
-    char cache[1024];
-    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
-    setenv("C5_CACHE_DIR", cache, 1);
+    setenv("C5_CACHE_DIR", test_cache(), 1);
     const char *json = "{'volumes': [{'generator': 'blobs', 'dims': [40, 36, 44], 'count': 5, 'seed': 4}], " TAIL "}";
     c5_scene s;
     c5_supervol res;
@@ -667,16 +664,8 @@ static int store_at(const c5_supervol *sv, int n)
 
 TEST(cache_holds_at_most_c5_cache_max_least_recently_used_out)
 {
-    static const size_t d[3] = {37, 21, 45};
-    size_t n = d[0] * d[1] * d[2];
-    uint8_t *v = malloc(n);
-    CHECK(v != NULL);
-    fill_grid(v, d, 0, 91);
-    CHECK(c5t_write_file(c5t_path(0, "c_37x21x45_uint8.raw"), NULL, v, n) == 0 &&
-          age_file(c5t_path(0, "c_37x21x45_uint8.raw"), 100) == 0);
-    free(v);
-    char cache[1024];
-    snprintf(cache, sizeof cache, "%s/cache", c5t_tmpdir());
+    CHECK(grid_file("c_37x21x45_uint8.raw", 0, 91, 100) == 0);
+    const char *cache = test_cache();
     setenv("C5_CACHE_DIR", cache, 1);
     c5_scene s;
     c5_supervol sv;
