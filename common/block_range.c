@@ -9,6 +9,7 @@
 #include "atomic_file.h"
 #include "block_range.h"
 #include "cache_dir.h"
+#include "worker_pool.h"
 
 #define MAGIC "cube5 block ranges 2\n"
 
@@ -94,55 +95,89 @@ static void axis_span(size_t b, size_t n, size_t pad, size_t *lo, size_t *hi)
     *hi = b * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad < n ? b * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad : n;
 }
 
-/* From the grid, one row of blocks (by, bz) at a time: the 10 x 10 rows of its apron (a
- * resident grid in place, else read into slab), their columns' ranges over the 8 x 8 inner
- * rows and over all, then each block's. */
-static int compute(const c5_supervol *sv, c5_block_range *r, c5_err *err)
+/* From the grid, the rows of blocks of one layer bz, one (by, bz) at a time: the 10 x 10 rows
+ * of its apron (a resident grid in place, else read into slab), their columns' ranges over
+ * the 8 x 8 inner rows and over all, then each block's. 0, or -1 with err. */
+static int compute_layer(const c5_supervol *sv, c5_block_range *r, size_t bz, uint8_t *cmn, uint8_t *cmx,
+                         uint8_t *slab, c5_err *err)
 {
     enum { A = C5_RANGE_BLOCK + 2 };
     size_t nx = sv->dims[0], ny = sv->dims[1], nz = sv->dims[2];
-    uint8_t *cmn = malloc(nx), *cmx = malloc(nx), *slab = NULL;
     const uint8_t *inner[C5_RANGE_BLOCK * C5_RANGE_BLOCK], *outer[A * A];
-    if (!sv->v)
-        slab = malloc(nx * A * A);
-    int rc = 0;
-    if (!cmn || !cmx || (!sv->v && !slab)) {
-        rc = c5_fail(err, "out of memory for the grid's block ranges");
-        goto done;
-    }
-    for (size_t bz = 0; bz < r->bdims[2] && rc == 0; bz++) {
-        for (size_t by = 0; by < r->bdims[1]; by++) {
-            size_t z0, z1, y0, y1;
-            axis_span(bz, nz, 1, &z0, &z1);
-            axis_span(by, ny, 1, &y0, &y1);
-            if (!sv->v) {
-                long lo[3] = {0, (long)y0, (long)z0}, hi[3] = {(long)nx, (long)y1, (long)z1};
-                if ((rc = c5_supervol_read_box(sv, lo, hi, slab, err)) != 0)
-                    break;
-            }
-            size_t ni = 0, no = 0;
-            for (size_t z = z0; z < z1; z++)
-                for (size_t y = y0; y < y1; y++) {
-                    const uint8_t *row = sv->v ? sv->v + (z * ny + y) * nx : slab + ((z - z0) * (y1 - y0) + y - y0) * nx;
-                    outer[no++] = row;
-                    if (z / C5_RANGE_BLOCK == bz && y / C5_RANGE_BLOCK == by)
-                        inner[ni++] = row;
-                }
-            size_t base = (bz * r->bdims[1] + by) * r->bdims[0];
-            fold_columns(inner, ni, nx, cmn, cmx);
-            fold_blocks(r, nx, 0, cmn, cmx, r->mn + base, r->mx + base);
-            fold_columns(outer, no, nx, cmn, cmx);
-            fold_blocks(r, nx, 1, cmn, cmx, r->amn + base, r->amx + base);
+    for (size_t by = 0; by < r->bdims[1]; by++) {
+        size_t z0, z1, y0, y1;
+        axis_span(bz, nz, 1, &z0, &z1);
+        axis_span(by, ny, 1, &y0, &y1);
+        if (!sv->v) {
+            long lo[3] = {0, (long)y0, (long)z0}, hi[3] = {(long)nx, (long)y1, (long)z1};
+            if (c5_supervol_read_box(sv, lo, hi, slab, err) != 0)
+                return -1;
         }
-        /* out of core, a mapped file's planes below the next row of blocks are done with */
-        long lo[3] = {0, 0, (long)(bz * C5_RANGE_BLOCK) - 1},
-             hi[3] = {(long)nx, (long)ny, (long)((bz + 1) * C5_RANGE_BLOCK) - 1};
-        c5_supervol_done_reading(sv, lo, hi);
+        size_t ni = 0, no = 0;
+        for (size_t z = z0; z < z1; z++)
+            for (size_t y = y0; y < y1; y++) {
+                const uint8_t *row = sv->v ? sv->v + (z * ny + y) * nx : slab + ((z - z0) * (y1 - y0) + y - y0) * nx;
+                outer[no++] = row;
+                if (z / C5_RANGE_BLOCK == bz && y / C5_RANGE_BLOCK == by)
+                    inner[ni++] = row;
+            }
+        size_t base = (bz * r->bdims[1] + by) * r->bdims[0];
+        fold_columns(inner, ni, nx, cmn, cmx);
+        fold_blocks(r, nx, 0, cmn, cmx, r->mn + base, r->mx + base);
+        fold_columns(outer, no, nx, cmn, cmx);
+        fold_blocks(r, nx, 1, cmn, cmx, r->amn + base, r->amx + base);
     }
-done:
-    free(cmn);
-    free(cmx);
-    free(slab);
+    /* out of core, a mapped file's planes of this layer are done with */
+    long lo[3] = {0, 0, (long)(bz * C5_RANGE_BLOCK) - 1},
+         hi[3] = {(long)nx, (long)ny, (long)((bz + 1) * C5_RANGE_BLOCK) + 1};
+    c5_supervol_done_reading(sv, lo, hi);
+    return 0;
+}
+
+/* The layers on the host's cores, each worker with its own buffers; each layer writes its own
+ * blocks, so the ranges do not depend on the threads. */
+typedef struct {
+    const c5_supervol *sv;
+    c5_block_range *r;
+    uint8_t *buf[16];   /* per worker: cmn, cmx, slab */
+    int *rc;            /* [layers] */
+    c5_err *err;        /* [layers] */
+} layers_job;
+
+static void layer_job(void *ctx, size_t bz, int worker)
+{
+    layers_job *j = ctx;
+    size_t nx = j->sv->dims[0];
+    uint8_t *b = j->buf[worker];
+    j->rc[bz] = compute_layer(j->sv, j->r, bz, b, b + nx, b + 2 * nx, &j->err[bz]);
+}
+
+static int compute(const c5_supervol *sv, c5_block_range *r, c5_err *err)
+{
+    enum { A = C5_RANGE_BLOCK + 2 };
+    size_t nx = sv->dims[0], layers = r->bdims[2];
+    int threads = c5_pool_cpus() < 16 ? c5_pool_cpus() : 16;
+    c5_pool *pool = c5_pool_new(threads);
+    layers_job j = {.sv = sv, .r = r, .rc = calloc(layers, sizeof *j.rc), .err = calloc(layers, sizeof *j.err)};
+    int rc = pool && j.rc && j.err ? 0 : -1;
+    for (int w = 0; rc == 0 && w < c5_pool_threads(pool); w++)
+        if (!(j.buf[w] = malloc(2 * nx + (sv->v ? 0 : nx * A * A))))
+            rc = -1;
+    if (rc != 0) {
+        c5_fail(err, "out of memory for the grid's block ranges");
+    } else {
+        c5_pool_run(pool, layers, 1, layer_job, &j);
+        for (size_t bz = 0; bz < layers && rc == 0; bz++)
+            if (j.rc[bz] != 0) {
+                *err = j.err[bz];
+                rc = -1;
+            }
+    }
+    for (int w = 0; w < 16; w++)
+        free(j.buf[w]);
+    free(j.rc);
+    free(j.err);
+    c5_pool_free(pool);
     return rc;
 }
 

@@ -10,9 +10,11 @@
 #include "atomic_file.h"
 #include "cache_dir.h"
 #include "cell_store.h"
+#include "worker_pool.h"
 
 #define PAGE 4096
 #define MAGIC "cube5 cells 1\n"
+#define BATCH 8 /* cells read at once at most (a buffer each) */
 
 struct c5_cell_store {
     uint8_t *base;
@@ -28,8 +30,33 @@ static void header(const c5_supervol *sv, const c5_cells *c, char *out, size_t n
     snprintf(out, n, MAGIC "%s\nsplit %d %d %d ghost %d\n", sv->grid_id, c->n[0], c->n[1], c->n[2], C5_GHOST);
 }
 
-/* Writes every cell, in cell order, read as c5_rdram_load reads it. 0, -1 with err (a read of
- * the grid failed), or 1 (the cache file could not be written). */
+/* A batch of cells read at once, one a worker: each into its own buffer. */
+typedef struct {
+    const c5_supervol *sv;
+    const c5_cells *c;
+    int first;
+    c5_rdram m[BATCH];
+    int rc[BATCH];
+    c5_err err[BATCH];
+} batch;
+
+static void read_cell(void *ctx, size_t i, int worker)
+{
+    (void)worker;
+    batch *b = ctx;
+    int lo[3], hi[3], cell = b->first + (int)i;
+    c5_cell_box(b->c, cell, lo, hi);
+    long blo[3], bhi[3];
+    for (int a = 0; a < 3; a++)
+        blo[a] = lo[a] - C5_GHOST, bhi[a] = hi[a] + C5_GHOST;
+    b->rc[i] = c5_rdram_place(&b->m[i], b->c, cell, &b->err[i]) != 0 ||
+               c5_supervol_read_box(b->sv, blo, bhi, b->m[i].v, &b->err[i]) != 0;
+}
+
+/* Writes every cell, in cell order, read as c5_rdram_load reads it: the host's cores read a
+ * batch of cells at once (a generated volume's voxels are made then), the file gets them in
+ * order, so its bytes do not depend on the threads. 0, -1 with err (a read of the grid
+ * failed), or 1 (the cache file could not be written). */
 static int build(const c5_supervol *sv, const c5_cells *c, const char *path, const char *head, const size_t *off,
                  c5_err *err)
 {
@@ -41,30 +68,43 @@ static int build(const c5_supervol *sv, const c5_cells *c, const char *path, con
     size_t hl = strlen(head);
     c5_afile_write(&a, head, hl);
     c5_afile_write(&a, zeros, off[0] - hl);
-    c5_rdram m = {.cell = -1};
-    int rc = 0, layer = c->n[0] * c->n[1];
-    for (int cell = 0; cell < c->count && rc == 0; cell++) {
-        int lo[3], hi[3];
-        c5_cell_box(c, cell, lo, hi);
-        long blo[3], bhi[3];
-        for (int a = 0; a < 3; a++)
-            blo[a] = lo[a] - C5_GHOST, bhi[a] = hi[a] + C5_GHOST;
-        if (c5_rdram_place(&m, c, cell, err) != 0 || c5_supervol_read_box(sv, blo, bhi, m.v, err) != 0) {
-            rc = -1;
-            break;
-        }
-        size_t bytes = c5_cell_bytes(c, cell);
-        c5_afile_write(&a, m.v, bytes);
-        c5_afile_write(&a, zeros, off[cell + 1] - off[cell] - bytes);
-        /* a layer of cells shares its planes: they leave the process after its last cell, not
-         * after each (a mapped file's pages; c5_supervol_done_reading) */
-        if ((cell + 1) % layer == 0) {
-            blo[0] = blo[1] = 0;
-            bhi[0] = c->dims[0], bhi[1] = c->dims[1], bhi[2] -= 2 * C5_GHOST;
-            c5_supervol_done_reading(sv, blo, bhi);
+    int threads = c5_pool_cpus() < BATCH ? c5_pool_cpus() : BATCH;
+    c5_pool *pool = c5_pool_new(threads);
+    batch *b = calloc(1, sizeof *b);
+    int rc = pool && b ? 0 : (c5_fail(err, "out of memory for the cell store"), -1);
+    for (int i = 0; b && i < BATCH; i++)
+        b->m[i].cell = -1;
+    if (b)
+        b->sv = sv, b->c = c;
+    int layer = c->n[0] * c->n[1], per = c5_pool_threads(pool);
+    for (int first = 0; first < c->count && rc == 0; first += per) {
+        int n = c->count - first < per ? c->count - first : per;
+        b->first = first;
+        c5_pool_run(pool, (size_t)n, 1, read_cell, b);
+        for (int i = 0; i < n && rc == 0; i++) {
+            int cell = first + i;
+            if (b->rc[i]) {
+                *err = b->err[i];
+                rc = -1;
+                break;
+            }
+            size_t bytes = c5_cell_bytes(c, cell);
+            c5_afile_write(&a, b->m[i].v, bytes);
+            c5_afile_write(&a, zeros, off[cell + 1] - off[cell] - bytes);
+            /* a layer of cells shares its planes: they leave the process after its last
+             * cell, not after each (a mapped file's pages; c5_supervol_done_reading) */
+            if ((cell + 1) % layer == 0) {
+                int lo[3], hi[3];
+                c5_cell_box(c, cell, lo, hi);
+                long blo[3] = {0, 0, lo[2] - C5_GHOST}, bhi[3] = {c->dims[0], c->dims[1], hi[2] + C5_GHOST};
+                c5_supervol_done_reading(sv, blo, bhi);
+            }
         }
     }
-    c5_rdram_free(&m);
+    for (int i = 0; b && i < BATCH; i++)
+        c5_rdram_free(&b->m[i]);
+    free(b);
+    c5_pool_free(pool);
     if (rc != 0) {
         c5_afile_abort(&a);
         return rc;

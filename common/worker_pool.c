@@ -1,0 +1,139 @@
+/* A fixed set of host threads that run one indexed job at a time (worker_pool.h). */
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "worker_pool.h"
+
+struct c5_pool {
+    int threads;                /* workers, the caller included */
+    pthread_t *th;
+    pthread_mutex_t mu;
+    pthread_cond_t go, done;
+    unsigned long job;          /* incremented for every job; a helper runs each once */
+    int busy;                   /* helpers still in the current job */
+    int quit;
+    size_t n, chunk;
+    atomic_size_t next;         /* the next index handed out */
+    void (*fn)(void *ctx, size_t i, int worker);
+    void *ctx;
+};
+
+typedef struct {
+    c5_pool *p;
+    int worker;
+} helper_arg;
+
+static void take_share(c5_pool *p, int worker)
+{
+    for (;;) {
+        size_t i0 = atomic_fetch_add(&p->next, p->chunk);
+        if (i0 >= p->n)
+            return;
+        size_t i1 = i0 + p->chunk < p->n ? i0 + p->chunk : p->n;
+        for (size_t i = i0; i < i1; i++)
+            p->fn(p->ctx, i, worker);
+    }
+}
+
+static void *helper(void *arg)
+{
+    helper_arg *h = arg;
+    c5_pool *p = h->p;
+    int worker = h->worker;
+    free(h);
+    unsigned long seen = 0;
+    pthread_mutex_lock(&p->mu);
+    for (;;) {
+        while (!p->quit && p->job == seen)
+            pthread_cond_wait(&p->go, &p->mu);
+        if (p->quit)
+            break;
+        seen = p->job;
+        pthread_mutex_unlock(&p->mu);
+        take_share(p, worker);
+        pthread_mutex_lock(&p->mu);
+        if (--p->busy == 0)
+            pthread_cond_signal(&p->done);
+    }
+    pthread_mutex_unlock(&p->mu);
+    return NULL;
+}
+
+c5_pool *c5_pool_new(int threads)
+{
+    c5_pool *p = calloc(1, sizeof *p);
+    if (!p)
+        return NULL;
+    p->threads = 1;
+    pthread_mutex_init(&p->mu, NULL);
+    pthread_cond_init(&p->go, NULL);
+    pthread_cond_init(&p->done, NULL);
+    if (threads > 1 && (p->th = calloc((size_t)threads - 1, sizeof *p->th)) != NULL)
+        for (int w = 1; w < threads; w++) {
+            helper_arg *h = malloc(sizeof *h);
+            if (!h)
+                break;
+            *h = (helper_arg){p, w};
+            if (pthread_create(&p->th[w - 1], NULL, helper, h) != 0) {
+                free(h);
+                break;
+            }
+            p->threads = w + 1;
+        }
+    return p;
+}
+
+void c5_pool_free(c5_pool *p)
+{
+    if (!p)
+        return;
+    pthread_mutex_lock(&p->mu);
+    p->quit = 1;
+    pthread_cond_broadcast(&p->go);
+    pthread_mutex_unlock(&p->mu);
+    for (int w = 1; w < p->threads; w++)
+        pthread_join(p->th[w - 1], NULL);
+    pthread_cond_destroy(&p->go);
+    pthread_cond_destroy(&p->done);
+    pthread_mutex_destroy(&p->mu);
+    free(p->th);
+    free(p);
+}
+
+int c5_pool_threads(const c5_pool *p) { return p ? p->threads : 1; }
+
+void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx)
+{
+    if (n == 0)
+        return;
+    if (chunk < 1)
+        chunk = 1;
+    if (!p || p->threads == 1 || n <= chunk) {
+        for (size_t i = 0; i < n; i++)
+            fn(ctx, i, 0);
+        return;
+    }
+    pthread_mutex_lock(&p->mu);
+    p->n = n;
+    p->chunk = chunk;
+    p->fn = fn;
+    p->ctx = ctx;
+    atomic_store(&p->next, 0);
+    p->busy = p->threads - 1;
+    p->job++;
+    pthread_cond_broadcast(&p->go);
+    pthread_mutex_unlock(&p->mu);
+    take_share(p, 0);
+    pthread_mutex_lock(&p->mu);
+    while (p->busy > 0)
+        pthread_cond_wait(&p->done, &p->mu);
+    pthread_mutex_unlock(&p->mu);
+}
+
+int c5_pool_cpus(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 256 ? 256 : (int)n;
+}

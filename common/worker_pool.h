@@ -1,0 +1,25 @@
+/* A fixed set of host threads that run one indexed job at a time: c5_pool_run calls
+ * fn(ctx, i, worker) once for every i in [0, n), the calling thread taking part as worker 0,
+ * and returns when every call has returned. Which worker runs which i is not fixed: a job
+ * whose results depend on it is not deterministic, so callers write each i's result into
+ * its own place. Made once for a pass and reused for its jobs, so that a short job does not
+ * pay for creating threads. */
+#ifndef C5_WORKER_POOL_H
+#define C5_WORKER_POOL_H
+
+#include <stddef.h>
+
+typedef struct c5_pool c5_pool;
+
+/* A pool of `threads` workers (the caller and threads - 1 started here; fewer if the system
+ * refuses more: the results are the same, only slower). NULL: out of memory. */
+c5_pool *c5_pool_new(int threads);
+void c5_pool_free(c5_pool *p);
+/* The workers it has, the caller included (>= 1). */
+int c5_pool_threads(const c5_pool *p);
+/* fn for every i in [0, n), handed out `chunk` consecutive indices at a time. */
+void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
+/* The online CPUs (at least 1): the default thread count. */
+int c5_pool_cpus(void);
+
+#endif
