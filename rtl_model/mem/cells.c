@@ -263,16 +263,22 @@ static void release_view(c5_rdram *m)
     m->view_of = NULL;
 }
 
-int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err)
+/* The cell's box and the RDRAM's (the cell with its ghost layers). */
+static void set_box(c5_rdram *m, const c5_cells *c, int cell)
 {
     release_view(m);
     c5_cell_box(c, cell, m->lo, m->hi);
-    size_t need = 1;
     for (int a = 0; a < 3; a++) {
         m->org[a] = m->lo[a] - C5_GHOST;
         m->ext[a] = m->hi[a] - m->lo[a] + 2 * C5_GHOST;
-        need *= (size_t)m->ext[a];
     }
+    m->cell = cell;
+}
+
+int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err)
+{
+    set_box(m, c, cell);
+    size_t need = (size_t)m->ext[0] * (size_t)m->ext[1] * (size_t)m->ext[2];
     if (need > m->cap) {
         uint8_t *p = realloc(m->v, need);
         if (!p)
@@ -280,7 +286,6 @@ int c5_rdram_place(c5_rdram *m, const c5_cells *c, int cell, c5_err *err)
         m->v = p;
         m->cap = need;
     }
-    m->cell = cell;
     m->view = NULL;
     return 0;
 }
@@ -299,15 +304,12 @@ int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
 
 int c5_rdram_view(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cell, c5_err *err)
 {
-    release_view(m);
     const uint8_t *data = c5_supervol_data(sv);
     if (!data)
         return c5_rdram_load(m, c, sv, cell, err);
-    c5_cell_box(c, cell, m->lo, m->hi);
+    set_box(m, c, cell);
     long lo[3], hi[3];
     for (int a = 0; a < 3; a++) {
-        m->org[a] = m->lo[a] - C5_GHOST;
-        m->ext[a] = m->hi[a] - m->lo[a] + 2 * C5_GHOST;
         lo[a] = m->org[a];
         hi[a] = (long)m->org[a] + m->ext[a];
     }
@@ -315,7 +317,6 @@ int c5_rdram_view(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
     m->view_sy = (ptrdiff_t)sv->dims[0];
     m->view_sz = (ptrdiff_t)(sv->dims[0] * sv->dims[1]);
     m->view_o0 = m->org[0] + m->org[1] * m->view_sy + m->org[2] * m->view_sz;
-    m->cell = cell;
     if (!sv->v) {
         c5_supervol_will_read(sv, lo, hi);
         m->view_of = sv;
@@ -325,17 +326,11 @@ int c5_rdram_view(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
 
 void c5_rdram_at(c5_rdram *m, const c5_cells *c, int cell, const uint8_t *bytes)
 {
-    release_view(m);
-    c5_cell_box(c, cell, m->lo, m->hi);
-    for (int a = 0; a < 3; a++) {
-        m->org[a] = m->lo[a] - C5_GHOST;
-        m->ext[a] = m->hi[a] - m->lo[a] + 2 * C5_GHOST;
-    }
+    set_box(m, c, cell);
     m->view = bytes;
     m->view_sy = m->ext[0];
     m->view_sz = (ptrdiff_t)m->ext[0] * m->ext[1];
     m->view_o0 = 0;
-    m->cell = cell;
 }
 
 void c5_rdram_free(c5_rdram *m)
