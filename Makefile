@@ -228,7 +228,7 @@ REF_SO := $(BUILD)/libc5ref.so
 # fails on anything missing).
 REF_MODEL_SRC := rtl_model/proc/ray_queue.c rtl_model/dsp/cell_tree.c rtl_model/proc/processor.c rtl_model/proc/fixed.c rtl_model/mem/cells.c rtl_model/proc/geom.c \
   rtl_model/proc/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/voxel.c common/nrrd_precheck.c \
-  common/generators.c common/tlp.c common/block_range.c common/cache_dir.c common/atomic_file.c
+  common/generators.c common/tlp.c common/block_range.c common/cache_dir.c common/atomic_file.c common/worker_pool.c
 REF_SRC := $(wildcard fpga/ref/*.c) $(REF_MODEL_SRC)
 $(REF_SO): $(REF_SRC) $(wildcard fpga/ref/*.h $(MODEL_DIRS:%=%/*.h) common/*.h) $(LAYOUTS_H) $(REGS_H)
 	@mkdir -p $(@D)
@@ -336,7 +336,7 @@ DRV_STATIC := $(BUILD)/pic/libc5drv.a
 DRV_MODEL_SRC := common/err.c common/scene_parse.c common/supervol.c common/voxsrc.c common/tlp.c common/volume.c common/voxel.c common/nrrd_precheck.c \
   common/generators.c common/tf.c common/camera.c rtl_model/mem/cells.c rtl_model/proc/regs.c rtl_model/model_limits.c \
   rtl_model/proc/widths.c cref/render.c cref/trace.c cref/sample.c cref/geometry.c common/image.c \
-  common/atomic_file.c common/block_range.c common/cache_dir.c
+  common/atomic_file.c common/block_range.c common/cache_dir.c common/worker_pool.c
 DRV_PIC_OBJ := $(patsubst %.c,$(BUILD)/pic/%.o,$(DRV_SRC) $(DRV_MODEL_SRC)) $(CREFL_SRC:cref/%.c=$(BUILD)/pic/cref-long/%.o)
 DRV_PUBLIC_H := host_driver/c5drv.h $(REGS_H)
 MAN_PAGES  := man/cube5.1 man/cube5ctl.1 man/cube5-board.1
