@@ -134,6 +134,7 @@ void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_
 
 int c5_pool_cpus(void)
 {
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    const char *e = getenv("C5_THREADS");
+    long n = e && *e ? strtol(e, NULL, 10) : sysconf(_SC_NPROCESSORS_ONLN);
     return n < 1 ? 1 : n > 256 ? 256 : (int)n;
 }

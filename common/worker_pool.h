@@ -19,7 +19,7 @@ void c5_pool_free(c5_pool *p);
 int c5_pool_threads(const c5_pool *p);
 /* fn for every i in [0, n), handed out `chunk` consecutive indices at a time. */
 void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
-/* The online CPUs (at least 1): the default thread count. */
+/* The default thread count: C5_THREADS when set (1..256), else the online CPUs. */
 int c5_pool_cpus(void);
 
 #endif

@@ -709,3 +709,59 @@ TEST(cache_holds_at_most_c5_cache_max_least_recently_used_out)
     CHECK(too_big == 0);
     CHECK(refused);
 }
+
+TEST(one_time_passes_same_bytes_for_1_2_and_7_threads)
+{
+    /* the block ranges (in parallel over layers) and the cell store (cells read in batches)
+     * of an out-of-core grid, made at 1, 2 and 7 threads (C5_THREADS): the same bytes */
+    CHECK(grid_file("c_37x21x45_uint8.raw", 1, 97, 100) == 0);
+    c5_scene s;
+    c5_supervol sv;
+    CHECK(file_and_generator_scene(&s, &sv, 20000) == 0 && sv.grid_id[0]);
+    c5_err err;
+    uint8_t nz[256];
+    memset(nz, 1, sizeof nz);
+    int split[3] = {3, 2, 3}, ok = 1;
+    c5_cells c;
+    CHECK(c5_cells_init(&c, &sv, split, nz, &err) == 0);
+    static const char *threads[3] = {"1", "2", "7"};
+    c5_block_range *ranges[3] = {NULL, NULL, NULL};
+    char *store[3] = {NULL, NULL, NULL};
+    long long bytes[3] = {0, 0, 0};
+    for (int k = 0; k < 3 && ok; k++) {
+        char dir[1200], cmd[1300];
+        snprintf(dir, sizeof dir, "%s/t%s", test_cache(), threads[k]);
+        setenv("C5_CACHE_DIR", "off", 1);
+        setenv("C5_THREADS", threads[k], 1);
+        c5_supervol fresh; /* ranges made anew: none kept yet */
+        ok &= file_and_generator_scene(&s, &fresh, 20000) == 0;
+        c5_block_range *owned;
+        fresh.grid_id[0] = 0; /* not kept: made into owned */
+        ok &= c5_block_range_of(&fresh, &owned, &err) != NULL && owned != NULL;
+        ranges[k] = owned;
+        c5_supervol_free(&fresh);
+        setenv("C5_CACHE_DIR", dir, 1);
+        c5_cell_store *cs;
+        ok &= c5_cell_store_open(&sv, &c, &cs, &err) == 0 && cs && !c5_cell_store_was_cached(cs);
+        c5_cell_store_close(cs);
+        snprintf(cmd, sizeof cmd, "cat %s/cells-*.bin", dir);
+        FILE *p = popen(cmd, "r");
+        size_t cap = 1 << 22, n = 0;
+        store[k] = malloc(cap);
+        if (p && store[k])
+            n = fread(store[k], 1, cap, p);
+        if (p)
+            pclose(p);
+        bytes[k] = (long long)n;
+        ok &= n > 0 && n < cap;
+    }
+    unsetenv("C5_THREADS");
+    unsetenv("C5_CACHE_DIR");
+    for (int k = 1; k < 3 && ok; k++)
+        ok &= same_arrays(ranges[0], ranges[k]) && bytes[k] == bytes[0] && !memcmp(store[0], store[k], (size_t)bytes[0]);
+    for (int k = 0; k < 3; k++)
+        c5_block_range_free(ranges[k]), free(store[k]);
+    c5_cells_free(&c);
+    c5_supervol_free(&sv);
+    CHECK(ok);
+}
