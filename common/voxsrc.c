@@ -28,7 +28,7 @@ static void map_fault(int sig)
     _exit(C5_EXIT_INPUT);
 }
 
-static void map_guard(const char *path)
+void c5_map_guard(const char *path)
 {
     snprintf(map_msg, sizeof map_msg, "cube5: error: %s: read failed: the file ends early (it changed after it was "
              "checked)\n", path);
@@ -234,7 +234,7 @@ int c5_voxsrc_map(const c5_voxsrc *s, void **base, size_t *len, const uint8_t **
     void *p = mmap(NULL, n, PROT_READ, MAP_PRIVATE, s->f.fd, 0);
     if (p == MAP_FAILED)
         return -1;
-    map_guard(s->path);
+    c5_map_guard(s->path);
     *base = p;
     *len = n;
     *data = (const uint8_t *)p + s->f.offset;

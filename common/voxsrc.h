@@ -50,5 +50,9 @@ int c5_voxsrc_identity(const c5_voxsrc *s, char *buf, size_t n);
  * to munmap. 0, or -1 (a generator, uint16, or the system refused: the caller reads instead).
  * A file cut short while mapped ends the run with the message of a failed read. */
 int c5_voxsrc_map(const c5_voxsrc *s, void **base, size_t *len, const uint8_t **data);
+/* A file just mapped (by c5_voxsrc_map, or a cache file): if it is cut short while mapped,
+ * the fault ends the run with "cube5: error: PATH: read failed: ...", exit 2, naming the
+ * file mapped last. */
+void c5_map_guard(const char *path);
 
 #endif

@@ -10,6 +10,7 @@
 #include "atomic_file.h"
 #include "cache_dir.h"
 #include "cell_store.h"
+#include "voxsrc.h"
 #include "worker_pool.h"
 
 #define PAGE 4096
@@ -128,6 +129,7 @@ static int map_existing(const char *path, const char *head, size_t total, c5_cel
     close(fd);
     if (p == MAP_FAILED)
         return -1;
+    c5_map_guard(path);
     s->base = p;
     s->len = total;
     return 0;
