@@ -90,7 +90,8 @@ int c5_cache_make_room(const char *dir, size_t bytes)
         list[n].used = st.st_mtim;
         total += list[n++].bytes;
     }
-    qsort(list, n, sizeof *list, older);
+    if (n > 1)
+        qsort(list, n, sizeof *list, older);
     for (size_t i = 0; i < n && total + bytes > max; i++)
         if (unlinkat(dirfd(d), list[i].name, 0) == 0)
             total -= list[i].bytes;
