@@ -13,6 +13,7 @@
 
 #include "generators.h"
 #include "voxsrc.h"
+#include "worker_pool.h"
 
 static const char *base_name(const char *path)
 {
@@ -399,7 +400,7 @@ static int resolve_spacing(const c5_scene *s, const double file_sp[][3], c5_supe
 int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
 {
     size_t budget, cache_max;
-    if (c5_mem_budget(&budget, err) != 0 || c5_cache_max(&cache_max, err) != 0) {
+    if (c5_mem_budget(&budget, err) != 0 || c5_cache_max(&cache_max, err) != 0 || c5_pool_threads_env(err) != 0) {
         memset(out, 0, sizeof *out);
         return -1;
     }

@@ -132,9 +132,28 @@ void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_
     pthread_mutex_unlock(&p->mu);
 }
 
-int c5_pool_cpus(void)
+/* C5_THREADS as a count 1..256, or 0 when unset, -1 when not such a count. */
+static long env_threads(void)
 {
     const char *e = getenv("C5_THREADS");
-    long n = e && *e ? strtol(e, NULL, 10) : sysconf(_SC_NPROCESSORS_ONLN);
+    if (!e)
+        return 0;
+    char *end;
+    long n = strtol(e, &end, 10);
+    return *e && !*end && n >= 1 && n <= 256 ? n : -1;
+}
+
+int c5_pool_threads_env(c5_err *err)
+{
+    if (env_threads() < 0)
+        return c5_fail(err, "C5_THREADS: expected a thread count 1..256, got '%.40s'", getenv("C5_THREADS"));
+    return 0;
+}
+
+int c5_pool_cpus(void)
+{
+    long n = env_threads();
+    if (n < 1)
+        n = sysconf(_SC_NPROCESSORS_ONLN);
     return n < 1 ? 1 : n > 256 ? 256 : (int)n;
 }

@@ -9,6 +9,8 @@
 
 #include <stddef.h>
 
+#include "err.h"
+
 typedef struct c5_pool c5_pool;
 
 /* A pool of `threads` workers (the caller and threads - 1 started here; fewer if the system
@@ -21,5 +23,7 @@ int c5_pool_threads(const c5_pool *p);
 void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
 /* The default thread count: C5_THREADS when set (1..256), else the online CPUs. */
 int c5_pool_cpus(void);
+/* C5_THREADS checked: 0, or -1 with "C5_THREADS: ..." when set but not a count 1..256. */
+int c5_pool_threads_env(c5_err *err);
 
 #endif

@@ -86,6 +86,31 @@ else
 fi
 expect mem_budget_bad 2 "C5_MEM_BUDGET: expected a byte count" -- env C5_MEM_BUDGET=lots "$cube5" render "$tmp/ok.json"
 expect mem_budget_zero 2 "C5_MEM_BUDGET: '0' is zero" -- env C5_MEM_BUDGET=0 "$cube5" render "$tmp/ok.json"
+# cube5's cache folder (docs/out-of-core.md, "Block ranges"): bad settings refused; a volume
+# file's block ranges kept where C5_CACHE_DIR, else XDG_CACHE_HOME, says, nowhere with off,
+# and not for a file written just now (it could be rewritten unseen within one clock tick).
+expect cache_max_bad 2 "C5_CACHE_MAX: expected a byte count" -- env C5_CACHE_MAX=lots "$cube5" render "$tmp/ok.json"
+expect threads_env_bad 2 "C5_THREADS: expected a thread count 1..256, got '0'" -- env C5_THREADS=0 "$cube5" render "$tmp/ok.json"
+mkdir -p "$tmp/cachehome"
+cp "$tmp/ok.json" "$tmp/aged.json"
+touch -d '1 hour ago' "$tmp"/vol_10x10x10_uint8.raw
+rtl=(--model rtl --cells 2 --size 8x8 -o "$tmp/cached.png")
+if env -u XDG_CACHE_HOME C5_CACHE_DIR="$tmp/c1" "$cube5" render "$tmp/aged.json" "${rtl[@]}" >/dev/null &&
+    ls "$tmp"/c1/ranges-*.bin >/dev/null 2>&1 &&
+    env -u C5_CACHE_DIR XDG_CACHE_HOME="$tmp/xdg" "$cube5" render "$tmp/aged.json" "${rtl[@]}" >/dev/null &&
+    ls "$tmp"/xdg/cube5/ranges-*.bin >/dev/null 2>&1 &&
+    env -u XDG_CACHE_HOME HOME="$tmp/cachehome" C5_CACHE_DIR=off "$cube5" render "$tmp/aged.json" "${rtl[@]}" >/dev/null &&
+    [ ! -e "$tmp/cachehome/.cache" ]; then
+    ok cache_folder_where_said
+else
+    bad cache_folder_where_said "expected ranges in \$C5_CACHE_DIR, then \$XDG_CACHE_HOME/cube5, none with off"
+fi
+touch "$tmp"/vol_10x10x10_uint8.raw
+if env C5_CACHE_DIR="$tmp/c2" "$cube5" render "$tmp/aged.json" "${rtl[@]}" >/dev/null && ! ls "$tmp"/c2/*.bin >/dev/null 2>&1; then
+    ok cache_not_for_a_fresh_file
+else
+    bad cache_not_for_a_fresh_file "a file written just now got a cache entry"
+fi
 expect mem_budget_cast_refused 2 "default: the grid of 96x96x96 voxels is above the memory budget .C5_MEM_BUDGET, here 262144 bytes." \
     -- env C5_MEM_BUDGET=256K "$cube5" cast default --views 1
 expect mem_budget_cast_phantom_refused 2 "phantom:shell:100: 100x100x100 voxels are above the memory budget" \
