@@ -31,7 +31,8 @@ static void header(const c5_supervol *sv, const c5_cells *c, char *out, size_t n
     snprintf(out, n, MAGIC "%s\nsplit %d %d %d ghost %d\n", sv->grid_id, c->n[0], c->n[1], c->n[2], C5_GHOST);
 }
 
-/* A batch of cells read at once, one a worker: each into its own buffer. */
+/* A batch of cells read at once, one a worker: each into its own buffer, as c5_rdram_load
+ * reads it but without dropping the planes after each cell (build drops a layer's). */
 typedef struct {
     const c5_supervol *sv;
     const c5_cells *c;
@@ -45,13 +46,12 @@ static void read_cell(void *ctx, size_t i, int worker)
 {
     (void)worker;
     batch *b = ctx;
-    int lo[3], hi[3], cell = b->first + (int)i;
-    c5_cell_box(b->c, cell, lo, hi);
-    long blo[3], bhi[3];
-    for (int a = 0; a < 3; a++)
-        blo[a] = lo[a] - C5_GHOST, bhi[a] = hi[a] + C5_GHOST;
-    b->rc[i] = c5_rdram_place(&b->m[i], b->c, cell, &b->err[i]) != 0 ||
-               c5_supervol_read_box(b->sv, blo, bhi, b->m[i].v, &b->err[i]) != 0;
+    c5_rdram *m = &b->m[i];
+    if ((b->rc[i] = c5_rdram_place(m, b->c, b->first + (int)i, &b->err[i]) != 0))
+        return;
+    long lo[3] = {m->org[0], m->org[1], m->org[2]};
+    long hi[3] = {lo[0] + m->ext[0], lo[1] + m->ext[1], lo[2] + m->ext[2]};
+    b->rc[i] = c5_supervol_read_box(b->sv, lo, hi, m->v, &b->err[i]) != 0;
 }
 
 /* Writes every cell, in cell order, read as c5_rdram_load reads it: the host's cores read a

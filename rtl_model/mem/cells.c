@@ -297,8 +297,7 @@ int c5_rdram_load(c5_rdram *m, const c5_cells *c, const c5_supervol *sv, int cel
     long lo[3] = {m->org[0], m->org[1], m->org[2]};
     long hi[3] = {lo[0] + m->ext[0], lo[1] + m->ext[1], lo[2] + m->ext[2]};
     int rc = c5_supervol_read_box(sv, lo, hi, m->v, err);
-    if (!sv->v && c5_supervol_data(sv))
-        c5_supervol_done_reading(sv, lo, hi);
+    c5_supervol_done_reading(sv, lo, hi); /* out of core, a mapped file's pages; else nothing */
     return rc;
 }
 
