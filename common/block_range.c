@@ -1,10 +1,8 @@
 /* The value range of every 8^3 block of a grid, made once and cached (block_range.h). */
-#include <errno.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "atomic_file.h"
 #include "block_range.h"
@@ -46,9 +44,8 @@ static c5_block_range *alloc_range(const c5_supervol *sv)
     return r;
 }
 
-/* The least and greatest of each x over rows[0..n) into cmn, cmx (elementwise, which the
- * compiler vectorises). */
-/* Vectorised: GCC 12 at -O2 leaves this loop scalar, 3x slower over a 1 GiB grid. */
+/* Folds one row into the columns' least and greatest. Vectorised: GCC 12 at -O2 leaves this
+ * loop scalar, 3x slower over a 1 GiB grid. */
 #if defined(__GNUC__) && !defined(__clang__)
 __attribute__((optimize("tree-vectorize")))
 #endif
@@ -61,6 +58,7 @@ static void fold_row(const uint8_t *restrict p, size_t nx, uint8_t *restrict cmn
     }
 }
 
+/* The least and greatest of each x over rows[0..n) into cmn, cmx. */
 static void fold_columns(const uint8_t *const *rows, size_t n, size_t nx, uint8_t *cmn, uint8_t *cmx)
 {
     memcpy(cmn, rows[0], nx);
@@ -69,14 +67,21 @@ static void fold_columns(const uint8_t *const *rows, size_t n, size_t nx, uint8_
         fold_row(rows[k], nx, cmn, cmx);
 }
 
-/* Each block's range along x from the columns' ranges: x in [8 bx - pad, 8 bx + 8 + pad)
- * clamped to [0, nx). */
+/* Voxels [lo, hi) of an axis of n around block b: lo = 8 b - pad, hi = 8 b + 8 + pad,
+ * clamped. */
+static void axis_span(size_t b, size_t n, size_t pad, size_t *lo, size_t *hi)
+{
+    *lo = b * C5_RANGE_BLOCK >= pad ? b * C5_RANGE_BLOCK - pad : 0;
+    *hi = b * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad < n ? b * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad : n;
+}
+
+/* Each block's range along x from the columns' ranges: x in axis_span(bx, nx, pad). */
 static void fold_blocks(const c5_block_range *r, size_t nx, size_t pad, const uint8_t *cmn, const uint8_t *cmx,
                         uint8_t *mn, uint8_t *mx)
 {
     for (size_t bx = 0; bx < r->bdims[0]; bx++) {
-        size_t x0 = bx * C5_RANGE_BLOCK >= pad ? bx * C5_RANGE_BLOCK - pad : 0;
-        size_t x1 = bx * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad < nx ? bx * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad : nx;
+        size_t x0, x1;
+        axis_span(bx, nx, pad, &x0, &x1);
         uint8_t a = 255, b = 0;
         for (size_t x = x0; x < x1; x++) {
             a = cmn[x] < a ? cmn[x] : a;
@@ -85,14 +90,6 @@ static void fold_blocks(const c5_block_range *r, size_t nx, size_t pad, const ui
         mn[bx] = a;
         mx[bx] = b;
     }
-}
-
-/* Rows [lo, hi) of an axis of n around a block row at b: lo = 8 b - pad, hi = 8 b + 8 + pad,
- * clamped. */
-static void axis_span(size_t b, size_t n, size_t pad, size_t *lo, size_t *hi)
-{
-    *lo = b * C5_RANGE_BLOCK >= pad ? b * C5_RANGE_BLOCK - pad : 0;
-    *hi = b * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad < n ? b * C5_RANGE_BLOCK + C5_RANGE_BLOCK + pad : n;
 }
 
 /* From the grid, the rows of blocks of one layer bz, one (by, bz) at a time: the 10 x 10 rows
