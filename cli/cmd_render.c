@@ -46,7 +46,8 @@ static const c5_opt opts[] = {
     {"-o", "OUT", c5_opt_str, offsetof(render_args, out), 0, 0, 0,
      "write the image: .png (8-bit, clamped) or .exr (float); with several frames, OUT_0000.png, OUT_0001.png, ..."},
     {"--threads", "N", c5_opt_long, offsetof(render_args, threads), 1, 256, 0,
-     "cref only: worker threads (default: one per CPU); the image is the same"},
+     "host threads (default: one per CPU; with --boards, one a board); the image, and the board model's every "
+     "counter and cycle, are the same for any N"},
     {"--frames", "N", c5_opt_long, offsetof(render_args, frames), 1, C5_MAX_FRAMES, 0,
      "frames along the scene's camera path (default: the scene's, or 8 with a camera motion)"},
     {"--size", "N|WxH", c5_opt_size, offsetof(render_args, size), 0, 0, 0, "image size instead of the scene's (N: NxN)"},
@@ -111,8 +112,8 @@ static int parse_args(int argc, char **argv, render_args *a, c5_err *err)
         return c5_fail(err, "--vcd: only with --model rtl (the waveform is of the board model's parts)");
     if (a->vcd && a->bd.given)
         return c5_fail(err, "--vcd: one board only (the waveform is of one board's parts)");
-    if (a->rtl && a->threads)
-        return c5_fail(err, "--threads: only with --model cref (the board model runs on one thread)");
+    if (a->bd.given && a->threads)
+        return c5_fail(err, "--threads: not with --boards (each board is a thread or a process of its own)");
     return 0;
 }
 
@@ -164,6 +165,7 @@ static void add_board(c5_board_stats *sum, const c5_board_stats *f)
     sum->stages.scheduling |= f->stages.scheduling;
     sum->cells = f->cells;
     sum->wall_s += f->wall_s;
+    sum->helper_runs += f->helper_runs;
 }
 
 /* The part of the board's statistics that cref also reports, so both models print the same
@@ -226,10 +228,7 @@ static void print_text(const char *label, const c5_scene *s, const c5_supervol *
                        const render_args *a, const c5_cref_stats *st, const c5_board_stats *board, const json_t *outputs)
 {
     printf("cube5 render: %s, %dx%d, %d frame(s), ", label, s->render.width, s->render.height, frames);
-    if (a->rtl)
-        printf("rtl (bit-accurate board model)\n");
-    else
-        printf("cref (double), %d thread(s)\n", threads);
+    printf("%s, %d thread(s)\n", a->rtl ? "rtl (bit-accurate board model)" : "cref (double)", threads);
     if (c5_supervol_empty(sv)) {
         printf("  volume   none\n");
     } else {
@@ -290,6 +289,10 @@ static int render_frame(const render_args *a, const c5_scene *s, const c5_superv
     return rc;
 }
 
+/* The board model's host threads: one a board with --boards (each a thread or process of its
+ * own), else --threads or one per CPU. */
+static int model_threads(const render_args *a) { return a->bd.given ? 1 : c5_cref_thread_count((int)a->threads); }
+
 static int render_at(const render_args *a, const c5_scene *s, const c5_supervol *sv, int f, c5_image *img,
                      c5_cref_stats *st, c5_board_stats *board, c5_mb_stats *mb, c5_progress *prog, const c5_taps *taps,
                      c5_err *err)
@@ -304,6 +307,7 @@ static int render_at(const render_args *a, const c5_scene *s, const c5_supervol 
     opts.host_latency_s = a->host_ms < 0 ? 0 : a->host_ms == 0 ? -1 : a->host_ms * 1e-3;
     memcpy(opts.cells, a->cells, sizeof opts.cells);
     opts.taps = taps;
+    opts.threads = model_threads(a);
     c5_progress_frame pf = {prog, f, f};
     opts.progress = c5_boards_leader(&a->bd) ? c5_progress_board : NULL;
     opts.progress_ctx = &pf;
@@ -473,9 +477,8 @@ static void print_json(const render_args *a, const c5_scene *s, const c5_supervo
                                           (json_int_t)a->vcd_from, "cycles_written", (json_int_t)ws->written,
                                           "cycles_frame", (json_int_t)ws->cycles, "cut", ws->cut, "bus_to_dsp",
                                           (json_int_t)ws->to_dsp, "bus_from_dsp", (json_int_t)ws->from_dsp));
-    } else {
-        json_object_set_new(o, "threads", json_integer(threads));
     }
+    json_object_set_new(o, "threads", json_integer(threads));
     if (!c5_supervol_empty(sv))
         json_object_set_new(o, "grid", json_pack("{s:[I, I, I], s:[f, f, f], s:s, s:b, s:I}", "dims",
                                                  (json_int_t)sv->dims[0], (json_int_t)sv->dims[1],
@@ -514,7 +517,7 @@ int c5_cmd_render(int argc, char **argv)
     if (wave)
         rc = close_wave(&a, wave, rc, &r.ws, &err);
     if (rc == 0 && lead) {
-        int threads = c5_cref_thread_count((int)a.threads);
+        int threads = a.rtl ? model_threads(&a) : c5_cref_thread_count((int)a.threads);
         if (a.json) {
             print_json(&a, &s, &sv, threads, &r);
         } else {

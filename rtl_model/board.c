@@ -82,8 +82,9 @@ static void pack(c5_bd *b, const c5_bray *r, uint8_t pk[C5_PACKET_BYTES])
         t->packet(t->ctx, pk);
 }
 
-/* One cycle of the sorter with an insert: 1 if accepted. */
-static int edram_insert(c5_bd *b, const c5_bray *r)
+/* One cycle of the sorter with an insert: 1 if accepted. item: the ray's item of the cell's
+ * visit (board_threads.c), or C5_BD_NO_ITEM. */
+static int edram_insert(c5_bd *b, const c5_bray *r, uint32_t item)
 {
     if (b->n_free == 0 || edram_count(b) >= (uint32_t)b->o->queue_capacity)
         return 0;
@@ -96,6 +97,8 @@ static int edram_insert(c5_bd *b, const c5_bray *r)
     b->n_free--;
     pack(b, r, b->slot[slot]);
     b->slot_shadow[slot] = r->shadow;
+    if (b->slot_item)
+        b->slot_item[slot] = item;
     return 1;
 }
 
@@ -147,7 +150,7 @@ static void on_enqueue(void *ctx, const c5_bray *r)
     if (b->o->link && c5_bd_link_enqueue(b, r))
         return;
     if ((int)r->cell == b->proc.active) {
-        if (edram_insert(b, r))
+        if (edram_insert(b, r, C5_BD_NO_ITEM))
             return;
         b->st->spills++;
     }
@@ -208,8 +211,11 @@ static void refill(c5_bd *b, c5_sdram_queue *q)
         c5_bray r;
         c5_bray_unpack(q->pk[q->head], &b->cells, &r);
         r.shadow = q->shadow[q->head];
-        if (!edram_insert(b, &r))
+        uint32_t item = b->threads ? c5_bd_threads_refill_item(b) : C5_BD_NO_ITEM;
+        if (!edram_insert(b, &r, item))
             break;
+        if (b->threads)
+            c5_bd_threads_refilled(b);
         bus_tap(b, &r, q->pk[q->head], 0);
         q->head++;
         b->queued--;
@@ -223,6 +229,8 @@ static void refill(c5_bd *b, c5_sdram_queue *q)
 static void process_cell(c5_bd *b, int cell)
 {
     c5_sdram_queue *q = &b->q[cell];
+    if (b->threads)
+        c5_bd_threads_cell_begin(b, cell);
     for (;;) {
         refill(b, q);
         if (edram_count(b) == 0)
@@ -230,13 +238,19 @@ static void process_cell(c5_bd *b, int cell)
         c5_rq_in in = {.pop_ready = 1};
         c5_rq_out out;
         edram_step(b, &in, &out);
-        c5_bray r;
-        c5_bray_unpack(b->slot[out.pop_payload], &b->cells, &r);
-        r.shadow = b->slot_shadow[out.pop_payload];
-        b->free_slots[b->n_free++] = out.pop_payload;
+        uint32_t s = out.pop_payload, item = b->slot_item ? b->slot_item[s] : C5_BD_NO_ITEM;
+        b->free_slots[b->n_free++] = s;
         b->st->queue_pops++;
+        /* The slot is free again: a replay may insert into it, the ray's own run reads it first. */
+        if (item != C5_BD_NO_ITEM && c5_bd_threads_take(b, item))
+            continue;
+        c5_bray r;
+        c5_bray_unpack(b->slot[s], &b->cells, &r);
+        r.shadow = b->slot_shadow[s];
         c5_proc_run(&b->proc, &r);
     }
+    if (b->threads)
+        c5_bd_threads_cell_end(b);
 }
 
 static uint64_t fetch_cycles(const c5_board_opts *o, size_t bytes)
@@ -302,6 +316,7 @@ static void board_free(c5_bd *b)
     c5_rdram_free(&b->mem);
     c5_cell_store_close(b->cstore);
     c5_cells_free(&b->cells);
+    c5_bd_threads_free(b);
 }
 
 /* A volume-less grid still needs one (empty) cell for the tables. */
@@ -408,6 +423,11 @@ static int frame_setup(c5_bd *b, const c5_supervol *sv, const c5_supervol *grid,
         b->free_slots[b->n_free++] = (uint32_t)o->queue_capacity - 1 - i;
     c5_proc_init(&b->proc, &b->r, &b->cells, &b->mem, (c5_proc_io){b, on_enqueue, on_deliver});
     b->proc.taps = o->taps;
+    /* Taps observe every step in order, and the link stamps packets with the processor's
+     * cycle count as they leave: both on the board's thread alone. Without helpers (out of
+     * memory) the same frame. */
+    if (!o->taps && !o->link)
+        (void)c5_bd_threads_init(b, o->threads);
     stats->stages = b->r.st;
     stats->cells = b->cells.count;
     return 0;

@@ -166,6 +166,13 @@ typedef struct {
      * and entry i waits until board k has passed entry sched_dep[i * boards + k] (-1: none;
      * plan_deps.h). NULL: the schedule is this board's own. */
     const int *sched_dep;
+    /* Host threads for the frame, the calling one included (board_threads.c; docs/board-model.md,
+     * "Host threads"); < 2: the calling thread alone. The image, every counter and every cycle
+     * count are the same for any count. With taps or a link the calling thread runs alone. */
+    int threads;
+    /* With threads > 1: the calling thread runs no ray a helper could run, it waits for the
+     * helper's log and replays it (tests of the replay: every item takes that path). */
+    int threads_replay_all;
 } c5_board_opts;
 
 /* What a frame leaves beside its image and counters, each where the caller gives room for it
@@ -258,6 +265,8 @@ typedef struct c5_board_stats {
     c5_board_stages stages;
     int cells;               /* cells in the split */
     double wall_s;           /* host time of the model */
+    uint64_t helper_runs;    /* ray runs the host's helper threads did and the board's thread
+                              * replayed (opts.threads): host work, no part of the board's */
     /* With opts.link: packets sent to and received from other boards, the exchanges taken
      * part in, the processor cycles of the replicated eye-ray set-up that finds which board
      * owns each pixel (in cycles_process). */

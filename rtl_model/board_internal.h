@@ -87,6 +87,8 @@ typedef struct {
     uint64_t *seen_t[C5_LINK_MAX_BOARDS];
     size_t seen_n[C5_LINK_MAX_BOARDS], seen_cap[C5_LINK_MAX_BOARDS];
     struct c5_cell_store *cstore; /* an out-of-core grid's cells on disk (cell_store.h), or NULL */
+    struct c5_bd_threads *threads; /* the host's helper threads (board_threads.c), or NULL */
+    uint32_t *slot_item;     /* with threads: beside each eDRAM packet, its item of the cell's visit */
 } c5_bd;
 
 /* c5_bd_schedule: the next entry waits (until b->wake). */
@@ -133,6 +135,24 @@ int c5_bd_eye_owners(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err);
 /* The next cell to load, exchanging with the other boards while this one's queues are empty.
  * -1: the frame is over, -2: an error (err set). */
 int c5_bd_next_cell(c5_bd *b, int *sched_pos, c5_err *err);
+
+/* board_threads.c: the host's helper threads (c5_board_opts.threads). */
+#define C5_BD_NO_ITEM UINT32_MAX
+/* threads - 1 helpers started (none when threads < 2). 0, or -1 out of memory (b->threads
+ * stays NULL: the board's thread runs the frame alone, the same bits). */
+int c5_bd_threads_init(c5_bd *b, int threads);
+void c5_bd_threads_free(c5_bd *b);
+/* The visit of `cell` begins: the rays in its SDRAM queue become the phase's items. */
+void c5_bd_threads_cell_begin(c5_bd *b, int cell);
+/* The item of the ray refill moves next into the sorter (C5_BD_NO_ITEM: none), and that it
+ * was moved. */
+uint32_t c5_bd_threads_refill_item(c5_bd *b);
+void c5_bd_threads_refilled(c5_bd *b);
+/* The popped ray is item `item`: 1 if its run was replayed from a helper's log, 0 if the
+ * caller runs it. */
+int c5_bd_threads_take(c5_bd *b, uint32_t item);
+/* The visit's queues are empty: the helpers' counters join the processor's. */
+void c5_bd_threads_cell_end(c5_bd *b);
 
 /* board_stats.c: the frame's statistics from the processor, the queues and the trees. */
 void c5_bd_collect_stats(c5_bd *b);

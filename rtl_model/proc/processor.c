@@ -4,6 +4,7 @@
 
 #include "geom.h"
 #include "processor.h"
+#include "ray_log.h"
 #include "sample_pipe.h"
 
 void c5_proc_init(c5_proc *p, const c5_frame_regs *r, const c5_cells *cells, const c5_rdram *mem, c5_proc_io io)
@@ -227,11 +228,12 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int6
 
 static void cache_access(c5_proc *p, const int64_t pos[3])
 {
-    /* the line's 4^3-voxel block, 16 bits an axis: distinct for every block of any grid the
-     * model takes (C5_MODEL_MAX_GRID) */
-    int64_t tag = (pos[2] >> (C5_POS_F + 2)) << 32 | (pos[1] >> (C5_POS_F + 2)) << 16 | (pos[0] >> (C5_POS_F + 2));
-    int line = (int)(((pos[0] >> (C5_POS_F + 2)) & 7) | (((pos[1] >> (C5_POS_F + 2)) & 7) << 3) |
-                     (((pos[2] >> (C5_POS_F + 2)) & 3) << 6));
+    int64_t tag = c5_cache_tag_of(pos);
+    if (p->rec) {
+        c5_rlog_access(p->rec, (uint64_t)tag);
+        return;
+    }
+    int line = c5_cache_line_of(tag);
     if (p->cache_tag[line] == tag) {
         p->st.cache_hits++;
     } else {

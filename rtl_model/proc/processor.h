@@ -31,6 +31,9 @@ typedef struct {
     void (*deliver)(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3]); /* into the frame buffer */
 } c5_proc_io;
 
+/* Every field a uint64_t counter: summed over rays in any order (a helper thread's counters
+ * are added to the board's, board_threads.c), but for the cache's hits and misses, which
+ * depend on the order and which a recorded run replays (ray_log.h). */
 typedef struct {
     uint64_t rays[C5_RAY_TYPES], ends[C5_END_KINDS];
     uint64_t samples, leaped, leaps, hits, setups;
@@ -48,7 +51,19 @@ typedef struct {
     const c5_taps *taps;  /* observers of the datapath (golden vectors), or NULL: set after init */
     c5_proc_stats st;
     int64_t cache_tag[C5_CACHE_LINES];
+    struct c5_ray_rec *rec; /* recording the run for a replay on the board's thread (ray_log.h), or NULL */
 } c5_proc;
+
+/* The voxel cache's tag of the 4^3-voxel block holding pos: 16 bits an axis (z y x), distinct
+ * for every block of any grid the model takes (C5_MODEL_MAX_GRID); and its line. */
+static inline int64_t c5_cache_tag_of(const int64_t pos[3])
+{
+    return (pos[2] >> (C5_POS_F + 2)) << 32 | (pos[1] >> (C5_POS_F + 2)) << 16 | (pos[0] >> (C5_POS_F + 2));
+}
+static inline int c5_cache_line_of(int64_t tag)
+{
+    return (int)((tag & 7) | ((tag >> 16) & 7) << 3 | ((tag >> 32) & 3) << 6);
+}
 
 void c5_proc_init(c5_proc *p, const c5_frame_regs *r, const c5_cells *cells, const c5_rdram *mem, c5_proc_io io);
 
