@@ -277,6 +277,8 @@ int c5_bd_generate_eye_rays(c5_bd *b, const c5_supervol *sv, int frame, c5_err *
         c5_regs_geom_point(cam.eye, sv, O, "the eye", err) != 0)
         return -1;
     c5_bray proto = {.w = C5_ONE15, .type = C5_RAY_EYE, .node = C5_NODE_NONE, .shadow = C5_DEMAND_NONE};
+    if (b->threads && !b->px_owner && c5_bd_threads_eye_rays(b, &basis, O, &proto))
+        return 0;
     for (int py = 0; py < basis.h; py++)
         for (int px = 0; px < basis.w; px++) {
             if (b->px_owner && !b->eye_probe && b->px_owner[(size_t)py * (size_t)basis.w + (size_t)px] != b->o->link->self)

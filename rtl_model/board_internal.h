@@ -6,6 +6,7 @@
 #define C5_BOARD_INTERNAL_H
 
 #include "board.h"
+#include "camera.h"
 #include "cell_tree_sdram.h"
 #include "cells.h"
 #include "mw_shadow.h"
@@ -153,6 +154,8 @@ void c5_bd_threads_refilled(c5_bd *b);
 int c5_bd_threads_take(c5_bd *b, uint32_t item);
 /* The visit's queues are empty: the helpers' counters join the processor's. */
 void c5_bd_threads_cell_end(c5_bd *b);
+/* Every pixel's eye ray with the helpers: 1, or 0 if the caller is to generate them. */
+int c5_bd_threads_eye_rays(c5_bd *b, const c5_camera_basis *basis, const int64_t O[3], const c5_bray *proto);
 
 /* board_stats.c: the frame's statistics from the processor, the queues and the trees. */
 void c5_bd_collect_stats(c5_bd *b);

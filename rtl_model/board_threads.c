@@ -80,6 +80,10 @@ struct c5_bd_threads {
     uint32_t *shadow;
     size_t cap_pk;
     size_t refilled;     /* rays moved into the sorter so far: item refilled if < n */
+    int eye;             /* the items are the pixels' eye rays (c5_bd_threads_eye_rays) */
+    c5_camera_basis basis;
+    int64_t eye_o[3];
+    c5_bray proto;
     const c5_cells *cells;
 };
 
@@ -112,6 +116,17 @@ static void *log_room(helper *h, size_t bytes, chunk **in)
     return p;
 }
 
+/* The eye ray of pixel px, py (c5_bd_generate_eye_rays). */
+static void eye_ray(c5_proc *p, const c5_camera_basis *basis, const int64_t O[3], const c5_bray *proto, int px, int py)
+{
+    int64_t d[3];
+    c5_regs_unit14(c5_camera_pixel_dir(basis, px, py), d);
+    c5_bray r = *proto;
+    r.u = (uint32_t)px;
+    r.v = (uint32_t)py;
+    c5_proc_new_ray(p, O, d, C5_T_INF, -1, &r);
+}
+
 /* Item j is run: wakes the board's thread if it sleeps on it. */
 static void wake(struct c5_bd_threads *t, size_t j)
 {
@@ -128,10 +143,14 @@ static void run_item(struct c5_bd_threads *t, helper *h, size_t j)
     item *x = &t->it[j];
     c5_proc_stats before = h->w.st;
     c5_rlog_begin(&h->rec);
-    c5_bray r;
-    c5_bray_unpack(t->pk[j], t->cells, &r);
-    r.shadow = t->shadow[j];
-    c5_proc_run(&h->w, &r);
+    if (t->eye) {
+        eye_ray(&h->w, &t->basis, t->eye_o, &t->proto, (int)(j % (size_t)t->basis.w), (int)(j / (size_t)t->basis.w));
+    } else {
+        c5_bray r;
+        c5_bray_unpack(t->pk[j], t->cells, &r);
+        r.shadow = t->shadow[j];
+        c5_proc_run(&h->w, &r);
+    }
     void *log = h->rec.oom ? NULL : log_room(h, c5_rlog_size(&h->rec), &x->c);
     if (!log) { /* out of memory: the board's thread runs it, the counters as if not run */
         h->w.st = before;
@@ -364,6 +383,7 @@ void c5_bd_threads_cell_begin(c5_bd *b, int cell)
         return;
     memcpy(t->pk, q->pk + q->head, n * C5_PACKET_BYTES);
     memcpy(t->shadow, q->shadow + q->head, n * sizeof *t->shadow);
+    t->eye = 0;
     start(b, n);
 }
 
@@ -392,4 +412,24 @@ void c5_bd_threads_cell_end(c5_bd *b)
 {
     if (b->threads->n)
         finish(b);
+}
+
+int c5_bd_threads_eye_rays(c5_bd *b, const c5_camera_basis *basis, const int64_t O[3], const c5_bray *proto)
+{
+    struct c5_bd_threads *t = b->threads;
+    size_t n = (size_t)basis->w * (size_t)basis->h;
+    if (t->n_helpers == 0 || n < MIN_ITEMS || reserve(t, n) != 0)
+        return 0;
+    t->eye = 1;
+    t->basis = *basis;
+    memcpy(t->eye_o, O, sizeof t->eye_o);
+    t->proto = *proto;
+    start(b, n);
+    for (size_t i = 0; i < n; i++) {
+        atomic_store_explicit(&t->mark, i, memory_order_relaxed);
+        if (!take(b, i))
+            eye_ray(&b->proc, basis, O, proto, (int)(i % (size_t)basis->w), (int)(i / (size_t)basis->w));
+    }
+    finish(b);
+    return 1;
 }

@@ -6,7 +6,7 @@
 # The model's host throughput is stated per core: M sample positions (taken or leaped) per
 # second of its one thread (the median of RTL_REPS=3 runs); a small table shows how it grows
 # with the volume's size and the cell count (the default scene at 96^3 and 192^3 voxels, 1, 8
-# and 64 cells).
+# and 64 cells). The board model on every core against one: scripts/bench-threads.sh.
 # Printed as tables and written to BUILD/bench.json.
 # With ../shared/data/volumes/ present, also brain_mirrors with a real CT volume.
 # Then the out-of-core section (cref over a 384^3 grid, generated and a raw file, resident and
@@ -32,7 +32,7 @@ for scene in $scenes; do
             # run on a shared VM varies by +-15 %.
             for _ in $(seq "${RTL_REPS:-3}"); do
                 echo "rtl|$scene|$cells|$key|$("$cube5" render "$scene" --size 256x256 --frames 1 --model rtl \
-                    --cells "$cells" --queue-key "$key" --json)"
+                    --cells "$cells" --queue-key "$key" --threads 1 --json)"
             done
         done
     done
@@ -48,7 +48,7 @@ for n in 96 192; do
 json.dump(s, open(sys.argv[3], "w"))' "$(dirname "$0")/../scenes/default.json" "$n" "$tmp/default$n.json"
     for cells in 1 2 4; do
         echo "scale|default|$n|$cells|$("$cube5" render "$tmp/default$n.json" --size 256x256 --frames 1 --model rtl \
-            --cells "$cells" --json)"
+            --cells "$cells" --threads 1 --json)"
     done
 done >> "$tmp/runs"
 if [ -f "$data/CThead_256x256x113_uint8.raw" ]; then
@@ -62,7 +62,7 @@ fi
 python3 - "$tmp/runs" "$out" <<'PY'
 import json, sys
 cref, rtl, cmp, link, scale = [], [], [], [], []
-MODEL_THREADS = 1  # c5_board_render runs on the calling thread only
+MODEL_THREADS = 1  # the runs above pass --threads 1; scripts/bench-threads.sh times more
 for line in open(sys.argv[1]):
     kind, rest = line.rstrip("\n").split("|", 1)
     if kind == "cref":
@@ -157,6 +157,7 @@ json.dump({"cref": cref, "rtl": rtl, "rtl_scaling": scale, "compare": cmp, "link
           indent=1)
 print("written:", sys.argv[2])
 PY
+bash "$(dirname "$0")/bench-threads.sh" "$build"
 bash "$(dirname "$0")/bench-ooc.sh" "$build"
 bash "$(dirname "$0")/bench-cast.sh" "$build"
 bash "$(dirname "$0")/bench-supervol.sh" "$build"
