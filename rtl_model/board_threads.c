@@ -396,6 +396,8 @@ uint32_t c5_bd_threads_refill_item(c5_bd *b)
 void c5_bd_threads_refilled(c5_bd *b)
 {
     struct c5_bd_threads *t = b->threads;
+    if (t->refilled >= t->n) /* not an item (a ray queued during the visit), or no items */
+        return;
     item *x = &t->it[t->refilled];
     atomic_store_explicit(&t->mark, ++t->refilled, memory_order_relaxed);
     /* It is popped some hundred pops later: its log is fetched from the helper's core by then. */

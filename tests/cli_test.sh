@@ -203,7 +203,21 @@ else
 fi
 expect render_bad_model 2 "--model: expected cref or rtl" -- "$cube5" render default --model fpga
 expect render_cells_needs_rtl 2 "--cells: only with --model rtl" -- "$cube5" render default --cells 2
-expect render_rtl_no_threads 2 "--threads: only with --model cref" -- "$cube5" render default --model rtl --threads 2
+expect render_rtl_threads_not_with_boards 2 "--threads: not with --boards" -- \
+    "$cube5" render default --model rtl --boards 2 --loopback --threads 2
+# The board model on 1 and 3 host threads: the same image and the same board figures (all but
+# the host's: its time and the runs its helpers made).
+board_figures() {
+    "$cube5" render brain_mirrors --model rtl --size 48x48 --cells 2 --frames 1 --threads "$1" --json |
+        python3 -c 'import json, sys; o = json.load(sys.stdin); b = o["board"]; h = b.pop("host_helper_runs")
+print(json.dumps([o["frames"][0]["crc32"], o["samples"], o["rays"], b], sort_keys=True), h > 0)'
+}
+one=$(board_figures 1) three=$(board_figures 3)
+if [ -n "$one" ] && [ "${one% *}" = "${three% *}" ] && [ "${one##* }" = False ] && [ "${three##* }" = True ]; then
+    ok render_rtl_threads_same_frame
+else
+    bad render_rtl_threads_same_frame "1 thread: $one" "3 threads: $three"
+fi
 expect render_bad_queue_key 2 "--queue-key: expected morton or fifo" -- \
     "$cube5" render default --model rtl --queue-key lifo
 expect render_host_bw_needs_rtl 2 "--host-bw/--host-latency: only with --model rtl" -- \
