@@ -11,6 +11,7 @@
 #include <teem/nrrd.h>
 
 #include "board.h"
+#include "board_equal.h"
 #include "cells.h"
 #include "cref.h"
 #include "generators.h"
@@ -397,6 +398,17 @@ TEST(ooc_board_model_image_and_counters_identical)
               sa.samples == sb.samples && sa.samples_leaped == sb.samples_leaped && sa.cache_hits == sb.cache_hits &&
               sa.cache_misses == sb.cache_misses && sa.bus_packets == sb.bus_packets && sa.spills == sb.spills);
         CHECK(sa.samples_leaped > 0); /* the emptiness flags matter here */
+        /* out of core on helper threads, every ray they run replayed: the same frame */
+        c5_image c;
+        c5_board_stats sc;
+        c5_board_opts ot = o;
+        ot.threads = 3;
+        ot.threads_replay_all = 1;
+        CHECK_MSG(c5_board_render(&p.s, &p.ooc, 0, &ot, &c, &sc, &err) == 0, "%s", err.msg);
+        CHECK(same_image(&a, &c));
+        CHECK(c5t_board_stats_equal("out of core, 3 threads", &sa, &sc) == 0);
+        CHECK(sc.helper_runs > 0);
+        c5_image_free(&c);
         c5_image_free(&a);
         c5_image_free(&b);
     }
