@@ -79,9 +79,11 @@ void c5_rlog_write(const c5_ray_rec *rec, void *dst)
     char *o = dst;
     memcpy(o, &h, sizeof h);
     o += sizeof h;
-    memcpy(o, rec->acc, rec->n_acc * sizeof *rec->acc);
+    if (rec->n_acc) /* a run that samples nothing has no array yet (memcpy from NULL is undefined) */
+        memcpy(o, rec->acc, rec->n_acc * sizeof *rec->acc);
     o += rec->n_acc * sizeof *rec->acc;
-    memcpy(o, rec->ev, rec->n_ev * sizeof *rec->ev);
+    if (rec->n_ev)
+        memcpy(o, rec->ev, rec->n_ev * sizeof *rec->ev);
 }
 
 void c5_rlog_replay(c5_proc *p, const void *log)
