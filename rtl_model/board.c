@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "board_internal.h"
+#include "c5_layouts.h"
 #include "camera.h"
 #include "cell_store.h"
 #include "clock.h"
@@ -55,6 +56,17 @@ static uint32_t queue_key(c5_bd *b, const c5_bray *r)
                   (uint32_t)((r->pos[2] >> C5_POS_F) - b->mem.lo[2]));
 }
 
+/* queue_key of a packet queued for the active cell: its position is from the cell's corner,
+ * mem.lo, so the voxel offsets are the position fields' integer parts. */
+static uint32_t packet_key(c5_bd *b, const uint8_t pk[C5_PACKET_BYTES])
+{
+    if (b->o->key == C5_KEY_FIFO)
+        return b->seq++;
+    c5_ray_packet_t f;
+    c5_ray_packet_unpack(pk, &f);
+    return morton((uint32_t)(f.pos_x >> C5_POS_F), (uint32_t)(f.pos_y >> C5_POS_F), (uint32_t)(f.pos_z >> C5_POS_F));
+}
+
 /* One clock cycle of the active cell's sorter, seen by the queue tap. */
 static void edram_step(c5_bd *b, const c5_rq_in *in, c5_rq_out *out)
 {
@@ -82,24 +94,35 @@ static void pack(c5_bd *b, const c5_bray *r, uint8_t pk[C5_PACKET_BYTES])
         t->packet(t->ctx, pk);
 }
 
-/* One cycle of the sorter with an insert: 1 if accepted. item: the ray's item of the cell's
- * visit (board_threads.c), or C5_BD_NO_ITEM. */
-static int edram_insert(c5_bd *b, const c5_bray *r, uint32_t item)
+/* One cycle of the sorter with an insert of ray r (pk NULL) or of packet pk queued for the
+ * active cell, with key and instrument node `shadow`: 1 if accepted. item: the ray's item of
+ * the cell's visit (board_threads.c), or C5_BD_NO_ITEM. */
+static int sorter_insert(c5_bd *b, const c5_bray *r, const uint8_t *pk, uint32_t key, uint32_t shadow,
+                         uint32_t item)
 {
-    if (b->n_free == 0 || edram_count(b) >= (uint32_t)b->o->queue_capacity)
-        return 0;
     uint32_t slot = b->free_slots[b->n_free - 1];
-    c5_rq_in in = {.insert_valid = 1, .insert_key = queue_key(b, r), .insert_payload = slot};
+    c5_rq_in in = {.insert_valid = 1, .insert_key = key, .insert_payload = slot};
     c5_rq_out out;
     edram_step(b, &in, &out);
     if (!out.insert_accepted)
         return 0;
     b->n_free--;
-    pack(b, r, b->slot[slot]);
-    b->slot_shadow[slot] = r->shadow;
+    if (pk)
+        memcpy(b->slot[slot], pk, C5_PACKET_BYTES);
+    else
+        pack(b, r, b->slot[slot]);
+    b->slot_shadow[slot] = shadow;
     if (b->slot_item)
         b->slot_item[slot] = item;
     return 1;
+}
+
+static int sorter_full(const c5_bd *b) { return b->n_free == 0 || edram_count(b) >= (uint32_t)b->o->queue_capacity; }
+
+/* A ray into the active cell's sorter: 1 if accepted. */
+static int edram_insert(c5_bd *b, const c5_bray *r, uint32_t item)
+{
+    return !sorter_full(b) && sorter_insert(b, r, NULL, queue_key(b, r), r->shadow, item);
 }
 
 /* Cells a group holds along an axis (`want`, at most the axis's cells; < 2: one) and the
@@ -164,7 +187,7 @@ static void on_enqueue(void *ctx, const c5_bray *r)
 void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival)
 {
     c5_bray q = *r;
-    double t0 = c5_now_s();
+    unsigned long long t0 = c5_ticks();
     uint32_t id = C5_NODE_NONE, from_id = r->node; /* the nodes' ids in the tree's store */
     if (b->sdram) {
         /* The packet's node is its index among the nodes of the cell it was queued for, the
@@ -175,7 +198,7 @@ void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival)
     } else {
         q.node = id = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
     }
-    b->st->tree_wall_s += c5_now_s() - t0;
+    b->tree_ticks += c5_ticks() - t0;
     /* The rays each node brings to its cell's queue (stale_plan.h); a spill of the active
      * cell's own ray is not an arrival. */
     if (b->keep->node_rays && q.node != C5_NODE_NONE && arrival) {
@@ -204,19 +227,28 @@ static void on_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
         px[c] += (uint64_t)rgb[c];
 }
 
-/* Moves rays from the cell's SDRAM queue into the sorter while it has room. */
+/* Moves rays from the cell's SDRAM queue into the sorter while it has room. The packet goes
+ * in as it is (pack(unpack(p)) is p: every queued packet was packed), unless a tap watches
+ * the packets written and the bus. */
 static void refill(c5_bd *b, c5_sdram_queue *q)
 {
+    const int as_is = !b->o->taps;
     while (q->head < q->n && edram_count(b) < (uint32_t)b->o->queue_capacity) {
-        c5_bray r;
-        c5_bray_unpack(q->pk[q->head], &b->cells, &r);
-        r.shadow = q->shadow[q->head];
+        const uint8_t *pk = q->pk[q->head];
         uint32_t item = b->threads ? c5_bd_threads_refill_item(b) : C5_BD_NO_ITEM;
-        if (!edram_insert(b, &r, item))
-            break;
+        if (as_is) {
+            if (sorter_full(b) || !sorter_insert(b, NULL, pk, packet_key(b, pk), q->shadow[q->head], item))
+                break;
+        } else {
+            c5_bray r;
+            c5_bray_unpack(pk, &b->cells, &r);
+            r.shadow = q->shadow[q->head];
+            if (!edram_insert(b, &r, item))
+                break;
+            bus_tap(b, &r, pk, 0);
+        }
         if (b->threads)
             c5_bd_threads_refilled(b);
-        bus_tap(b, &r, q->pk[q->head], 0);
         q->head++;
         b->queued--;
         b->st->bus_packets++;
@@ -508,6 +540,7 @@ int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, co
 {
     static const c5_board_out none;
     double start = c5_now_s();
+    unsigned long long start_ticks = c5_ticks();
     memset(stats, 0, sizeof *stats);
     c5_board_opts o = *opts;
     normalise_opts(&o, sv);
@@ -582,5 +615,6 @@ int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, co
     c5_bd_collect_stats(&b);
     board_free(&b);
     stats->wall_s = c5_now_s() - start;
+    stats->tree_wall_s = c5_ticks_to_s(b.tree_ticks, c5_ticks() - start_ticks, stats->wall_s);
     return 0;
 }

@@ -89,6 +89,7 @@ typedef struct {
     size_t seen_n[C5_LINK_MAX_BOARDS], seen_cap[C5_LINK_MAX_BOARDS];
     struct c5_cell_store *cstore; /* an out-of-core grid's cells on disk (cell_store.h), or NULL */
     struct c5_bd_threads *threads; /* the host's helper threads (board_threads.c), or NULL */
+    unsigned long long tree_ticks; /* host time of the Cell Tree's tags (c5_ticks; stats->tree_wall_s) */
     uint32_t *slot_item;     /* with threads: beside each eDRAM packet, its item of the cell's visit */
 } c5_bd;
 
