@@ -138,6 +138,19 @@ int c5_bd_eye_owners(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err);
  * -1: the frame is over, -2: an error (err set). */
 int c5_bd_next_cell(c5_bd *b, int *sched_pos, c5_err *err);
 
+/* board_edram.c: the active cell's eDRAM (its sorter and the packets in its slots). */
+/* One clock cycle of the sorter, seen by the queue tap; its occupancy (accepted, not popped). */
+void c5_bd_edram_step(c5_bd *b, const c5_rq_in *in, c5_rq_out *out);
+uint32_t c5_bd_edram_count(const c5_bd *b);
+/* A ray into the sorter: 1 if accepted. item: its item of the cell's visit, or C5_BD_NO_ITEM. */
+int c5_bd_edram_insert(c5_bd *b, const c5_bray *r, uint32_t item);
+/* Moves rays from the cell's SDRAM queue into the sorter while it has room. */
+void c5_bd_refill(c5_bd *b, c5_sdram_queue *q);
+/* A packet as it is written into a queue (eDRAM or SDRAM), seen by the packet tap. */
+void c5_bd_pack(c5_bd *b, const c5_bray *r, uint8_t pk[C5_PACKET_BYTES]);
+/* A packet on the ray bus, seen by the bus tap (pk NULL: packed from r, only when the tap is set). */
+void c5_bd_bus_tap(const c5_bd *b, const c5_bray *r, const uint8_t *pk, int to_dsp);
+
 /* board_threads.c: the host's helper threads (c5_board_opts.threads). */
 #define C5_BD_NO_ITEM UINT32_MAX
 /* threads - 1 helpers started (none when threads < 2). 0, or -1 out of memory (b->threads
