@@ -104,6 +104,28 @@ void c5_pool_free(c5_pool *p)
 
 int c5_pool_threads(const c5_pool *p) { return p ? p->threads : 1; }
 
+void c5_pool_start(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx)
+{
+    pthread_mutex_lock(&p->mu);
+    p->n = n;
+    p->chunk = chunk < 1 ? 1 : chunk;
+    p->fn = fn;
+    p->ctx = ctx;
+    atomic_store(&p->next, 0);
+    p->busy = p->threads - 1;
+    p->job++;
+    pthread_cond_broadcast(&p->go);
+    pthread_mutex_unlock(&p->mu);
+}
+
+void c5_pool_wait(c5_pool *p)
+{
+    pthread_mutex_lock(&p->mu);
+    while (p->busy > 0)
+        pthread_cond_wait(&p->done, &p->mu);
+    pthread_mutex_unlock(&p->mu);
+}
+
 void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx)
 {
     if (n == 0)
@@ -115,21 +137,9 @@ void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_
             fn(ctx, i, 0);
         return;
     }
-    pthread_mutex_lock(&p->mu);
-    p->n = n;
-    p->chunk = chunk;
-    p->fn = fn;
-    p->ctx = ctx;
-    atomic_store(&p->next, 0);
-    p->busy = p->threads - 1;
-    p->job++;
-    pthread_cond_broadcast(&p->go);
-    pthread_mutex_unlock(&p->mu);
+    c5_pool_start(p, n, chunk, fn, ctx);
     take_share(p, 0);
-    pthread_mutex_lock(&p->mu);
-    while (p->busy > 0)
-        pthread_cond_wait(&p->done, &p->mu);
-    pthread_mutex_unlock(&p->mu);
+    c5_pool_wait(p);
 }
 
 /* C5_THREADS as a count 1..256, or 0 when unset, -1 when not such a count. */

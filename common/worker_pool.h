@@ -21,6 +21,11 @@ void c5_pool_free(c5_pool *p);
 int c5_pool_threads(const c5_pool *p);
 /* fn for every i in [0, n), handed out `chunk` consecutive indices at a time. */
 void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
+/* The same job on the workers other than the caller (a pool of at least 2), which goes on
+ * with its own work: c5_pool_start returns at once, c5_pool_wait when every call has
+ * returned. One job at a time. */
+void c5_pool_start(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
+void c5_pool_wait(c5_pool *p);
 /* The default thread count: C5_THREADS when set (1..256), else the online CPUs. */
 int c5_pool_cpus(void);
 /* C5_THREADS checked: 0, or -1 with "C5_THREADS: ..." when set but not a count 1..256. */

@@ -26,6 +26,7 @@
 #include "board_internal.h"
 #include "geom.h"
 #include "ray_log.h"
+#include "worker_pool.h"
 
 enum { TODO, MINE, CLAIMED, DONE, FAILED }; /* an item: to run, the board's, a helper's, logged, not logged */
 /* Fewer items than this: the board's thread alone (waking the helpers costs more). */
@@ -53,22 +54,18 @@ typedef struct {
 } item;
 
 typedef struct {
-    struct c5_bd_threads *t;
-    pthread_t th;
     c5_proc w;       /* the recording copy of the board's processor, made at each visit's start */
     c5_ray_rec rec;
     chunk *chunks, *cur; /* the visit's logs, in chunks that never move */
 } helper;
 
 struct c5_bd_threads {
+    c5_pool *pool;       /* the board's thread and the helpers (worker k > 0 is helper k - 1) */
     int n_helpers;
     int replay_all;      /* the board's thread takes no item: opts.threads_replay_all */
     helper *h;
-    pthread_mutex_t mu;
-    pthread_cond_t go, done, ran;
-    unsigned long visit; /* under mu: incremented for each visit the helpers join */
-    int finished;        /* under mu: helpers through the current visit */
-    int quit;
+    pthread_mutex_t mu;  /* with ran: the board's thread sleeping on an item */
+    pthread_cond_t ran;
     atomic_long waiting; /* the item the board's thread sleeps on until it is run, -1: none */
     /* The visit */
     size_t n;
@@ -197,26 +194,12 @@ static void run_visit(struct c5_bd_threads *t, helper *h)
     }
 }
 
-static void *helper_main(void *arg)
+/* The pool's job at a visit: each helper's share. */
+static void visit_job(void *ctx, size_t i, int worker)
 {
-    helper *h = arg;
-    struct c5_bd_threads *t = h->t;
-    unsigned long seen = 0;
-    pthread_mutex_lock(&t->mu);
-    for (;;) {
-        while (!t->quit && t->visit == seen)
-            pthread_cond_wait(&t->go, &t->mu);
-        if (t->quit)
-            break;
-        seen = t->visit;
-        pthread_mutex_unlock(&t->mu);
-        run_visit(t, h);
-        pthread_mutex_lock(&t->mu);
-        if (++t->finished == t->n_helpers)
-            pthread_cond_signal(&t->done);
-    }
-    pthread_mutex_unlock(&t->mu);
-    return NULL;
+    struct c5_bd_threads *t = ctx;
+    (void)i;
+    run_visit(t, &t->h[worker - 1]);
 }
 
 int c5_bd_threads_init(c5_bd *b, int threads)
@@ -224,27 +207,22 @@ int c5_bd_threads_init(c5_bd *b, int threads)
     if (threads < 2)
         return 0;
     struct c5_bd_threads *t = calloc(1, sizeof *t);
-    if (!t || !(t->h = calloc((size_t)threads - 1, sizeof *t->h)) ||
+    if (!t || !(t->h = calloc((size_t)threads - 1, sizeof *t->h)) || !(t->pool = c5_pool_new(threads)) ||
         !(b->slot_item = malloc((size_t)b->o->queue_capacity * sizeof *b->slot_item))) {
-        if (t)
+        if (t) {
+            c5_pool_free(t->pool);
             free(t->h);
+        }
         free(t);
         return -1;
     }
     pthread_mutex_init(&t->mu, NULL);
-    pthread_cond_init(&t->go, NULL);
-    pthread_cond_init(&t->done, NULL);
     pthread_cond_init(&t->ran, NULL);
     atomic_init(&t->waiting, -1);
+    t->n_helpers = c5_pool_threads(t->pool) - 1; /* fewer if the system refused threads */
     t->cells = &b->cells;
     t->replay_all = b->o->threads_replay_all;
     b->threads = t;
-    for (int k = 0; k < threads - 1; k++) {
-        t->h[k].t = t;
-        if (pthread_create(&t->h[k].th, NULL, helper_main, &t->h[k]) != 0)
-            break;
-        t->n_helpers = k + 1;
-    }
     return 0;
 }
 
@@ -255,18 +233,12 @@ void c5_bd_threads_free(c5_bd *b)
     b->slot_item = NULL;
     if (!t)
         return;
-    pthread_mutex_lock(&t->mu);
-    t->quit = 1;
-    pthread_cond_broadcast(&t->go);
-    pthread_mutex_unlock(&t->mu);
+    c5_pool_free(t->pool);
     for (int k = 0; k < t->n_helpers; k++) {
-        pthread_join(t->h[k].th, NULL);
         c5_rlog_free(&t->h[k].rec);
         for (chunk *c = t->h[k].chunks, *n; c; c = n)
             n = c->next, free(c);
     }
-    pthread_cond_destroy(&t->go);
-    pthread_cond_destroy(&t->done);
     pthread_cond_destroy(&t->ran);
     pthread_mutex_destroy(&t->mu);
     free(t->it);
@@ -312,21 +284,14 @@ static void start(c5_bd *b, size_t n)
     atomic_store_explicit(&t->mark, 0, memory_order_relaxed);
     for (int k = 0; k < t->n_helpers; k++)
         c5_rlog_recorder(&t->h[k].w, &b->proc, &t->h[k].rec);
-    pthread_mutex_lock(&t->mu);
-    t->finished = 0;
-    t->visit++;
-    pthread_cond_broadcast(&t->go);
-    pthread_mutex_unlock(&t->mu);
+    c5_pool_start(t->pool, (size_t)t->n_helpers, 1, visit_job, t);
 }
 
 /* After the board's thread has taken every item: waits for the helpers, adds their counters. */
 static void finish(c5_bd *b)
 {
     struct c5_bd_threads *t = b->threads;
-    pthread_mutex_lock(&t->mu);
-    while (t->finished < t->n_helpers)
-        pthread_cond_wait(&t->done, &t->mu);
-    pthread_mutex_unlock(&t->mu);
+    c5_pool_wait(t->pool);
     _Static_assert(sizeof(c5_proc_stats) % sizeof(uint64_t) == 0, "c5_proc_stats: uint64_t counters only");
     uint64_t *dst = (uint64_t *)&b->proc.st;
     for (int k = 0; k < t->n_helpers; k++) {
