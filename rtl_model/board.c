@@ -184,13 +184,19 @@ int c5_bd_generate_eye_rays(c5_bd *b, const c5_supervol *sv, int frame, c5_err *
         for (int px = 0; px < basis.w; px++) {
             if (b->px_owner && !b->eye_probe && b->px_owner[(size_t)py * (size_t)basis.w + (size_t)px] != b->o->link->self)
                 continue;
-            int64_t d[3];
-            c5_regs_unit14(c5_camera_pixel_dir(&basis, px, py), d);
-            proto.u = (uint32_t)px;
-            proto.v = (uint32_t)py;
-            c5_proc_new_ray(&b->proc, O, d, C5_T_INF, -1, &proto);
+            c5_bd_eye_ray(&b->proc, &basis, O, &proto, px, py);
         }
     return 0;
+}
+
+void c5_bd_eye_ray(c5_proc *p, const c5_camera_basis *basis, const int64_t O[3], const c5_bray *proto, int px, int py)
+{
+    int64_t d[3];
+    c5_regs_unit14(c5_camera_pixel_dir(basis, px, py), d);
+    c5_bray r = *proto;
+    r.u = (uint32_t)px;
+    r.v = (uint32_t)py;
+    c5_proc_new_ray(p, O, d, C5_T_INF, -1, &r);
 }
 
 static void board_free(c5_bd *b)

@@ -116,6 +116,8 @@ int c5_bd_group_of(const c5_bd *b, int cell, const int g[3], const int ng[3]);
 void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival);
 /* The DSP's eye rays, pixel by pixel, through the processor's set-up unit. */
 int c5_bd_generate_eye_rays(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err);
+/* Pixel px, py's eye ray from O (proto: its other fields) through processor p's set-up unit. */
+void c5_bd_eye_ray(c5_proc *p, const c5_camera_basis *basis, const int64_t O[3], const c5_bray *proto, int px, int py);
 
 /* dsp/frame_sched.c: the DSP's choice of the next cell during the frame. */
 /* The queues the set-up left against the previous frame's (stale_plan.h): 1 the same rays in
@@ -165,7 +167,7 @@ uint32_t c5_bd_threads_refill_item(c5_bd *b);
 void c5_bd_threads_refilled(c5_bd *b);
 /* The popped ray is item `item`: 1 if its run was replayed from a helper's log, 0 if the
  * caller runs it. */
-int c5_bd_threads_take(c5_bd *b, uint32_t item);
+int c5_bd_threads_take(c5_bd *b, size_t item);
 /* The visit's queues are empty: the helpers' counters join the processor's. */
 void c5_bd_threads_cell_end(c5_bd *b);
 /* Every pixel's eye ray with the helpers: 1, or 0 if the caller is to generate them. */

@@ -24,7 +24,6 @@
 #include <string.h>
 
 #include "board_internal.h"
-#include "geom.h"
 #include "ray_log.h"
 #include "worker_pool.h"
 
@@ -113,17 +112,6 @@ static void *log_room(helper *h, size_t bytes, chunk **in)
     return p;
 }
 
-/* The eye ray of pixel px, py (c5_bd_generate_eye_rays). */
-static void eye_ray(c5_proc *p, const c5_camera_basis *basis, const int64_t O[3], const c5_bray *proto, int px, int py)
-{
-    int64_t d[3];
-    c5_regs_unit14(c5_camera_pixel_dir(basis, px, py), d);
-    c5_bray r = *proto;
-    r.u = (uint32_t)px;
-    r.v = (uint32_t)py;
-    c5_proc_new_ray(p, O, d, C5_T_INF, -1, &r);
-}
-
 /* Item j is run: wakes the board's thread if it sleeps on it. */
 static void wake(struct c5_bd_threads *t, size_t j)
 {
@@ -141,7 +129,7 @@ static void run_item(struct c5_bd_threads *t, helper *h, size_t j)
     c5_proc_stats before = h->w.st;
     c5_rlog_begin(&h->rec);
     if (t->eye) {
-        eye_ray(&h->w, &t->basis, t->eye_o, &t->proto, (int)(j % (size_t)t->basis.w), (int)(j / (size_t)t->basis.w));
+        c5_bd_eye_ray(&h->w, &t->basis, t->eye_o, &t->proto, (int)(j % (size_t)t->basis.w), (int)(j / (size_t)t->basis.w));
     } else {
         c5_bray r;
         c5_bray_unpack(t->pk[j], t->cells, &r);
@@ -308,10 +296,10 @@ static int waits(const struct c5_bd_threads *t, uint32_t s) { return s == CLAIME
 
 /* Item i reached in the board's order: 1 if a helper ran it and its log is replayed, 0 if the
  * board's thread is to run it. */
-static int take(c5_bd *b, size_t i)
+int c5_bd_threads_take(c5_bd *b, size_t i)
 {
-    item *x = &b->threads->it[i];
     struct c5_bd_threads *t = b->threads;
+    item *x = &t->it[i];
     uint32_t s = TODO;
     if (!t->replay_all &&
         atomic_compare_exchange_strong_explicit(&x->state, &s, MINE, memory_order_acq_rel, memory_order_acquire))
@@ -373,7 +361,6 @@ void c5_bd_threads_refilled(c5_bd *b)
     }
 }
 
-int c5_bd_threads_take(c5_bd *b, uint32_t item) { return take(b, item); }
 
 void c5_bd_threads_cell_end(c5_bd *b)
 {
@@ -394,8 +381,8 @@ int c5_bd_threads_eye_rays(c5_bd *b, const c5_camera_basis *basis, const int64_t
     start(b, n);
     for (size_t i = 0; i < n; i++) {
         atomic_store_explicit(&t->mark, i, memory_order_relaxed);
-        if (!take(b, i))
-            eye_ray(&b->proc, basis, O, proto, (int)(i % (size_t)basis->w), (int)(i / (size_t)basis->w));
+        if (!c5_bd_threads_take(b, i))
+            c5_bd_eye_ray(&b->proc, basis, O, proto, (int)(i % (size_t)basis->w), (int)(i / (size_t)basis->w));
     }
     finish(b);
     return 1;
