@@ -23,7 +23,7 @@
 typedef struct {
     const char *input, *out, *tf, *save_raw;
     long views, threads, queue_depth, repeats, seed;
-    int size, producer, shading, k, sub_bricks, self_produce, json;
+    int size, producer, shading, k, sub_bricks, self_produce, wide, json;
     c5_cast_prefetch prefetch;
     c5_cast_mode mode;
     double distance, step;
@@ -41,7 +41,7 @@ static int on_off(const c5_opt *o, const char *v, void *field, c5_err *err)
     return c5_fail(err, "%s: expected on or off, got '%s'", o->name, v);
 }
 
-static int producer_opt(const c5_opt *o, const char *v, void *field, c5_err *err)
+static int on_off_auto(const c5_opt *o, const char *v, void *field, c5_err *err)
 {
     if (!strcmp(v, "auto")) {
         *(int *)field = -1;
@@ -130,12 +130,13 @@ static const c5_opt opts[] = {
      "keep, docs/caster.md)"},
     {"--threads", "N", c5_opt_long, offsetof(args, threads), 1, C5_CAST_MAX_WORKERS, 0,
      "worker threads 1..64 (default 2)"},
-    {"--producer", "on|off|auto", producer_opt, offsetof(args, producer), 0, 0, 0,
+    {"--producer", "on|off|auto", on_off_auto, offsetof(args, producer), 0, 0, 0,
      "the calling thread produces tiles for the workers' buffers; off: the workers produce all their tiles (default "
      "auto: on while there are fewer workers than CPUs)"},
     {"--shading", "on|off", on_off, offsetof(args, shading), 0, 0, 0, "headlight Blinn-Phong (default off)"},
     {"--k", "N", k_opt, offsetof(args, k), 0, 0, 0,
-     "approximation interval 1,2,4,8,16 (default: Proposition 1 per view)"},
+     "approximation interval 1,2,4,8,16 (default: Proposition 1's per view, raised to 4 and capped at 8; any k "
+     "draws the same bits)"},
     {"--prefetch", "P", prefetch_opt, offsetof(args, prefetch), 0, 0, 0,
      "cells: the cache lines of each sample's cell, a batch of samples ahead (default; on is the same); bricks: the "
      "paper's, the whole next brick along each ray on entering a brick; off"},
@@ -146,6 +147,9 @@ static const c5_opt opts[] = {
     {"--self-produce", "on|off", on_off, offsetof(args, self_produce), 0, 0, 0,
      "a worker with an empty buffer produces its next tile itself instead of waiting for the producer thread "
      "(default on)"},
+    {"--wide", "on|off|auto", on_off_auto, offsetof(args, wide), 0, 0, 0,
+     "unshaded frames: eight samples at a time with AVX2 (same bits; default auto: where the CPU has it; on: "
+     "refused where it cannot run)"},
     {"--distance", "F", c5_opt_double, offsetof(args, distance), 1e-3, 1e6, 0,
      "eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)"},
     {"--tf", "NAME|FILE", c5_opt_str, offsetof(args, tf), 0, 0, 0,
@@ -180,7 +184,7 @@ static int parse_args(int argc, char **argv, args *a, c5_err *err)
 {
     *a = (args){.tf = NULL, .views = 24, .size = 256, .threads = 2, .producer = -1, .k = 0,
                 .prefetch = C5_CAST_PREFETCH_CELLS,
-                .sub_bricks = 1, .self_produce = 1, .queue_depth = 4, .repeats = 1,
+                .sub_bricks = 1, .self_produce = 1, .wide = -1, .queue_depth = 4, .repeats = 1,
                 .mode = C5_CAST_APPROX, .distance = C5_PEER_DISTANCE_FIT, .step = 1, .seed = 1,
                 .spacing = {1, 1, 1}};
     if (c5_opt_parse(&c5_spec_cast, argc, argv, a, &a->input, err) != 0)
@@ -330,6 +334,7 @@ static double median(double *v, int n)
 /* Per view, the last pass's figures (the counts are the same in every pass). */
 typedef struct {
     double ms, producer_ms, worker_ms, imbalance;
+    int prop1_k; /* Proposition 1's k for the view, beside the k the frame took */
     c5_cast_stats st;
 } view_fig;
 
@@ -392,14 +397,14 @@ static void print_json(const args *a, const input *in, const view_fig *fig, cons
     for (int i = 0; i < a->views; i++) {
         const c5_cast_stats *s = &fig[i].st;
         json_array_append_new(
-            per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:b}", "ms", fig[i].ms, "producer_ms",
+            per, json_pack("{s:f,s:f,s:f,s:f,s:i,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:b,s:b,s:i}", "ms", fig[i].ms, "producer_ms",
                            fig[i].producer_ms, "worker_ms", fig[i].worker_ms, "load_imbalance_pct", fig[i].imbalance,
                            "k", s->k, "producer_rays", (json_int_t)s->producer_rays, "segments",
                            (json_int_t)s->segments, "samples", (json_int_t)s->samples, "samples_zero",
                            (json_int_t)s->samples_zero, "samples_hashed", (json_int_t)s->samples_hashed,
                            "samples_sub", (json_int_t)s->samples_sub, "rays_terminated",
                            (json_int_t)s->rays_terminated, "tiles_self_produced", (json_int_t)s->tiles_self,
-                           "producer_thread", s->producer));
+                           "producer_thread", s->producer, "wide", s->wide, "prop1_k", fig[i].prop1_k));
     }
     json_object_set_new(j, "dataset",
                         json_pack("{s:s,s:[I,I,I],s:[f,f,f]}", "name", in->name, "dims", (json_int_t)in->dims[0],
@@ -491,7 +496,7 @@ int c5_cmd_cast(int argc, char **argv)
     c5_cast_opts_default(&o);
     o.mode = a.mode, o.k = a.k, o.workers = a.threads, o.shading = a.shading, o.prefetch = a.prefetch;
     o.sub_bricks = a.sub_bricks, o.queue_depth = a.queue_depth, o.self_produce = a.self_produce;
-    o.producer = a.producer;
+    o.producer = a.producer, o.wide = a.wide;
     o.step = a.step * ms_sp;
     c5_progress_begin(&prog, "cast", a.repeats * a.views);
     for (int p = 0; p < a.repeats; p++) {
@@ -504,6 +509,7 @@ int c5_cmd_cast(int argc, char **argv)
             for (int w = 0; w < f->st.workers; w++)
                 f->worker_ms += f->st.worker_s[w] * 1e3 / f->st.workers;
             f->imbalance = c5_cast_load_imbalance(&f->st);
+            f->prop1_k = c5_cast_prop1_k(cv, &cams[i], a.size, a.size);
             tmp[i] = f->ms;
             if (i == 0 && p == 0 && a.out && c5_image_write(a.out, &img, &err))
                 goto fail;

@@ -12,7 +12,8 @@
 # Then the out-of-core section (cref over a 384^3 grid, generated and a raw file, resident and
 # out of core: wall seconds and peak RSS; BENCH_LARGE=1 adds 1024^3 and 2048^3):
 # scripts/bench-ooc.sh; then the caster section (cube5 cast, the paper's Figures 11-13 and
-# Table 2): scripts/bench-cast.sh.
+# Table 2): scripts/bench-cast.sh; the caster's default k on inputs it was not fitted on:
+# scripts/bench-cast-k.sh.
 set -euo pipefail
 build=${1:-build}
 cube5="$build/cube5"
@@ -160,4 +161,5 @@ PY
 bash "$(dirname "$0")/bench-threads.sh" "$build"
 bash "$(dirname "$0")/bench-ooc.sh" "$build"
 bash "$(dirname "$0")/bench-cast.sh" "$build"
+bash "$(dirname "$0")/bench-cast-k.sh" "$build"
 bash "$(dirname "$0")/bench-supervol.sh" "$build"

@@ -294,7 +294,7 @@ static int cast_setup(c5_sweep_ctx *c, c5_err *err)
     c->cast_tf = s->tf;
     if (!(c->cast_tf.unit_distance > 0))
         c->cast_tf.unit_distance = c->voxel;
-    c->base.k = c5_cast_prop1_k(c->cv, &c->cam, s->render.width, s->render.height);
+    c->base.k = c5_cast_default_k(c->cv, &c->cam, s->render.width, s->render.height);
     c->cast_ready = 1;
     return 0;
 }

@@ -67,7 +67,7 @@ typedef struct {
 /* The point with knob `kn` at value v (the others as in *base). */
 c5_sweep_point c5_sweep_point_with(const c5_sweep_point *base, const c5_sweep_knob *kn, double v);
 /* 1 when v is the knob's value in *base (the scene's setting, the shipped width, the k
- * Proposition 1 picks for the view). */
+ * the caster takes by default for the view). */
 int c5_sweep_is_default(const c5_sweep_point *base, const c5_sweep_knob *kn, double v);
 /* The renderers a knob is measured on: 1 to 2 of them into r[], returns how many. */
 int c5_sweep_knob_renderers(const c5_sweep_knob *kn, c5_sweep_renderer r[2]);
@@ -100,7 +100,7 @@ typedef struct {
     const c5_supervol *sv;
     int threads;             /* cref's threads and the caster's workers (<= 0: one per CPU) */
     double voxel;            /* world units of one voxel of step: the smallest spacing (1 without a volume) */
-    c5_sweep_point base;     /* the scene's settings, shipped widths, Proposition 1's k */
+    c5_sweep_point base;     /* the scene's settings, shipped widths, the caster's default k */
     int has_volume;
     int analytic;            /* the scene is the Marschner-Lobb signal: the reference is its analytic truth */
     double ml_f_m, ml_alpha;

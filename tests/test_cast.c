@@ -550,7 +550,10 @@ TEST(cast_edges)
     if (render(&fx, &cam, 32, 32, &o, &img, &st))
         return;
     CHECK_MSG(!differ(&ref, &img), "camera inside the volume: approx+refine differs from plain");
-    CHECK_INT(st.k, 1); /* Proposition 1 does not hold inside the volume */
+    /* Proposition 1 does not hold inside the volume; the default k is still C5_CAST_K_LOW, and
+     * the dilation keeps the image plain's */
+    CHECK_INT(c5_cast_prop1_k(fx.v, &cam, 32, 32), 1);
+    CHECK_INT(st.k, C5_CAST_K_LOW);
     c5_image_free(&img);
 
     o.workers = 0;
@@ -701,15 +704,17 @@ TEST(cast_workers_composite_as_the_definition)
         return;
     }
     double views[2][3] = {{90, -60, 50}, {-20, 40, -35}};
-    int w = 53, h = 37, bad = 0;
+    int w = 53, h = 37, bad = 0, wides = 1 + c5_cast_wide_usable(fx.v);
     uint64_t terminated = 0;
+    /* unshaded, each of the SSE2 loop and, where the CPU has AVX2, the eight-sample one */
     for (int vi = 0; vi < 2; vi++)
-        for (int shading = 0; shading < 2; shading++) {
+        for (int pass = 0; pass < 1 + wides; pass++) {
+            int shading = pass == wides, wide = !shading && pass == 1;
             c5_cast_camera cam;
             look_at(&cam, views[vi], blob_focal, 35);
             c5_cast_opts o;
             c5_cast_opts_default(&o);
-            o.mode = C5_CAST_PLAIN, o.workers = 2, o.shading = shading;
+            o.mode = C5_CAST_PLAIN, o.workers = 2, o.shading = shading, o.wide = wide;
             c5_image img;
             c5_cast_stats st;
             c5_cast_view vw;
@@ -728,6 +733,7 @@ TEST(cast_workers_composite_as_the_definition)
                     march_definition(&vw, px, py, rgb, &n, &zero, &term);
                     bad += memcmp(rgb, img.rgb + 3 * ((size_t)py * w + px), sizeof rgb) != 0;
                 }
+            CHECK(st.wide == wide);
             CHECK_MSG(st.samples == n && st.samples_zero == zero && st.rays_terminated == term,
                       "view %d shading %d: samples %llu/%llu zero %llu/%llu terminated %llu/%llu", vi, shading,
                       (unsigned long long)st.samples, (unsigned long long)n, (unsigned long long)st.samples_zero,
@@ -753,4 +759,99 @@ TEST(cast_workers_composite_as_the_definition)
     c5_cast_volume_free(fx.v);
     CHECK_INT(bad, 0);
     CHECK(terminated > 0);
+}
+
+/* The eight-sample loop (cast_wide.c) against the SSE2 one: the same image bits and the same
+ * counts (samples, zero-opacity, dropped in empty sub-bricks, terminated) in every mode it runs
+ * in, with sub-bricks on and off, early termination on and off, several k, steps and worker
+ * counts; a dense TF ends rays inside batches. Where the CPU has no AVX2, wide 1 is refused. */
+TEST(cast_wide_loop_is_the_sse2_loop)
+{
+    fixture fx;
+    if (fixture_make(&fx, blob_dims, blob_spacing, 5))
+        return;
+    c5_err err;
+    if (!c5_cast_wide_usable(fx.v)) {
+        c5_cast_opts o;
+        c5_cast_opts_default(&o);
+        o.wide = 1;
+        c5_cast_camera cam;
+        look_at(&cam, (double[3]){90, -60, 50}, blob_focal, 35);
+        c5_image img = {0};
+        c5_cast_stats st;
+        CHECK(c5_cast_render(fx.v, &fx.tf, &cam, 16, 16, &o, &img, &st, &err) != 0);
+        c5_image_free(&img);
+        c5_cast_volume_free(fx.v);
+        return;
+    }
+    c5_cast_tf dense;
+    c5_tf_desc t;
+    tf_ramp(&t);
+    t.opacity[2][1] = 0.9, t.opacity[3][1] = 1;
+    if (c5_cast_tf_build(&t, 0.6, 1, &dense, &err)) {
+        c5t_failf(__FILE__, __LINE__, "tf: %s", err.msg);
+        c5_cast_volume_free(fx.v);
+        return;
+    }
+    double views[3][3] = {{90, -60, 50}, {22.3, 23.1, 120}, {-20, 40, -35}};
+    int cases = 0, bad = 0;
+    uint64_t terminated = 0, dropped = 0;
+    for (int vi = 0; vi < 3; vi++)
+        for (int c = 0; c < 24; c++) {
+            c5_cast_camera cam;
+            look_at(&cam, views[vi], blob_focal, 25 + 5 * vi);
+            c5_cast_opts o;
+            c5_cast_opts_default(&o);
+            o.mode = (c5_cast_mode)(c % 3); /* plain, ess, approx */
+            o.sub_bricks = !(c & 4), o.early_termination = !(c & 8), o.k = c & 16 ? 8 : 0;
+            o.workers = 1 + c % 2, o.step = c % 5 == 0 ? 0.6 : 0;
+            c5_cast_tf *tf = c < 12 ? &fx.tf : &dense;
+            c5_image a = {0}, b = {0};
+            c5_cast_stats sa, sb;
+            o.wide = 0;
+            int rc = c5_cast_render(fx.v, tf, &cam, 61, 43, &o, &a, &sa, &err);
+            o.wide = 1;
+            rc = rc || c5_cast_render(fx.v, tf, &cam, 61, 43, &o, &b, &sb, &err);
+            if (rc) {
+                c5t_failf(__FILE__, __LINE__, "render: %s", err.msg);
+                bad++;
+            } else {
+                cases++;
+                int same = !differ(&a, &b) && sa.samples == sb.samples && sa.samples_zero == sb.samples_zero &&
+                           sa.samples_sub == sb.samples_sub && sa.rays_terminated == sb.rays_terminated &&
+                           sa.samples_hashed == sb.samples_hashed && !sa.wide && sb.wide;
+                if (!same)
+                    c5t_failf(__FILE__, __LINE__,
+                              "view %d case %d (%s): samples %llu/%llu zero %llu/%llu sub %llu/%llu terminated "
+                              "%llu/%llu, images %s",
+                              vi, c, c5_cast_mode_name(o.mode), (unsigned long long)sa.samples,
+                              (unsigned long long)sb.samples, (unsigned long long)sa.samples_zero,
+                              (unsigned long long)sb.samples_zero, (unsigned long long)sa.samples_sub,
+                              (unsigned long long)sb.samples_sub, (unsigned long long)sa.rays_terminated,
+                              (unsigned long long)sb.rays_terminated, differ(&a, &b) ? "differ" : "same");
+                bad += !same;
+                terminated += sb.rays_terminated, dropped += sb.samples_sub;
+            }
+            c5_image_free(&a);
+            c5_image_free(&b);
+        }
+    /* shaded frames and the refining hash stay on the SSE2 loop */
+    c5_cast_opts o;
+    c5_cast_opts_default(&o);
+    c5_cast_camera cam;
+    look_at(&cam, views[0], blob_focal, 35);
+    c5_image img = {0};
+    c5_cast_stats st;
+    o.wide = 1, o.shading = 1;
+    if (!c5_cast_render(fx.v, &fx.tf, &cam, 16, 16, &o, &img, &st, &err))
+        CHECK(!st.wide);
+    c5_image_free(&img);
+    o.shading = 0, o.mode = C5_CAST_APPROX_REFINE;
+    if (!c5_cast_render(fx.v, &fx.tf, &cam, 16, 16, &o, &img, &st, &err))
+        CHECK(!st.wide);
+    c5_image_free(&img);
+    c5_cast_volume_free(fx.v);
+    CHECK_INT(bad, 0);
+    CHECK_INT(cases, 3 * 24);
+    CHECK(terminated > 0 && dropped > 0);
 }

@@ -95,7 +95,7 @@ typedef struct {
 
 typedef struct {
     c5_cast_mode mode;
-    int k;             /* approximation interval in pixels: 1, 2, 4, 8 or 16; 0: Proposition 1 */
+    int k;             /* approximation interval in pixels: 1, 2, 4, 8 or 16; 0: c5_cast_default_k */
     int workers;       /* worker threads, 1..C5_CAST_MAX_WORKERS */
     int producer;      /* the calling thread produces tiles into the workers' buffers: 1; 0: it does
                           not, the workers produce every tile themselves (needs self_produce); -1:
@@ -107,6 +107,9 @@ typedef struct {
     int early_termination;
     double step;       /* sample distance in world units; 0: the smallest spacing */
     int queue_depth;   /* bounded buffer entries per worker (the paper's 4-entry mailbox); 0: 4 */
+    int wide;          /* unshaded frames: eight samples at a time (AVX2, cast_wide.c) where the CPU
+                          has it: -1 auto (default), 0 never, 1 always (refused where it cannot run).
+                          Same bits either way. */
 } c5_cast_opts;
 
 void c5_cast_opts_default(c5_cast_opts *o);
@@ -120,6 +123,7 @@ typedef struct {
     double worker_wait_s[C5_CAST_MAX_WORKERS];   /* each worker blocked on an empty buffer */
     int workers, k;
     int producer;             /* the calling thread produced (opts.producer resolved) */
+    int wide;                 /* the workers marched eight samples at a time (opts.wide resolved) */
     uint64_t tiles;
     uint64_t tiles_self;      /* of `tiles`, those the workers produced themselves */
     uint64_t producer_rays;   /* rays the producer traversed */
@@ -138,6 +142,11 @@ double c5_cast_load_imbalance(const c5_cast_stats *st);
  * pixels apart on the image plane through the focal point, are at most half a brick apart
  * there, provided the eye is farther from that plane than the volume's far end (else 1). */
 int c5_cast_prop1_k(const c5_cast_volume *v, const c5_cast_camera *cam, int w, int h);
+/* The k a frame takes unless told (c5_cast_opts.k 0): Proposition 1's, raised to at least
+ * C5_CAST_K_LOW and capped at C5_CAST_K_HIGH (docs/caster.md, "The default k"). */
+#define C5_CAST_K_LOW 4
+#define C5_CAST_K_HIGH 8
+int c5_cast_default_k(const c5_cast_volume *v, const c5_cast_camera *cam, int w, int h);
 
 /* Renders one w x h view into out (allocated here when out->rgb is NULL, else it must be
  * w x h). Same bits for any worker count, queue depth, prefetch and sub-brick setting and mode. */

@@ -55,7 +55,8 @@ void c5_cast_opts_default(c5_cast_opts *o)
 {
     *o = (c5_cast_opts){.mode = C5_CAST_APPROX, .k = 0, .workers = 2, .producer = -1, .shading = 0,
                         .prefetch = C5_CAST_PREFETCH_CELLS,
-                        .sub_bricks = 1, .self_produce = 1, .early_termination = 1, .step = 0, .queue_depth = 4};
+                        .sub_bricks = 1, .self_produce = 1, .early_termination = 1, .step = 0, .queue_depth = 4,
+                        .wide = -1};
 }
 
 static double min_spacing(const c5_cast_volume *v) { return fmin(v->spacing[0], fmin(v->spacing[1], v->spacing[2])); }
@@ -95,6 +96,12 @@ int c5_cast_prop1_k(const c5_cast_volume *v, const c5_cast_camera *cam, int w, i
     return k;
 }
 
+int c5_cast_default_k(const c5_cast_volume *v, const c5_cast_camera *cam, int w, int h)
+{
+    int k = c5_cast_prop1_k(v, cam, w, h);
+    return k < C5_CAST_K_LOW ? C5_CAST_K_LOW : k > C5_CAST_K_HIGH ? C5_CAST_K_HIGH : k;
+}
+
 double c5_cast_load_imbalance(const c5_cast_stats *st)
 {
     if (st->workers < 2)
@@ -118,10 +125,11 @@ int c5_cast_view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_
     vw->two_over_w = 2.0 / w, vw->two_over_h = 2.0 / h;
     vw->shading = o->shading, vw->prefetch = o->prefetch, vw->early = o->early_termination;
     vw->sub_skip = o->sub_bricks && o->mode != C5_CAST_PLAIN; /* plain marches every sample */
+    vw->wide = o->wide != 0 && !o->shading && o->mode != C5_CAST_APPROX_REFINE && c5_cast_wide_usable(v);
     double ms = min_spacing(v);
     vw->step = o->step > 0 ? o->step : ms;
     int approx = o->mode == C5_CAST_APPROX || o->mode == C5_CAST_APPROX_REFINE;
-    vw->k = !approx ? 1 : o->k > 0 ? o->k : c5_cast_prop1_k(v, cam, w, h);
+    vw->k = !approx ? 1 : o->k > 0 ? o->k : c5_cast_default_k(v, cam, w, h);
     double t_far, unused, eye_len = sqrt(dot3(cam->eye, cam->eye));
     far_corner(v, cam->eye, cam->f, &t_far, &unused);
     /* a pixel's ray is at most k/2 pixels from its nearest corner ray along each image axis */
@@ -298,7 +306,8 @@ static int *zorder_tiles(int ntx, int nty, int *n)
     return out;
 }
 
-static int check_args(const c5_cast_camera *cam, int w, int h, const c5_cast_opts *o, const c5_image *out, c5_err *err)
+static int check_args(const c5_cast_volume *v, const c5_cast_camera *cam, int w, int h, const c5_cast_opts *o,
+                      const c5_image *out, c5_err *err)
 {
     if (w < 1 || h < 1 || w > 16384 || h > 16384)
         return c5_fail(err, "cast: image size must be 1..16384 per side (got %dx%d)", w, h);
@@ -317,6 +326,11 @@ static int check_args(const c5_cast_camera *cam, int w, int h, const c5_cast_opt
         return c5_fail(err, "cast: unknown mode %d", (int)o->mode);
     if (o->prefetch < 0 || o->prefetch >= C5_CAST_PREFETCHES)
         return c5_fail(err, "cast: unknown prefetch %d", (int)o->prefetch);
+    if (o->wide < -1 || o->wide > 1)
+        return c5_fail(err, "cast: wide must be -1 (auto), 0 or 1 (got %d)", o->wide);
+    if (o->wide == 1 && !c5_cast_wide_usable(v))
+        return c5_fail(err, "cast: eight samples at a time (wide 1) needs an x86-64 build, a CPU with AVX2 and "
+                            "under 2 GiB of bricks");
     if (!(o->step >= 0) || !isfinite(o->step))
         return c5_fail(err, "cast: step must be finite and >= 0 (got %g)", o->step);
     if (!(cam->tan_half > 0) || !isfinite(cam->tan_half))
@@ -334,7 +348,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
 {
     double t_start = c5_now_s();
     memset(st, 0, sizeof *st);
-    if (check_args(cam, w, h, o, out, err))
+    if (check_args(v, cam, w, h, o, out, err))
         return -1;
     c5_cast_view vw;
     if (c5_cast_view_setup(&vw, v, tf, cam, w, h, o, err)) {
@@ -414,7 +428,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
         st->samples_sub += wk[i].cnt.sub;
         failed |= wk[i].failed;
     }
-    st->workers = started, st->k = vw.k, st->producer = producer;
+    st->workers = started, st->k = vw.k, st->producer = producer, st->wide = vw.wide;
     if (failed) {
         c5_fail(err, started < nw ? "cast: could not start worker thread %d" : "cast: out of memory in the producer",
                 started);

@@ -55,6 +55,7 @@ typedef struct {
     const c5_cast_tf *tf;
     const c5_cast_camera *cam;
     int w, h, k, mode, shading, prefetch, early, sub_skip;
+    int wide;               /* the workers march with c5_cast_wide_span (cast_sample.h) */
     double two_over_w, two_over_h; /* 2 / w and 2 / h (c5_cast_ray_dir) */
     double step;
     double eye_v[3];        /* eye in voxel units */

@@ -164,7 +164,8 @@ int c5_cast_ray_segments(const c5_cast_view *vw, const double d[3], const double
 int c5_cast_view_classify(c5_cast_view *vw, int hashes)
 {
     const c5_cast_volume *v = vw->v;
-    if (v->bricks && !(vw->sub_mask = malloc((size_t)v->nb[0] * (size_t)v->nb[1] * (size_t)v->nb[2])))
+    /* 3 bytes more: cast_wide.c reads each brick's mask with a 32-bit gather */
+    if (v->bricks && !(vw->sub_mask = calloc((size_t)v->nb[0] * (size_t)v->nb[1] * (size_t)v->nb[2] + 3, 1)))
         return -1;
     for (int l = 0; l < v->levels; l++) {
         size_t n = (size_t)v->ln[l][0] * (size_t)v->ln[l][1] * (size_t)v->ln[l][2];

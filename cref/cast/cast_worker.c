@@ -265,6 +265,11 @@ static void march(const c5_cast_view *vw, int px, int py, const c5_cast_seg *seg
     for (int s = 0; s < nseg; s++) {
         int32_t j0 = seg[s].j0 > jin ? seg[s].j0 : jin, j1 = seg[s].j1 < jout ? seg[s].j1 : jout;
         int stop;
+#if C5_CAST_WIDE
+        if (vw->wide)
+            stop = c5_cast_wide_span(vw, &r, j0, j1, &acc, cnt);
+        else
+#endif
         if (vw->shading)
             stop = hash ? march_span(vw, &r, j0, j1, jout, hash, 1, &acc, &bs, cnt)
                         : march_span(vw, &r, j0, j1, jout, NULL, 1, &acc, &bs, cnt);
