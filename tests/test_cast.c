@@ -492,6 +492,11 @@ TEST(cast_tf_emptiness)
         }
     CHECK(c5_cast_tf_empty(&tf, 0, 40));
     CHECK(!c5_cast_tf_empty(&tf, 0, 41));
+    int lit_bad = 0, lit_n = 0; /* the eight-sample loop's byte table says the same */
+    for (int i = 0; i < C5_CAST_TF_N; i++)
+        lit_bad += tf.lit[i] != (tf.rgba[i][3] != 0), lit_n += tf.lit[i];
+    CHECK_INT(lit_bad, 0);
+    CHECK(lit_n > 0 && lit_n < C5_CAST_TF_N && !tf.lit[C5_CAST_TF_N] && !tf.lit[C5_CAST_TF_N + 2]);
     /* opacity correction: a = 1 - (1 - a_tf)^(step/unit) */
     CHECK(!c5_cast_tf_build(&t, 2, 1, &tf, &err));
     CHECK(fabs(tf.rgba[255 * C5_CAST_TF_SCALE][3] - (1 - 0.1 * 0.1)) < 1e-6);

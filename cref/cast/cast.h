@@ -70,6 +70,8 @@ int c5_cast_volume_normals(c5_cast_volume *v, c5_err *err);
 typedef struct {
     float rgba[C5_CAST_TF_N][4];
     uint32_t nonzero[C5_CAST_TF_N + 1];
+    uint8_t lit[C5_CAST_TF_N + 3]; /* 1 where rgba[i][3] != 0: a table that stays in L1 for the
+                                      eight-sample loop's 32-bit gathers (3 bytes of padding) */
     float ambient, diffuse, specular, specular_power;
 } c5_cast_tf;
 

@@ -31,7 +31,9 @@ int c5_cast_tf_build(const c5_tf_desc *tf, double step, double unit, c5_cast_tf 
             out->rgba[i][c] = (float)(ac * rgb[c]);
         out->rgba[i][3] = (float)ac;
         out->nonzero[i + 1] = out->nonzero[i] + (out->rgba[i][3] != 0);
+        out->lit[i] = out->rgba[i][3] != 0;
     }
+    out->lit[C5_CAST_TF_N] = out->lit[C5_CAST_TF_N + 1] = out->lit[C5_CAST_TF_N + 2] = 0;
     out->ambient = (float)tf->ambient, out->diffuse = (float)tf->diffuse;
     out->specular = (float)tf->specular, out->specular_power = (float)tf->specular_power;
     return 0;
