@@ -148,7 +148,8 @@ static const c5_opt opts[] = {
      "a worker with an empty buffer produces its next tile itself instead of waiting for the producer thread "
      "(default on)"},
     {"--wide", "on|off|auto", on_off_auto, offsetof(args, wide), 0, 0, 0,
-     "unshaded frames: eight samples at a time with AVX2 (same bits; default auto: where the CPU has it; on: "
+     "eight samples at a time with AVX2, except approx+refine and --prefetch bricks (same bits; default auto: where "
+     "the CPU has it; on: "
      "refused where it cannot run)"},
     {"--distance", "F", c5_opt_double, offsetof(args, distance), 1e-3, 1e6, 0,
      "eye distance in bounding-sphere radii (default 3.8637 = 1/sin 15deg)"},

@@ -2,7 +2,8 @@
 # make bench, caster section: `cube5 cast` (the streaming-model ray caster of Kim & JaJa's Cell
 # B.E. paper, sections 5-6) over the peer benchmark's views, per dataset:
 #   headline fps (approx, the default mode, 2 threads, shading off/on at distance 3.8637, unshaded at 2.0),
-#   Figure 11 producer vs worker ms (ess, approx, approx+refine), Table 2 prefetch off / bricks / cells,
+#   Figure 11 producer vs worker ms (ess, approx, approx+refine), Table 2 prefetch off / bricks / cells
+#   (on the SSE2 loop, which has all three),
 #   Figure 12 load imbalance (from the headline run), Figure 13 speed-up with 1, 2, 4 threads.
 # The paper's own figures are printed beside ours as reference lines.
 # Needs: BUILD/cube5 built, python3 (stdlib only). Uses ../shared/data/volumes/ when present;
@@ -50,7 +51,8 @@ while IFS='|' read -r name vol sp tf; do
     done
     for sh in off on; do
         for p in off bricks cells; do
-            run tab2 "$name" "$vol" "$sp" "$tf" --views 8 --threads 2 --mode approx --shading "$sh" --prefetch "$p"
+            run tab2 "$name" "$vol" "$sp" "$tf" --views 8 --threads 2 --mode approx --shading "$sh" --prefetch "$p" \
+                --wide off
         done
     done
     for t in 1 2 4; do
@@ -98,7 +100,7 @@ for n in names:
 print("  (worker ms: mean over the workers of each one's busy time per frame)")
 
 print("\nTable 2: ms per frame by prefetch (off; bricks: the paper's whole next brick; cells: each")
-print("sample's lines a batch ahead, the default), approx, 8 views, 2 threads")
+print("sample's lines a batch ahead, the default), approx, 8 views, 2 threads, the SSE2 loop (--wide off)")
 print("%-9s %7s %9s %9s %9s %10s %9s" % ("dataset", "shading", "off ms", "bricks ms", "cells ms", "off/bricks",
                                          "off/cells"))
 for n in names:

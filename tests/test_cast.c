@@ -711,10 +711,10 @@ TEST(cast_workers_composite_as_the_definition)
     double views[2][3] = {{90, -60, 50}, {-20, 40, -35}};
     int w = 53, h = 37, bad = 0, wides = 1 + c5_cast_wide_usable(fx.v);
     uint64_t terminated = 0;
-    /* unshaded, each of the SSE2 loop and, where the CPU has AVX2, the eight-sample one */
+    /* shaded and not, each in the SSE2 loop and, where the CPU has AVX2, the eight-sample one */
     for (int vi = 0; vi < 2; vi++)
-        for (int pass = 0; pass < 1 + wides; pass++) {
-            int shading = pass == wides, wide = !shading && pass == 1;
+        for (int pass = 0; pass < 2 * wides; pass++) {
+            int shading = pass / wides, wide = pass % wides;
             c5_cast_camera cam;
             look_at(&cam, views[vi], blob_focal, 35);
             c5_cast_opts o;
@@ -768,8 +768,9 @@ TEST(cast_workers_composite_as_the_definition)
 
 /* The eight-sample loop (cast_wide.c) against the SSE2 one: the same image bits and the same
  * counts (samples, zero-opacity, dropped in empty sub-bricks, terminated) in every mode it runs
- * in, with sub-bricks on and off, early termination on and off, several k, steps and worker
- * counts; a dense TF ends rays inside batches. Where the CPU has no AVX2, wide 1 is refused. */
+ * in, shaded and not, with sub-bricks on and off, early termination on and off, several k, steps
+ * and worker counts; a dense TF ends rays inside batches. Where the CPU has no AVX2, wide 1 is
+ * refused. */
 TEST(cast_wide_loop_is_the_sse2_loop)
 {
     fixture fx;
@@ -802,15 +803,17 @@ TEST(cast_wide_loop_is_the_sse2_loop)
     int cases = 0, bad = 0;
     uint64_t terminated = 0, dropped = 0;
     for (int vi = 0; vi < 3; vi++)
-        for (int c = 0; c < 24; c++) {
+        for (int c = 0; c < 48; c++) {
             c5_cast_camera cam;
             look_at(&cam, views[vi], blob_focal, 25 + 5 * vi);
             c5_cast_opts o;
             c5_cast_opts_default(&o);
+            o.shading = c >= 24;
             o.mode = (c5_cast_mode)(c % 3); /* plain, ess, approx */
             o.sub_bricks = !(c & 4), o.early_termination = !(c & 8), o.k = c & 16 ? 8 : 0;
             o.workers = 1 + c % 2, o.step = c % 5 == 0 ? 0.6 : 0;
-            c5_cast_tf *tf = c < 12 ? &fx.tf : &dense;
+            o.prefetch = (c / 3) % 2 ? C5_CAST_PREFETCH_OFF : C5_CAST_PREFETCH_CELLS;
+            c5_cast_tf *tf = c % 24 < 12 ? &fx.tf : &dense;
             c5_image a = {0}, b = {0};
             c5_cast_stats sa, sb;
             o.wide = 0;
@@ -840,23 +843,23 @@ TEST(cast_wide_loop_is_the_sse2_loop)
             c5_image_free(&a);
             c5_image_free(&b);
         }
-    /* shaded frames and the refining hash stay on the SSE2 loop */
+    /* the refining hash and the brick prefetch stay on the SSE2 loop */
     c5_cast_opts o;
     c5_cast_opts_default(&o);
     c5_cast_camera cam;
     look_at(&cam, views[0], blob_focal, 35);
     c5_image img = {0};
     c5_cast_stats st;
-    o.wide = 1, o.shading = 1;
+    o.wide = 1, o.mode = C5_CAST_APPROX_REFINE;
     if (!c5_cast_render(fx.v, &fx.tf, &cam, 16, 16, &o, &img, &st, &err))
         CHECK(!st.wide);
     c5_image_free(&img);
-    o.shading = 0, o.mode = C5_CAST_APPROX_REFINE;
+    o.mode = C5_CAST_APPROX, o.prefetch = C5_CAST_PREFETCH_BRICKS;
     if (!c5_cast_render(fx.v, &fx.tf, &cam, 16, 16, &o, &img, &st, &err))
         CHECK(!st.wide);
     c5_image_free(&img);
     c5_cast_volume_free(fx.v);
     CHECK_INT(bad, 0);
-    CHECK_INT(cases, 3 * 24);
+    CHECK_INT(cases, 3 * 48);
     CHECK(terminated > 0 && dropped > 0);
 }

@@ -109,7 +109,8 @@ typedef struct {
     int early_termination;
     double step;       /* sample distance in world units; 0: the smallest spacing */
     int queue_depth;   /* bounded buffer entries per worker (the paper's 4-entry mailbox); 0: 4 */
-    int wide;          /* unshaded frames: eight samples at a time (AVX2, cast_wide.c) where the CPU
+    int wide;          /* eight samples at a time (AVX2, cast_wide.c; not with approx+refine or the
+                          brick prefetch) where the CPU
                           has it: -1 auto (default), 0 never, 1 always (refused where it cannot run).
                           Same bits either way. */
 } c5_cast_opts;

@@ -125,7 +125,8 @@ int c5_cast_view_setup(c5_cast_view *vw, const c5_cast_volume *v, const c5_cast_
     vw->two_over_w = 2.0 / w, vw->two_over_h = 2.0 / h;
     vw->shading = o->shading, vw->prefetch = o->prefetch, vw->early = o->early_termination;
     vw->sub_skip = o->sub_bricks && o->mode != C5_CAST_PLAIN; /* plain marches every sample */
-    vw->wide = o->wide != 0 && !o->shading && o->mode != C5_CAST_APPROX_REFINE && c5_cast_wide_usable(v);
+    vw->wide = o->wide != 0 && o->mode != C5_CAST_APPROX_REFINE && o->prefetch != C5_CAST_PREFETCH_BRICKS &&
+               c5_cast_wide_usable(v);
     double ms = min_spacing(v);
     vw->step = o->step > 0 ? o->step : ms;
     int approx = o->mode == C5_CAST_APPROX || o->mode == C5_CAST_APPROX_REFINE;

@@ -292,14 +292,14 @@ static inline c5_cast_rgba c5_cast_over(c5_cast_rgba acc, c5_cast_rgba c)
 static inline float c5_cast_rgba_alpha(c5_cast_rgba c) { return c.v[3]; }
 #endif
 
-/* The unshaded loop eight samples at a time (cast_wide.c; AVX2, chosen at run time): x86-64
+/* The sample loop eight samples at a time (cast_wide.c; AVX2, chosen at run time): x86-64
  * with the SIMD twin only. */
 #if C5_CAST_SIMD && defined(__x86_64__) && defined(__GNUC__)
 #define C5_CAST_WIDE 1
 /* 1 when this CPU (and its OS) runs AVX2 and, v not NULL, v's bricks are addressable by the
  * loop's 32-bit lane offsets. */
 int c5_cast_wide_usable(const c5_cast_volume *v);
-/* As march_span of cast_worker.c, unshaded and without the refining hash: marches samples
+/* As march_span of cast_worker.c, without the refining hash: marches samples
  * j0..j1 into acc; 1 when the ray terminated early. */
 int c5_cast_wide_span(const c5_cast_view *vw, const c5_cast_ray *r, int32_t j0, int32_t j1, c5_cast_rgba *acc,
                       c5_cast_counts *cnt);

@@ -1,4 +1,4 @@
-/* The unshaded sample loop eight samples at a time (AVX2), for CPUs that have it
+/* The sample loop eight samples at a time (AVX2), for CPUs that have it
  * (docs/caster.md, "Eight samples at a time").
  *
  * The same definition as cast_sample.h, lane by lane: position x = o + t d with t = j * step,
@@ -11,8 +11,10 @@
  * - the sub-brick bit is gathered per lane too; a batch whose lanes are all dropped costs its
  *   positions and that gather;
  * - whether a lane's entry has opacity 0 comes from a gather of tf->lit (4 KB, in L1; the
- *   entries are 64 KB); lanes that are not kept or have opacity 0 are composited as +0, which
- *   changes no bit (premultiplied colour), and a batch with no lit lane is not composited.
+ *   entries are 64 KB); unshaded, lanes that are not kept or have opacity 0 are composited as
+ *   +0, which changes no bit (premultiplied colour), and a batch with no lit lane is not
+ *   composited; shaded, each lit lane is shaded and composited in turn with the SSE2 loop's
+ *   own c5_cast_shade, c5_cast_lit and c5_cast_over.
  *
  * Built only on x86-64 with the SIMD twin (C5_CAST_SIMD); the functions carry their target,
  * so the rest of the build stays at the baseline and c5_cast_wide_usable decides at run time. */
@@ -92,6 +94,8 @@ typedef struct {
     int32_t e[8];
     int32_t m[8]; /* all ones in a lit lane, else 0 */
     unsigned in, keep, lit;
+    float f[3][8];  /* shaded frames: the fractions and ... */
+    int32_t off[8]; /* ... the cell's offset, for the normal codes */
 } ready;
 
 /* Composites batch b into *C, adding its counts; 1 when the ray ends in it. The lanes'
@@ -134,6 +138,37 @@ __attribute__((target("avx2"))) static inline int composite(const float (*rgba)[
     return done;
 }
 
+/* As composite, shaded: each lit lane's headlight factors from its cell's 8 normal codes
+ * (c5_cast_shade, the SSE2 loop's own), in order, with early termination per sample. */
+__attribute__((target("avx2"))) static inline int composite_shaded(const c5_cast_view *vw, const ready *b,
+                                                                   __m128 *acc, c5_cast_counts *cnt)
+{
+    const float(*rgba)[4] = vw->tf->rgba;
+    const uint16_t *normals = vw->v->normals;
+    __m128 C = *acc;
+    unsigned in = b->in, upto = b->keep;
+    int done = 0;
+    for (unsigned rest = b->lit; rest; rest &= rest - 1) {
+        int q = __builtin_ctz(rest);
+        c5_cast_pos p;
+        p.i = _mm_setzero_si128();
+        p.f = _mm_setr_ps(b->f[0][q], b->f[1][q], b->f[2][q], 0);
+        C = c5_cast_over(C, c5_cast_lit(rgba[b->e[q]], c5_cast_shade(vw->shade, normals + b->off[q], p)));
+        if (vw->early && c5_cast_rgba_alpha(C) > C5_CAST_OPAQUE) {
+            unsigned through = (2u << q) - 1;
+            upto &= through, in &= through;
+            cnt->terminated++;
+            done = 1;
+            break;
+        }
+    }
+    cnt->samples += (unsigned)__builtin_popcount(upto);
+    cnt->zero += (unsigned)__builtin_popcount(upto & ~b->lit);
+    cnt->sub += (unsigned)__builtin_popcount(in & ~upto);
+    *acc = C;
+    return done;
+}
+
 /* Software-pipelined: batch n + 1's positions are computed (and its cells prefetched) while
  * batch n's voxels are read, and batch n's entries are composited after batch n + 1's are
  * known, so that the serial compositing of one batch overlaps the gathers of the next. A
@@ -145,7 +180,9 @@ __attribute__((target("avx2"))) int c5_cast_wide_span(const c5_cast_view *vw, co
     const float(*rgba)[4] = vw->tf->rgba;
     const c5_cast_volume *v = vw->v;
     const uint8_t *bricks = v->bricks, *sub_mask = vw->sub_mask, *lit = vw->tf->lit;
-    const int skip = vw->sub_skip, early = vw->early;
+    const uint16_t *normals = v->normals;
+    const int skip = vw->sub_skip, early = vw->early, shading = vw->shading;
+    const int cells = vw->prefetch == C5_CAST_PREFETCH_CELLS;
     const __m256 o[3] = {_mm256_set1_ps(r->o[0]), _mm256_set1_ps(r->o[1]), _mm256_set1_ps(r->o[2])};
     const __m256 d[3] = {_mm256_set1_ps(r->d[0]), _mm256_set1_ps(r->d[1]), _mm256_set1_ps(r->d[2])};
     const __m256 hi[3] = {_mm256_set1_ps(r->hi[0]), _mm256_set1_ps(r->hi[1]), _mm256_set1_ps(r->hi[2])};
@@ -162,8 +199,10 @@ __attribute__((target("avx2"))) int c5_cast_wide_span(const c5_cast_view *vw, co
         int64_t left = j1 - jb + 1;
         unsigned in = left >= 8 ? 0xffu : (1u << left) - 1; /* lanes within the span */
         const batch *b = &bt[now];
-        if (jb + 8 <= j1) { /* the next batch's cells, a batch before they are read */
+        if (jb + 8 <= j1) { /* the next batch's positions; its cells, a batch before they are read */
             positions(r->step, o, d, hi, nb0, nb1, jb + 8, &bt[now ^ 1]);
+        }
+        if (cells && jb + 8 <= j1) {
             int32_t a[8];
             _mm256_storeu_si256((__m256i *)a, bt[now ^ 1].off);
 #pragma GCC unroll 8
@@ -171,6 +210,14 @@ __attribute__((target("avx2"))) int c5_cast_wide_span(const c5_cast_view *vw, co
                 __builtin_prefetch(bricks + a[q]);
                 __builtin_prefetch(bricks + a[q] + Z + Y + X);
             }
+            if (shading) /* the normal codes' rows c5_cast_shade reads */
+                for (int q = 0; q < 8; q++) {
+                    const uint16_t *n = normals + a[q];
+                    __builtin_prefetch(n);
+                    __builtin_prefetch(n + Y + X);
+                    __builtin_prefetch(n + Z);
+                    __builtin_prefetch(n + Z + Y + X);
+                }
         }
         unsigned keep = in;
         if (skip) {
@@ -202,9 +249,15 @@ __attribute__((target("avx2"))) int c5_cast_wide_span(const c5_cast_view *vw, co
             cur->lit = keep & (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(nz));
             __m256i bits = _mm256_and_si256(_mm256_set1_epi32((int)cur->lit), lane_bit);
             _mm256_storeu_si256((__m256i *)cur->m, _mm256_cmpeq_epi32(bits, lane_bit));
+            if (shading) {
+                for (int a = 0; a < 3; a++)
+                    _mm256_storeu_ps(cur->f[a], f[a]);
+                _mm256_storeu_si256((__m256i *)cur->off, off);
+            }
             _mm256_storeu_si256((__m256i *)cur->e, idx);
         }
-        if (pending >= 0 && composite(rgba, early, &rd[pending], &C, cnt)) {
+        if (pending >= 0 && (shading ? composite_shaded(vw, &rd[pending], &C, cnt)
+                                     : composite(rgba, early, &rd[pending], &C, cnt))) {
             *acc = C;
             return 1;
         }
@@ -214,7 +267,8 @@ __attribute__((target("avx2"))) int c5_cast_wide_span(const c5_cast_view *vw, co
         else
             cnt->sub += (unsigned)__builtin_popcount(in);
     }
-    int done = pending >= 0 && composite(rgba, early, &rd[pending], &C, cnt);
+    int done = pending >= 0 && (shading ? composite_shaded(vw, &rd[pending], &C, cnt)
+                                        : composite(rgba, early, &rd[pending], &C, cnt));
     *acc = C;
     return done;
 }
