@@ -110,9 +110,8 @@ typedef struct {
     double step;       /* sample distance in world units; 0: the smallest spacing */
     int queue_depth;   /* bounded buffer entries per worker (the paper's 4-entry mailbox); 0: 4 */
     int wide;          /* eight samples at a time (AVX2, cast_wide.c; not with approx+refine or the
-                          brick prefetch) where the CPU
-                          has it: -1 auto (default), 0 never, 1 always (refused where it cannot run).
-                          Same bits either way. */
+                          brick prefetch) where the CPU has it: -1 auto (default), 0 never, 1 always
+                          (refused where it cannot run). Same bits either way. */
 } c5_cast_opts;
 
 void c5_cast_opts_default(c5_cast_opts *o);
@@ -146,13 +145,15 @@ double c5_cast_load_imbalance(const c5_cast_stats *st);
  * there, provided the eye is farther from that plane than the volume's far end (else 1). */
 int c5_cast_prop1_k(const c5_cast_volume *v, const c5_cast_camera *cam, int w, int h);
 /* The k a frame takes unless told (c5_cast_opts.k 0): Proposition 1's, raised to at least
- * C5_CAST_K_LOW and capped at C5_CAST_K_HIGH (docs/caster.md, "The default k"). */
+ * C5_CAST_K_LOW and capped at C5_CAST_K_HIGH (docs/caster.md, "Proposition 1's k and the
+ * default k"). */
 #define C5_CAST_K_LOW 4
 #define C5_CAST_K_HIGH 8
 int c5_cast_default_k(const c5_cast_volume *v, const c5_cast_camera *cam, int w, int h);
 
 /* Renders one w x h view into out (allocated here when out->rgb is NULL, else it must be
- * w x h). Same bits for any worker count, queue depth, prefetch and sub-brick setting and mode. */
+ * w x h). Same bits for any worker count, queue depth, prefetch, sub-brick and wide setting, k
+ * and mode. */
 int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_camera *cam, int w, int h,
                    const c5_cast_opts *o, c5_image *out, c5_cast_stats *st, c5_err *err);
 

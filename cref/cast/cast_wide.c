@@ -199,10 +199,9 @@ __attribute__((target("avx2"))) int c5_cast_wide_span(const c5_cast_view *vw, co
         int64_t left = j1 - jb + 1;
         unsigned in = left >= 8 ? 0xffu : (1u << left) - 1; /* lanes within the span */
         const batch *b = &bt[now];
-        if (jb + 8 <= j1) { /* the next batch's positions; its cells, a batch before they are read */
+        if (jb + 8 <= j1) /* the next batch's positions */
             positions(r->step, o, d, hi, nb0, nb1, jb + 8, &bt[now ^ 1]);
-        }
-        if (cells && jb + 8 <= j1) {
+        if (cells && jb + 8 <= j1) { /* and its cells, a batch before they are read */
             int32_t a[8];
             _mm256_storeu_si256((__m256i *)a, bt[now ^ 1].off);
 #pragma GCC unroll 8
