@@ -2,6 +2,7 @@
  * sample, for any k, worker count, queue depth and prefetch setting, shaded and not; the
  * paper's Figure 7 case; the octree and the classification table it relies on. */
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -862,4 +863,99 @@ TEST(cast_wide_loop_is_the_sse2_loop)
     CHECK_INT(bad, 0);
     CHECK_INT(cases, 3 * 48);
     CHECK(terminated > 0 && dropped > 0);
+}
+
+/* The volume keeps its last classification for the next frame with the same non-zero table
+ * entries (c5_cast_view_classify). A frame with another table must not take it: a table that
+ * makes more bricks non-empty, cast right after one that leaves them empty, still draws what a
+ * fresh volume draws; so does a table with the same non-zero entries and other colours, and
+ * two threads casting both tables at once on one volume. */
+typedef struct {
+    const c5_cast_volume *v;
+    const c5_cast_tf *tf[2];
+    const c5_image *ref[2];
+    c5_cast_camera cam;
+    int bad, done;
+} kept_job;
+
+static void *kept_thread(void *arg)
+{
+    kept_job *j = arg;
+    for (int i = 0; i < 12; i++) {
+        int t = (i + j->done) % 2; /* the two threads start on different tables */
+        c5_cast_opts o;
+        c5_cast_opts_default(&o);
+        o.workers = 1;
+        c5_image img = {0};
+        c5_cast_stats st;
+        c5_err err;
+        if (c5_cast_render(j->v, j->tf[t], &j->cam, 40, 30, &o, &img, &st, &err) || differ(&img, j->ref[t]))
+            j->bad++;
+        c5_image_free(&img);
+    }
+    return NULL;
+}
+
+TEST(cast_kept_classification_is_only_for_its_table)
+{
+    fixture fx;
+    if (fixture_make(&fx, blob_dims, blob_spacing, 3))
+        return;
+    c5_cast_volume *fresh[3] = {NULL, NULL, NULL};
+    c5_cast_tf tfs[3];
+    c5_tf_desc t;
+    c5_err err;
+    tf_ramp(&t);
+    t.opacity[1][0] = 5; /* opaque from scalar 5: the noise field's bricks are no longer empty */
+    int rc = c5_cast_tf_build(&t, 1, 1, &tfs[1], &err);
+    tf_ramp(&t);
+    t.color[0][1] = 0.2, t.color[2][3] = 0.4; /* the fixture's non-zero entries, other colours */
+    rc = rc || c5_cast_tf_build(&t, 1, 1, &tfs[2], &err);
+    tfs[0] = fx.tf;
+    uint8_t *vox = blobs(blob_dims, 3);
+    for (int i = 0; i < 3 && !rc; i++)
+        rc = c5_cast_volume_make(vox, blob_dims, blob_spacing, &fresh[i], &err);
+    free(vox);
+    if (rc) {
+        c5t_failf(__FILE__, __LINE__, "set-up: %s", err.msg);
+        for (int i = 0; i < 3; i++)
+            c5_cast_volume_free(fresh[i]);
+        c5_cast_volume_free(fx.v);
+        return;
+    }
+    c5_cast_camera cam;
+    look_at(&cam, (double[3]){90, -60, 50}, blob_focal, 35);
+    c5_cast_opts o;
+    c5_cast_opts_default(&o);
+    c5_image ref[3] = {{0}}, img = {0};
+    c5_cast_stats sref[3], st;
+    for (int i = 0; i < 3; i++) /* each table on a volume of its own: nothing kept from another */
+        render(&(fixture){fresh[i], tfs[i]}, &cam, 40, 30, &o, &ref[i], &sref[i]);
+    CHECK(differ(&ref[0], &ref[1]) && sref[1].samples > sref[0].samples);
+    /* one volume, the tables in turn: 0, 0 (kept), 1 (not 0's), 0, 2 (0's kept), 1 */
+    static const int order[6] = {0, 0, 1, 0, 2, 1};
+    for (int k = 0; k < 6; k++) {
+        int i = order[k];
+        if (render(&(fixture){fx.v, tfs[i]}, &cam, 40, 30, &o, &img, &st))
+            break;
+        CHECK_MSG(!differ(&img, &ref[i]) && st.samples == sref[i].samples && st.samples_sub == sref[i].samples_sub,
+                  "step %d (table %d): samples %llu against %llu", k, i, (unsigned long long)st.samples,
+                  (unsigned long long)sref[i].samples);
+        c5_image_free(&img);
+    }
+    pthread_t th[2];
+    kept_job jobs[2];
+    for (int i = 0; i < 2; i++) {
+        jobs[i] = (kept_job){.v = fx.v, .tf = {&tfs[0], &tfs[1]}, .ref = {&ref[0], &ref[1]}, .cam = cam, .done = i};
+        pthread_create(&th[i], NULL, kept_thread, &jobs[i]);
+    }
+    for (int i = 0; i < 2; i++) {
+        pthread_join(th[i], NULL);
+        CHECK_INT(jobs[i].bad, 0);
+    }
+    for (int i = 0; i < 3; i++) {
+        c5_image_free(&ref[i]);
+        c5_cast_volume_free(fresh[i]);
+    }
+    c5_cast_volume_free(fx.v);
 }

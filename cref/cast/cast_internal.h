@@ -3,6 +3,7 @@
 #ifndef C5_CAST_INTERNAL_H
 #define C5_CAST_INTERNAL_H
 
+#include <pthread.h>
 #include <stdint.h>
 
 #include "cast.h"
@@ -32,6 +33,15 @@ struct c5_cast_volume {
     int ln[C5_CAST_MAX_LEVELS][3];
     uint8_t *minmax[C5_CAST_MAX_LEVELS]; /* per node (x fastest) its min and max voxel */
     uint8_t *sub_minmax;  /* per brick, per sub-brick s = sx + 2 sy + 4 sz: min and max voxel */
+    /* The last classification made without hashes (c5_cast_view_classify), for the next frame
+     * whose table has the same non-zero entries: it depends on nothing else, and the views of a
+     * run mostly share one transfer function. A frame copies it out under the lock. */
+    struct {
+        pthread_mutex_t mu;
+        int valid;
+        uint32_t nonzero[C5_CAST_TF_N + 1]; /* the table's running count it was made for */
+        uint8_t *cls[C5_CAST_MAX_LEVELS], *kids[C5_CAST_MAX_LEVELS], *sub_mask;
+    } classified;
 };
 
 static inline size_t c5_cast_brick_index(const c5_cast_volume *v, int bx, int by, int bz)

@@ -109,7 +109,10 @@ int c5_cast_volume_make(const uint8_t *vox, const size_t dims[3], const double s
         count *= dims[a];
     }
     c5_cast_volume *v = calloc(1, sizeof *v);
-    if (!v || !(v->vox = malloc(count)))
+    if (!v)
+        goto oom;
+    pthread_mutex_init(&v->classified.mu, NULL);
+    if (!(v->vox = malloc(count)))
         goto oom;
     memcpy(v->vox, vox, count);
     memcpy(v->dims, dims, sizeof v->dims);
@@ -150,8 +153,13 @@ void c5_cast_volume_free(c5_cast_volume *v)
 {
     if (!v)
         return;
-    for (int l = 0; l < C5_CAST_MAX_LEVELS; l++)
+    for (int l = 0; l < C5_CAST_MAX_LEVELS; l++) {
         free(v->minmax[l]);
+        free(v->classified.cls[l]);
+        free(v->classified.kids[l]);
+    }
+    free(v->classified.sub_mask);
+    pthread_mutex_destroy(&v->classified.mu);
     free(v->sub_minmax);
     free(v->bricks);
     free(v->normals);
