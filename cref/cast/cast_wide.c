@@ -98,6 +98,15 @@ typedef struct {
     int32_t off[8]; /* ... the cell's offset, for the normal codes */
 } ready;
 
+/* A batch's counts: of its lanes in the span up to where the ray ends (in), the kept ones (upto)
+ * were sampled, those of them not lit had opacity 0, and the rest were dropped. */
+static inline void add_counts(c5_cast_counts *cnt, unsigned in, unsigned upto, unsigned lit)
+{
+    cnt->samples += (unsigned)__builtin_popcount(upto);
+    cnt->zero += (unsigned)__builtin_popcount(upto & ~lit);
+    cnt->sub += (unsigned)__builtin_popcount(in & ~upto);
+}
+
 /* Composites batch b into *C, adding its counts; 1 when the ray ends in it. The lanes'
  * entries in order, unlit ones as +0 (no branch on which lanes are lit); a batch that takes
  * the ray past opacity is composited again lane by lane from its start, to stop at the sample
@@ -131,9 +140,7 @@ __attribute__((target("avx2"))) static inline int composite(const float (*rgba)[
             done = 1;
         }
     }
-    cnt->samples += (unsigned)__builtin_popcount(upto);
-    cnt->zero += (unsigned)__builtin_popcount(upto & ~b->lit);
-    cnt->sub += (unsigned)__builtin_popcount(in & ~upto);
+    add_counts(cnt, in, upto, b->lit);
     *acc = C;
     return done;
 }
@@ -162,9 +169,7 @@ __attribute__((target("avx2"))) static inline int composite_shaded(const c5_cast
             break;
         }
     }
-    cnt->samples += (unsigned)__builtin_popcount(upto);
-    cnt->zero += (unsigned)__builtin_popcount(upto & ~b->lit);
-    cnt->sub += (unsigned)__builtin_popcount(in & ~upto);
+    add_counts(cnt, in, upto, b->lit);
     *acc = C;
     return done;
 }
