@@ -17,19 +17,26 @@
 
 #define RDRAM_BW 800e6
 
+int c5_bd_grow_packets(uint8_t (**pk)[C5_PACKET_BYTES], uint32_t **shadow, size_t cap)
+{
+    void *p = realloc(*pk, cap * C5_PACKET_BYTES);
+    if (!p)
+        return -1;
+    *pk = p;
+    void *s = realloc(*shadow, cap * sizeof **shadow);
+    if (!s)
+        return -1;
+    *shadow = s;
+    return 0;
+}
+
 static int push_sdram(c5_bd *b, int cell, const uint8_t pk[C5_PACKET_BYTES], uint32_t shadow)
 {
     c5_sdram_queue *q = &b->q[cell];
     if (q->n == q->cap) {
         size_t cap = q->cap ? 2 * q->cap : 256;
-        void *p = realloc(q->pk, cap * C5_PACKET_BYTES);
-        if (!p)
+        if (c5_bd_grow_packets(&q->pk, &q->shadow, cap))
             return -1;
-        q->pk = p;
-        void *s = realloc(q->shadow, cap * sizeof *q->shadow);
-        if (!s)
-            return -1;
-        q->shadow = s;
         q->cap = cap;
     }
     q->shadow[q->n] = shadow;

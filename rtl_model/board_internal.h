@@ -114,6 +114,9 @@ int c5_bd_group_of(const c5_bd *b, int cell, const int g[3], const int ng[3]);
 /* The DSP tags a ray with its Cell Tree node and queues it in SDRAM; arrival: it comes from
  * another cell (a spill of the active cell's own ray is not an arrival). */
 void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival);
+/* Grows packets pk and their instrument nodes shadow to cap entries (board.c): 0, or -1 when
+ * memory is short (what grew stays; the caller keeps its old capacity). */
+int c5_bd_grow_packets(uint8_t (**pk)[C5_PACKET_BYTES], uint32_t **shadow, size_t cap);
 /* The DSP's eye rays, pixel by pixel, through the processor's set-up unit. */
 int c5_bd_generate_eye_rays(c5_bd *b, const c5_supervol *sv, int frame, c5_err *err);
 /* Pixel px, py's eye ray from O (proto: its other fields) through processor p's set-up unit. */

@@ -248,14 +248,8 @@ static int reserve(struct c5_bd_threads *t, size_t n)
         t->cap = n;
     }
     if (n > t->cap_pk) {
-        void *pk = realloc(t->pk, n * C5_PACKET_BYTES);
-        if (!pk)
+        if (c5_bd_grow_packets(&t->pk, &t->shadow, n))
             return -1;
-        t->pk = pk;
-        void *sh = realloc(t->shadow, n * sizeof *t->shadow);
-        if (!sh)
-            return -1;
-        t->shadow = sh;
         t->cap_pk = n;
     }
     return 0;
