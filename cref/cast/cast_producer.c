@@ -165,18 +165,27 @@ static size_t level_nodes(const c5_cast_volume *v, int l)
     return (size_t)v->ln[l][0] * (size_t)v->ln[l][1] * (size_t)v->ln[l][2];
 }
 
+/* A classification (per level its classes and child masks, the sub-brick masks) from one set of
+ * arrays into another. */
+static void copy_classes(const c5_cast_volume *v, size_t nsub, uint8_t *const cls[], uint8_t *const kids[],
+                         const uint8_t *sub, uint8_t *const to_cls[], uint8_t *const to_kids[], uint8_t *to_sub)
+{
+    for (int l = 0; l < v->levels; l++) {
+        memcpy(to_cls[l], cls[l], level_nodes(v, l));
+        if (l > 0)
+            memcpy(to_kids[l], kids[l], level_nodes(v, l));
+    }
+    memcpy(to_sub, sub, nsub);
+}
+
 /* The volume's kept classification into vw, when it was made for vw's table: 1, else 0. */
 static int classified_take(c5_cast_volume *v, c5_cast_view *vw, size_t nsub)
 {
     pthread_mutex_lock(&v->classified.mu);
     int hit = v->classified.valid && !memcmp(v->classified.nonzero, vw->tf->nonzero, sizeof v->classified.nonzero);
-    for (int l = 0; hit && l < v->levels; l++) {
-        memcpy(vw->cls[l], v->classified.cls[l], level_nodes(v, l));
-        if (l > 0)
-            memcpy(vw->kids[l], v->classified.kids[l], level_nodes(v, l));
-    }
     if (hit)
-        memcpy(vw->sub_mask, v->classified.sub_mask, nsub);
+        copy_classes(v, nsub, v->classified.cls, v->classified.kids, v->classified.sub_mask, vw->cls, vw->kids,
+                     vw->sub_mask);
     pthread_mutex_unlock(&v->classified.mu);
     return hit;
 }
@@ -192,12 +201,8 @@ static void classified_keep(c5_cast_volume *v, const c5_cast_view *vw, size_t ns
     v->classified.valid = ok;
     if (ok) {
         memcpy(v->classified.nonzero, vw->tf->nonzero, sizeof v->classified.nonzero);
-        memcpy(v->classified.sub_mask, vw->sub_mask, nsub);
-        for (int l = 0; l < v->levels; l++) {
-            memcpy(v->classified.cls[l], vw->cls[l], level_nodes(v, l));
-            if (l > 0)
-                memcpy(v->classified.kids[l], vw->kids[l], level_nodes(v, l));
-        }
+        copy_classes(v, nsub, vw->cls, vw->kids, vw->sub_mask, v->classified.cls, v->classified.kids,
+                     v->classified.sub_mask);
     }
     pthread_mutex_unlock(&v->classified.mu);
 }
