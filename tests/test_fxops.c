@@ -45,6 +45,26 @@ TEST(fxops_rshift_every_shift_full_range)
         }
 }
 
+/* The same for the 128-bit rounding, every shift 1..126 (the golden vectors' power table
+ * shifts by 65), against the rounding written with its branch. */
+TEST(fxops_rshift128_every_shift)
+{
+    uint64_t rng = 29;
+    for (int s = 1; s <= 126; s++)
+        for (int i = 0; i < 4000; i++) {
+            __int128 x = (__int128)(((unsigned __int128)c5_splitmix64(&rng) << 64) | c5_splitmix64(&rng));
+            x >>= i % 60; /* magnitudes from 2^127 down */
+            __int128 half = (__int128)1 << (s - 1);
+            if (i < 4 && s < 126) /* 3 half < 2^127 */
+                x = (__int128[]){0, half, 3 * half, -3 * half}[i];
+            else if (i % 3 == 0) /* a tie */
+                x = (x & ~(((__int128)1 << s) - 1)) | half;
+            __int128 q = x >> s, r = x - q * ((__int128)1 << s);
+            int64_t want = (int64_t)(q + (r > half || (r == half && (q & 1))));
+            CHECK_MSG(c5_rshift128_he(x, s) == want, "s=%d i=%d", s, i);
+        }
+}
+
 /* The reciprocal only guides the quotient: a wrong one (off by parts in 2^20, or 2x) gives
  * the same integer as the division, ties included. */
 TEST(fxops_div_inv_equals_div_whatever_the_reciprocal)

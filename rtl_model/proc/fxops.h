@@ -25,16 +25,15 @@ static inline int64_t c5_rshift_he(int64_t x, int s)
     return q + ((r + half - 1 + (q & 1)) >> s);
 }
 
-/* The same on a 128-bit product. */
+/* The same on a 128-bit product, s in 1..126, also without a branch (the composite and the
+ * shading round three to five products a sample this way). */
 static inline int64_t c5_rshift128_he(__int128 x, int s)
 {
     __int128 q = x >> s;
-    __int128 r = x - c5_shl128(q, s);
+    __int128 r = x & (((__int128)1 << s) - 1);
     __int128 half = (__int128)1 << (s - 1);
     C5_ROUND_NOTE(r == 0, (r > half) - (r < half), q & 1);
-    if (r > half || (r == half && (q & 1)))
-        q++;
-    return (int64_t)q;
+    return (int64_t)(q + ((r + half - 1 + (q & 1)) >> s));
 }
 
 /* round(n / d) half to even for |n|, |d| < 2^62, d != 0 (no negation or 2 r can overflow):
@@ -44,15 +43,12 @@ static inline int64_t c5_div_he64(int64_t n, int64_t d)
     if (d < 0)
         n = -n, d = -d;
     int64_t q = n / d, r = n % d;
-    if (r < 0) {
-        q--;
-        r += d;
-    }
+    int64_t neg = r >> 63; /* C truncates toward zero: make it floor, without a branch */
+    q += neg;
+    r += d & neg;
     int64_t twice = 2 * r;
     C5_ROUND_NOTE(r == 0, (twice > d) - (twice < d), q & 1);
-    if (twice > d || (twice == d && (q & 1)))
-        q++;
-    return q;
+    return q + ((twice > d) | ((twice == d) & q & 1));
 }
 
 /* c5_div_he64(n, d) for d > 0 and |n / d| < 2^40, with inv ~ 1 / d given: the quotient from
@@ -63,6 +59,15 @@ static inline int64_t c5_div_he64(int64_t n, int64_t d)
 static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
 {
     int64_t q = (int64_t)((double)n * inv), r = n - q * d;
+    /* One step each way without a branch (the truncation leaves r < 0 for every negative
+     * quotient: the sign of a normal's component is data), then the loops for an estimate
+     * further off, which the model's never is. */
+    int64_t neg = r >> 63;
+    q += neg;
+    r += d & neg;
+    int64_t over = -(int64_t)(r >= d);
+    q -= over;
+    r -= d & over;
     while (r < 0) {
         q--;
         r += d;
@@ -73,9 +78,7 @@ static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
     }
     int64_t twice = 2 * r;
     C5_ROUND_NOTE(r == 0, (twice > d) - (twice < d), q & 1);
-    if (twice > d || (twice == d && (q & 1)))
-        q++;
-    return q;
+    return q + ((twice > d) | ((twice == d) & q & 1));
 }
 
 /* round(n / d) half to even, d != 0. A negative divisor is moved to the numerator first:

@@ -295,8 +295,9 @@ static inline int c5_composite(const c5_frame_regs *r, c5_bray *ray, int64_t alp
     if (c) {
         int64_t wta = ray->w * t * alpha; /* 45 fraction bits, < 2^46 */
         C5_ROUND_AT(C5_RS_COMPOSITE_RGB);
+        /* c is shaded_rgb (UQ4.12, <= 65535: c5_shade_w saturates it), so wta c < 2^62 */
         for (int ch = 0; ch < 3; ch++)
-            ray->rgb[ch] = c5_clamp64(ray->rgb[ch] + c5_rshift128_he((__int128)wta * c[ch], 45), 0, C5_RGB_MAX, sat);
+            ray->rgb[ch] = c5_clamp64(ray->rgb[ch] + c5_rshift_he(wta * c[ch], 45), 0, C5_RGB_MAX, sat);
     }
     C5_ROUND_AT(C5_RS_COMPOSITE_OPA);
     ray->opa += c5_rshift_he(t * alpha, 15);
