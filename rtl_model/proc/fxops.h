@@ -58,7 +58,17 @@ static inline int64_t c5_div_he64(int64_t n, int64_t d)
  * integer divisions: the shading normalises three vectors a sample. */
 static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
 {
-    int64_t q = (int64_t)((double)n * inv), r = n - q * d;
+    /* The double product rounded to the nearest integer (adding and taking away 1.5 * 2^52
+     * rounds a double below 2^51 to an integer): when its remainder is less than half the
+     * divisor either way it is round(n / d), whatever inv's error; a tie and an estimate
+     * further off take the steps below. */
+    const double magic = 0x1.8p52;
+    int64_t q = (int64_t)(((double)n * inv + magic) - magic), r = n - q * d, twice = 2 * r;
+    if (twice < d && twice > -d) {
+        C5_ROUND_NOTE(r == 0, r > 0 ? -1 : 1, 0);
+        return q;
+    }
+    q = (int64_t)((double)n * inv), r = n - q * d;
     /* One step each way without a branch (the truncation leaves r < 0 for every negative
      * quotient: the sign of a normal's component is data), then the loops for an estimate
      * further off, which the model's never is. */
@@ -76,7 +86,7 @@ static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
         q++;
         r -= d;
     }
-    int64_t twice = 2 * r;
+    twice = 2 * r;
     C5_ROUND_NOTE(r == 0, (twice > d) - (twice < d), q & 1);
     return q + ((twice > d) | ((twice == d) & q & 1));
 }
