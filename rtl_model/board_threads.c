@@ -2,21 +2,21 @@
  * "Host threads").
  *
  * Each cell's visit hands them its items: the rays that waited in the cell's SDRAM queue when
- * the cell was loaded. The board's thread goes through them in the board's order, the
- * sorter's. The helpers run the items ahead of it, each on a recording copy of the processor
- * into a log (proc/ray_log.h), and leave it the items it is about to reach. When the board's
- * thread pops an item a helper ran, it replays the log: the same effects, in the same place
- * of the board's order; an item no helper has taken it runs itself. So the image, every
- * counter and every cycle count are the same for any number of threads; the helpers'
- * counters are added to the processor's at the end of the visit (sums). The board's thread,
- * which also runs the sorter, the DSP and the replays, runs more items itself the more the
- * helpers fall behind, so neither side waits for the other but at the end of a visit.
+ * the cell was loaded (and the frame's set-up, the pixels' eye rays). The board's thread
+ * goes through them in the board's order, the sorter's. The helpers run the items ahead of
+ * it, each on a recording copy of the processor into a log (proc/ray_log.h), and leave it
+ * the items it is about to reach. When the board's thread pops an item a helper ran, it
+ * replays the log: the same effects, in the same place of the board's order; an item no
+ * helper has taken it runs itself. So the image, every counter and every cycle count are
+ * the same for any number of threads; the helpers' counters are added to the processor's
+ * at the end of the visit (sums). The board's thread, which also runs the sorter, the DSP
+ * and the replays, runs more items itself the more the helpers fall behind, so neither side
+ * waits for the other but at the end of a visit.
  *
  * An item is the ray's position in the cell's SDRAM queue when the cell was loaded: the
  * queue is moved into the sorter in order (refill), so the k-th ray moved is item k, and the
  * item goes with the ray's sorter slot until it is popped. Rays queued during the visit are
- * not items: the board's thread runs them. The eye rays are not handed out: a pixel's set-up
- * costs about what its replay would (measured in docs/board-model.md). */
+ * not items: the board's thread runs them. */
 #include <pthread.h>
 #include <sched.h>
 #include <stdatomic.h>
