@@ -495,30 +495,39 @@ def c_fmt(fmt, label):
     return f"C5_{'SQ' if fmt.signed else 'UQ'}({fmt.i}, {fmt.f}, \"{label}\")"
 
 
-def put_bytes(lsb, width, expr):
-    """C lines storing the low `width` bits of expr at bit lsb of the zeroed `out`, one line a
-    byte spanned, positions fixed here: what c5_lay_put does with loops and masks, straight
-    (pack and unpack run on every ray the board model queues)."""
-    first, off, last = lsb // 8, lsb % 8, (lsb + width - 1) // 8
+def word_lines(nbytes, store):
+    """C lines moving the layout between its bytes and the 64-bit words w0, w1, ... of its bits
+    (word k holds bits 64k..64k+63, byte i bits 8i..8i+7: little-endian), byte by byte, which
+    the compiler merges into word loads and stores."""
+    lines = []
+    for k in range((nbytes + 7) // 8):
+        n = min(8, nbytes - 8 * k)
+        if store:
+            lines += [f"    out[{8 * k + j}] = (uint8_t)(w{k} >> {8 * j});" for j in range(n)]
+        else:
+            terms = [f"(uint64_t)in[{8 * k + j}] << {8 * j}" if j else f"(uint64_t)in[{8 * k}]" for j in range(n)]
+            lines.append(f"    const uint64_t w{k} = " + " | ".join(terms) + ";")
+    return lines
+
+
+def put_word(lsb, width, expr):
+    """C lines or-ing the low `width` bits of expr into the words at bit lsb (pack and unpack
+    run on every ray the board model queues: word shifts, positions fixed here)."""
+    k, off = lsb // 64, lsb % 64
     mask = f" & UINT64_C({hex((1 << width) - 1)})" if width < 64 else ""
-    lines = [f"    {{ uint64_t v_ = {expr}{mask};"]
-    for i in range(first, last + 1):
-        sh = 8 * (i - first) - off
-        part = f"v_ << {-sh}" if sh < 0 else f"v_ >> {sh}" if sh > 0 else "v_"
-        lines.append(f"      out[{i}] |= (uint8_t)({part});")
+    lines = [f"    {{ uint64_t v_ = {expr}{mask};", f"      w{k} |= v_ << {off};" if off else f"      w{k} |= v_;"]
+    if off + width > 64:
+        lines.append(f"      w{k + 1} |= v_ >> {64 - off};")
     lines[-1] += " }"
     return lines
 
 
-def get_bytes(lsb, width):
-    """The C expression of c5_lay_get(in, lsb, width), byte positions fixed here."""
-    first, off, last = lsb // 8, lsb % 8, (lsb + width - 1) // 8
-    terms = []
-    for i in range(first, last + 1):
-        sh = 8 * (i - first) - off
-        b = f"(uint64_t)in[{i}]"
-        terms.append(f"{b} >> {-sh}" if sh < 0 else f"{b} << {sh}" if sh > 0 else b)
-    body = " | ".join(terms)
+def get_word(lsb, width):
+    """The C expression of c5_lay_get(in, lsb, width) on the words."""
+    k, off = lsb // 64, lsb % 64
+    body = f"w{k} >> {off}" if off else f"w{k}"
+    if off + width > 64:
+        body += f" | w{k + 1} << {64 - off}"
     return f"(({body}) & UINT64_C({hex((1 << width) - 1)}))" if width < 64 else f"({body})"
 
 
@@ -570,20 +579,23 @@ def c_layout(lay):
     out.append("")
     out.append(f"static inline void c5_{n}_pack(const c5_{n}_t *f, uint8_t out[C5_{up}_BYTES])")
     out.append("{")
-    out.append(f"    memset(out, 0, C5_{up}_BYTES); /* reserved bits stay 0 */")
+    nwords = (nbytes + 7) // 8
+    out.append("    uint64_t " + ", ".join(f"w{k} = 0" for k in range(nwords)) + "; /* reserved bits stay 0 */")
     for f in data:
         p = f"C5_{up}_{f['name'].upper()}"
         sgn = 1 if f["fmt"].signed else 0
         out.append(f"    assert(c5_lay_fits((int64_t)f->{f['name']}, {p}_WIDTH, {sgn}) && "
                    f"\"{n}.{f['name']} out of range\");")
-        out.extend(put_bytes(f["lsb"], f["width"], f"(uint64_t)f->{f['name']}"))
+        out.extend(put_word(f["lsb"], f["width"], f"(uint64_t)f->{f['name']}"))
+    out.extend(word_lines(nbytes, True))
     out.append("}")
     out.append("")
     out.append(f"static inline void c5_{n}_unpack(const uint8_t in[C5_{up}_BYTES], c5_{n}_t *f)")
     out.append("{")
+    out.extend(word_lines(nbytes, False))
     for f in data:
         p = f"C5_{up}_{f['name'].upper()}"
-        get = get_bytes(f["lsb"], f["width"])
+        get = get_word(f["lsb"], f["width"])
         if f["fmt"].signed:
             out.append(f"    f->{f['name']} = c5_lay_sext({get}, {p}_WIDTH);")
         elif f["fmt"].fixed:
