@@ -1,12 +1,14 @@
 /* The board: the DSP (eye rays, SDRAM ray queues, the scheduler, the frame buffer), the
  * RDRAM fetches, the active cell's visit (its eDRAM: board_edram.c) and the processor, with
  * the frame's cycle budget (board.h, docs/board-model.md). */
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "board_internal.h"
+#include "c5_layouts.h"
 #include "camera.h"
 #include "cell_store.h"
 #include "clock.h"
@@ -66,61 +68,100 @@ int c5_bd_group_of(const c5_bd *b, int cell, const int g[3], const int ng[3])
 /* The Cell Tree's unit: the cell, or its group (c5_board_opts.tree_group). */
 static int tree_unit(const c5_bd *b, int cell) { return c5_bd_group_of(b, cell, b->group, b->ngroup); }
 
-/* The processor hands a ray on: the active cell's sorter (the ray stays in its cell, so its
- * Cell Tree node stays), else (full, or another cell) over the ray bus to the DSP, which
- * tags it with its node before queueing it in SDRAM. */
-static void on_enqueue(void *ctx, const c5_bray *r)
-{
-    c5_bd *b = ctx;
-    if (b->keep->moves && !b->eye_probe && (int)r->cell != b->proc.active) {
-        int from = b->proc.active < 0 ? (int)r->cell : b->proc.active;
-        b->keep->moves[(size_t)from * (size_t)b->cells.count + r->cell]++;
-    }
-    if (b->o->link && c5_bd_link_enqueue(b, r))
-        return;
-    if ((int)r->cell == b->proc.active) {
-        if (c5_bd_edram_insert(b, r, C5_BD_NO_ITEM))
-            return;
-        b->st->spills++;
-    }
-    c5_bd_bus_tap(b, r, NULL, 1);
-    c5_bd_dsp_queue(b, r, (int)r->cell != b->proc.active);
-    b->st->bus_packets++;
-}
+/* A ray the processor hands on: the ray, or (replayed from a helper's log) the packet the
+ * helper packed it into, with its cell, node and instrument node beside it. */
+typedef struct {
+    const c5_bray *r; /* NULL: pk */
+    const uint8_t *pk;
+    uint32_t cell, node, shadow;
+} handed;
 
 /* The DSP tags a ray with its Cell Tree node and queues it in SDRAM; arrival: it comes
  * from another cell (a spill of the active cell's own ray is not an arrival). */
-void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival)
+static void dsp_queue(c5_bd *b, const handed *h, int arrival)
 {
-    c5_bray q = *r;
     unsigned long long t0 = c5_ticks();
-    uint32_t id = C5_NODE_NONE, from_id = r->node; /* the nodes' ids in the tree's store */
+    const int cell = (int)h->cell;
+    uint32_t node, id = C5_NODE_NONE, from_id = h->node; /* the nodes' ids in the tree's store */
     if (b->sdram) {
         /* The packet's node is its index among the nodes of the cell it was queued for, the
          * active cell (cell_tree_sdram.h); the DSP's directory gives its id. */
-        int from = r->node == C5_NODE_NONE ? -1 : tree_unit(b, b->proc.active);
-        from_id = from < 0 ? C5_DEMAND_NONE : c5_sdram_tree_id(b->sdram, from, r->node);
-        q.node = c5_sdram_tree_tag(b->sdram, from, r->node, tree_unit(b, (int)r->cell), &id);
+        int from = h->node == C5_NODE_NONE ? -1 : tree_unit(b, b->proc.active);
+        from_id = from < 0 ? C5_DEMAND_NONE : c5_sdram_tree_id(b->sdram, from, h->node);
+        node = c5_sdram_tree_tag(b->sdram, from, h->node, tree_unit(b, cell), &id);
     } else {
-        q.node = id = c5_ctree_tag(b->tree, r->node, tree_unit(b, (int)r->cell));
+        node = id = c5_ctree_tag(b->tree, h->node, tree_unit(b, cell));
     }
     b->tree_ticks += c5_ticks() - t0;
     /* The rays each node brings to its cell's queue (stale_plan.h); a spill of the active
      * cell's own ray is not an arrival. */
-    if (b->keep->node_rays && q.node != C5_NODE_NONE && arrival) {
+    if (b->keep->node_rays && node != C5_NODE_NONE && arrival) {
         (b->sdram ? b->sdram->rays : b->keep->node_rays)[id]++;
         b->st->node_count_ops += C5_OPS_NODE_COUNT;
     }
     if (b->certify && arrival)
-        c5_mw_shadow_tag(&b->shadow, from_id, q.node == C5_NODE_NONE ? C5_DEMAND_NONE : id, (int)r->cell);
-    q.shadow = c5_demand_tag(&b->demand, r->shadow, tree_unit(b, (int)r->cell));
+        c5_mw_shadow_tag(&b->shadow, from_id, node == C5_NODE_NONE ? C5_DEMAND_NONE : id, cell);
+    uint32_t shadow = c5_demand_tag(&b->demand, h->shadow, tree_unit(b, cell));
     const c5_taps *t = b->o->taps;
     if (t && t->tree_tag)
-        t->tree_tag(t->ctx, r->node, (int)r->cell, q.node);
+        t->tree_tag(t->ctx, h->node, cell, node);
     uint8_t pk[C5_PACKET_BYTES];
-    c5_bd_pack(b, &q, pk);
-    if (push_sdram(b, (int)r->cell, pk, q.shadow) != 0)
+    if (h->r) {
+        c5_bray q = *h->r;
+        q.node = node;
+        c5_bd_pack(b, &q, pk);
+    } else { /* the helper's packet with the DSP's node: pack(q) (no tap watches, on_enqueue_packet) */
+        assert(!t && c5_lay_fits(node, C5_RAY_PACKET_CELL_TREE_NODE_WIDTH, 0));
+        memcpy(pk, h->pk, C5_PACKET_BYTES);
+        c5_lay_put(pk, C5_RAY_PACKET_CELL_TREE_NODE_LSB, C5_RAY_PACKET_CELL_TREE_NODE_WIDTH, node);
+    }
+    if (push_sdram(b, cell, pk, shadow) != 0)
         b->oom = 1;
+}
+
+void c5_bd_dsp_queue(c5_bd *b, const c5_bray *r, int arrival)
+{
+    dsp_queue(b, &(handed){r, NULL, r->cell, r->node, r->shadow}, arrival);
+}
+
+/* The processor hands a ray on: the active cell's sorter (the ray stays in its cell, so its
+ * Cell Tree node stays), else (full, or another cell) over the ray bus to the DSP, which
+ * tags it with its node before queueing it in SDRAM. */
+static void hand_on(c5_bd *b, const handed *h)
+{
+    if (b->keep->moves && !b->eye_probe && (int)h->cell != b->proc.active) {
+        int from = b->proc.active < 0 ? (int)h->cell : b->proc.active;
+        b->keep->moves[(size_t)from * (size_t)b->cells.count + h->cell]++;
+    }
+    if (b->o->link && c5_bd_link_enqueue(b, h->r))
+        return;
+    if ((int)h->cell == b->proc.active) {
+        if (h->r ? c5_bd_edram_insert(b, h->r, C5_BD_NO_ITEM)
+                 : c5_bd_edram_insert_packet(b, h->pk, h->shadow, C5_BD_NO_ITEM))
+            return;
+        b->st->spills++;
+    }
+    c5_bd_bus_tap(b, h->r, h->pk, 1);
+    dsp_queue(b, h, (int)h->cell != b->proc.active);
+    b->st->bus_packets++;
+}
+
+static void on_enqueue(void *ctx, const c5_bray *r) { hand_on(ctx, &(handed){r, NULL, r->cell, r->node, r->shadow}); }
+
+/* A replayed ray in the packet its helper made. The link and the taps take the ray (they never
+ * run beside helper threads, board_threads.c). */
+static void on_enqueue_packet(void *ctx, const uint8_t pk[C5_PACKET_BYTES], uint32_t cell, uint32_t node,
+                              uint32_t shadow)
+{
+    c5_bd *b = ctx;
+    if (b->o->link || b->o->taps) {
+        c5_bray r;
+        c5_bray_unpack(pk, &b->cells, &r);
+        r.shadow = shadow;
+        on_enqueue(b, &r);
+        return;
+    }
+    hand_on(b, &(handed){NULL, pk, cell, node, shadow});
 }
 
 static void on_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
@@ -337,7 +378,7 @@ static int frame_setup(c5_bd *b, const c5_supervol *sv, const c5_supervol *grid,
     }
     for (uint32_t i = 0; i < (uint32_t)o->queue_capacity; i++)
         b->free_slots[b->n_free++] = (uint32_t)o->queue_capacity - 1 - i;
-    c5_proc_init(&b->proc, &b->r, &b->cells, &b->mem, (c5_proc_io){b, on_enqueue, on_deliver});
+    c5_proc_init(&b->proc, &b->r, &b->cells, &b->mem, (c5_proc_io){b, on_enqueue, on_deliver, on_enqueue_packet});
     b->proc.taps = o->taps;
     /* Taps observe every step in order, and the link stamps packets with the processor's
      * cycle count as they leave: both on the board's thread alone. Without helpers (out of

@@ -93,6 +93,12 @@ int c5_bd_edram_insert(c5_bd *b, const c5_bray *r, uint32_t item)
     return !sorter_full(b) && sorter_insert(b, r, NULL, queue_key(b, r), r->shadow, item);
 }
 
+/* A packet queued for the active cell into its sorter: 1 if accepted. */
+int c5_bd_edram_insert_packet(c5_bd *b, const uint8_t pk[C5_PACKET_BYTES], uint32_t shadow, uint32_t item)
+{
+    return !sorter_full(b) && sorter_insert(b, NULL, pk, packet_key(b, pk), shadow, item);
+}
+
 /* A packet on the ray bus, seen by the bus tap (only packed when the tap is set). */
 void c5_bd_bus_tap(const c5_bd *b, const c5_bray *r, const uint8_t *pk, int to_dsp)
 {
@@ -117,7 +123,7 @@ void c5_bd_refill(c5_bd *b, c5_sdram_queue *q)
         const uint8_t *pk = q->pk[q->head];
         uint32_t item = b->threads ? c5_bd_threads_refill_item(b) : C5_BD_NO_ITEM;
         if (as_is) {
-            if (sorter_full(b) || !sorter_insert(b, NULL, pk, packet_key(b, pk), q->shadow[q->head], item))
+            if (!c5_bd_edram_insert_packet(b, pk, q->shadow[q->head], item))
                 break;
         } else {
             c5_bray r;

@@ -147,8 +147,10 @@ int c5_bd_next_cell(c5_bd *b, int *sched_pos, c5_err *err);
 /* One clock cycle of the sorter, seen by the queue tap; its occupancy (accepted, not popped). */
 void c5_bd_edram_step(c5_bd *b, const c5_rq_in *in, c5_rq_out *out);
 uint32_t c5_bd_edram_count(const c5_bd *b);
-/* A ray into the sorter: 1 if accepted. item: its item of the cell's visit, or C5_BD_NO_ITEM. */
+/* A ray, or its packet, into the sorter: 1 if accepted. item: its item of the cell's visit, or
+ * C5_BD_NO_ITEM. */
 int c5_bd_edram_insert(c5_bd *b, const c5_bray *r, uint32_t item);
+int c5_bd_edram_insert_packet(c5_bd *b, const uint8_t pk[C5_PACKET_BYTES], uint32_t shadow, uint32_t item);
 /* Moves rays from the cell's SDRAM queue into the sorter while it has room. */
 void c5_bd_refill(c5_bd *b, c5_sdram_queue *q);
 /* A packet as it is written into a queue (eDRAM or SDRAM), seen by the packet tap. */

@@ -148,8 +148,8 @@ TEST(ray_log_replay_is_the_run)
     }
     sink direct = {0}, replayed = {0};
     c5_proc p, q, w;
-    c5_proc_init(&p, &r, &cells, &mem, (c5_proc_io){&direct, s_enqueue, s_deliver});
-    c5_proc_init(&q, &r, &cells, &mem, (c5_proc_io){&replayed, s_enqueue, s_deliver});
+    c5_proc_init(&p, &r, &cells, &mem, (c5_proc_io){&direct, s_enqueue, s_deliver, NULL});
+    c5_proc_init(&q, &r, &cells, &mem, (c5_proc_io){&replayed, s_enqueue, s_deliver, NULL});
     p.active = q.active = 0;
     int runs = 0;
     for (int k = 0; k < 200; k++) { /* rays through the volume, each run both ways */

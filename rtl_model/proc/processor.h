@@ -29,6 +29,11 @@ typedef struct {
     void *ctx;
     void (*enqueue)(void *ctx, const c5_bray *r);                       /* a ray for queue r->cell */
     void (*deliver)(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3]); /* into the frame buffer */
+    /* Optional: the same ray as enqueue's, already in its packet (c5_bray_pack), with its
+     * cell, node and instrument node beside it: what a replayed log hands on (ray_log.h), so
+     * that the packing is the helper thread's work. NULL: the replay unpacks for enqueue. */
+    void (*enqueue_packet)(void *ctx, const uint8_t pk[C5_PACKET_BYTES], uint32_t cell, uint32_t node,
+                           uint32_t shadow);
 } c5_proc_io;
 
 /* Every field a uint64_t counter: summed over rays in any order (a helper thread's counters

@@ -44,18 +44,23 @@ static c5_rlog_event *event(c5_ray_rec *rec, uint32_t kind)
 
 static void rec_enqueue(void *ctx, const c5_bray *r)
 {
-    c5_rlog_event *e = event(ctx, C5_RLOG_ENQUEUE);
-    if (e)
-        e->ray = *r;
+    c5_ray_rec *rec = ctx;
+    c5_rlog_event *e = event(rec, C5_RLOG_ENQUEUE);
+    if (e) {
+        e->shadow = r->shadow;
+        e->cell = r->cell;
+        e->node = r->node;
+        c5_bray_pack(r, rec->cells, e->pk);
+    }
 }
 
 static void rec_deliver(void *ctx, uint32_t u, uint32_t v, const int64_t rgb[3])
 {
     c5_rlog_event *e = event(ctx, C5_RLOG_DELIVER);
     if (e) {
-        e->ray.u = u;
-        e->ray.v = v;
-        memcpy(e->ray.rgb, rgb, sizeof e->ray.rgb);
+        e->px.u = u;
+        e->px.v = v;
+        memcpy(e->px.rgb, rgb, sizeof e->px.rgb);
     }
 }
 
@@ -63,8 +68,9 @@ void c5_rlog_recorder(c5_proc *w, const c5_proc *p, c5_ray_rec *rec)
 {
     *w = *p;
     w->taps = NULL;
-    w->io = (c5_proc_io){rec, rec_enqueue, rec_deliver};
+    w->io = (c5_proc_io){rec, rec_enqueue, rec_deliver, NULL};
     w->rec = rec;
+    rec->cells = p->cells;
     memset(&w->st, 0, sizeof w->st);
 }
 
@@ -105,10 +111,17 @@ void c5_rlog_replay(c5_proc *p, const void *log)
     }
     const c5_rlog_event *ev = (const c5_rlog_event *)(acc + h.n_acc);
     for (uint32_t i = 0; i < h.n_ev; i++) {
-        if (ev[i].kind == C5_RLOG_ENQUEUE)
-            p->io.enqueue(p->io.ctx, &ev[i].ray);
-        else
-            p->io.deliver(p->io.ctx, ev[i].ray.u, ev[i].ray.v, ev[i].ray.rgb);
+        const c5_rlog_event *e = &ev[i];
+        if (e->kind == C5_RLOG_DELIVER) {
+            p->io.deliver(p->io.ctx, e->px.u, e->px.v, e->px.rgb);
+        } else if (p->io.enqueue_packet) {
+            p->io.enqueue_packet(p->io.ctx, e->pk, e->cell, e->node, e->shadow);
+        } else {
+            c5_bray r; /* unpack(pack(r)) is r: packing asserts every field is in its range */
+            c5_bray_unpack(e->pk, p->cells, &r);
+            r.shadow = e->shadow;
+            p->io.enqueue(p->io.ctx, &r);
+        }
     }
 }
 

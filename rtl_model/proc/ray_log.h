@@ -21,9 +21,19 @@
 #define C5_RLOG_TAG_BITS 48
 #define C5_RLOG_RUN_MAX 0xffffu
 
+/* enqueue: the ray in its packet, packed on the helper's thread (the packet holds the cell and
+ * the node too; beside it for the board's DSP, which reads them first). deliver: the pixel
+ * and its colour. */
 typedef struct {
     uint32_t kind; /* C5_RLOG_ENQUEUE or C5_RLOG_DELIVER */
-    c5_bray ray;   /* enqueue: the ray; deliver: its u, v and rgb */
+    uint32_t shadow, cell, node;
+    union {
+        uint8_t pk[C5_PACKET_BYTES];
+        struct {
+            uint32_t u, v;
+            int64_t rgb[3];
+        } px;
+    };
 } c5_rlog_event;
 
 enum { C5_RLOG_ENQUEUE, C5_RLOG_DELIVER };
@@ -33,6 +43,7 @@ typedef struct c5_ray_rec {
     c5_rlog_event *ev;
     uint32_t n_acc, cap_acc, n_ev, cap_ev;
     int oom;          /* an append ran out of memory: the log is incomplete */
+    const c5_cells *cells; /* the split the packets' positions are relative to */
 } c5_ray_rec;
 
 /* w becomes a copy of p (registers, cells, RDRAM, active cell) that records into rec: no
@@ -44,7 +55,8 @@ static inline void c5_rlog_begin(c5_ray_rec *rec) { rec->n_acc = rec->n_ev = 0, 
  * (8-byte aligned). */
 size_t c5_rlog_size(const c5_ray_rec *rec);
 void c5_rlog_write(const c5_ray_rec *rec, void *dst);
-/* The recorded call's effects on p: its cache runs, then its rays and colours through p->io. */
+/* The recorded call's effects on p: its cache runs, then its rays and colours through p->io
+ * (a ray through enqueue_packet where p->io has it, else unpacked for enqueue). */
 void c5_rlog_replay(c5_proc *p, const void *log);
 void c5_rlog_free(c5_ray_rec *rec);
 
