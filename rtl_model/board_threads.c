@@ -39,11 +39,15 @@ static inline void c5_cpu_relax(void)
 #endif
 }
 
+/* A chunk is free again when every log written into it has been replayed: two counts that
+ * only grow, each written by one thread on a line of its own, so that a log costs no
+ * read-modify-write of a line both cores write. */
 typedef struct chunk {
     struct chunk *next;
-    atomic_uint pending; /* logs in it not replayed yet: 0, and not the helper's current one, it is free */
     size_t used, cap;
-    uint64_t data[];
+    size_t logs;                          /* the helper's: logs written into it */
+    _Alignas(64) _Atomic size_t replayed; /* the board's thread's: logs of it replayed */
+    _Alignas(64) uint64_t data[];
 } chunk;
 
 typedef struct {
@@ -66,21 +70,22 @@ struct c5_bd_threads {
     pthread_mutex_t mu;  /* with ran: the board's thread sleeping on an item */
     pthread_cond_t ran;
     atomic_long waiting; /* the item the board's thread sleeps on until it is run, -1: none */
-    /* The visit */
+    /* The visit: what the helpers only read */
     size_t n;
     item *it;
     size_t cap;
-    atomic_long next;    /* the helpers' next item, unless the board's thread is near it */
-    _Atomic size_t mark; /* where the board's thread is: the items refilled */
     uint8_t (*pk)[C5_PACKET_BYTES]; /* the rays' packets and instrument nodes */
     uint32_t *shadow;
     size_t cap_pk;
-    size_t refilled;     /* rays moved into the sorter so far: item refilled if < n */
     int eye;             /* the items are the pixels' eye rays (c5_bd_threads_eye_rays) */
     c5_camera_basis basis;
     int64_t eye_o[3];
     c5_bray proto;
     const c5_cells *cells;
+    /* What is written as the visit goes, each on lines of its own (the struct is 64-aligned) */
+    _Alignas(64) atomic_long next; /* the helpers' next item, unless the board's thread is near it */
+    _Alignas(64) _Atomic size_t mark; /* where the board's thread is: the items refilled */
+    size_t refilled;     /* rays moved into the sorter so far: item refilled if < n */
 };
 
 /* Room for a log of `bytes` in the helper's chunks: the current one, else a free one (every
@@ -91,14 +96,15 @@ static void *log_room(helper *h, size_t bytes, chunk **in)
     chunk *c = h->cur;
     if (!c || c->used + words > c->cap) {
         for (c = h->chunks; c; c = c->next)
-            if (c != h->cur && c->cap >= words && atomic_load_explicit(&c->pending, memory_order_acquire) == 0)
+            if (c != h->cur && c->cap >= words && atomic_load_explicit(&c->replayed, memory_order_acquire) == c->logs)
                 break;
         if (!c) {
-            size_t cap = words > CHUNK_BYTES / 8 ? words : CHUNK_BYTES / 8;
-            if (!(c = malloc(sizeof *c + cap * 8)))
+            size_t cap = words > CHUNK_BYTES / 8 ? (words + 7) / 8 * 8 : CHUNK_BYTES / 8;
+            if (!(c = aligned_alloc(64, sizeof *c + cap * 8))) /* sizeof *c and cap * 8: multiples of 64 */
                 return NULL;
             c->cap = cap;
-            atomic_init(&c->pending, 0);
+            c->logs = 0;
+            atomic_init(&c->replayed, 0);
             c->next = h->chunks;
             h->chunks = c;
         }
@@ -107,7 +113,7 @@ static void *log_room(helper *h, size_t bytes, chunk **in)
     }
     void *p = c->data + c->used;
     c->used += words;
-    atomic_fetch_add_explicit(&c->pending, 1, memory_order_relaxed);
+    c->logs++;
     *in = c;
     return p;
 }
@@ -194,7 +200,9 @@ int c5_bd_threads_init(c5_bd *b, int threads)
 {
     if (threads < 2)
         return 0;
-    struct c5_bd_threads *t = calloc(1, sizeof *t);
+    struct c5_bd_threads *t = aligned_alloc(64, sizeof *t); /* sizeof: a multiple of its alignment */
+    if (t)
+        memset(t, 0, sizeof *t);
     if (!t || !(t->h = calloc((size_t)threads - 1, sizeof *t->h)) || !(t->pool = c5_pool_new(threads)) ||
         !(b->slot_item = malloc((size_t)b->o->queue_capacity * sizeof *b->slot_item))) {
         if (t) {
@@ -314,7 +322,9 @@ int c5_bd_threads_take(c5_bd *b, size_t i)
     if (s != DONE)
         return 0;
     c5_rlog_replay(&b->proc, x->log);
-    atomic_fetch_sub_explicit(&x->c->pending, 1, memory_order_release);
+    /* the board's thread is the only writer: a plain store, released after the log's reads */
+    atomic_store_explicit(&x->c->replayed, atomic_load_explicit(&x->c->replayed, memory_order_relaxed) + 1,
+                          memory_order_release);
     b->st->helper_runs++;
     return 1;
 }
