@@ -43,7 +43,12 @@ static inline int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
         return c5_geom_normalize_wide(v, out);
     int64_t d2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     unsigned __int128 x = (unsigned __int128)d2 << 28;
-    uint64_t len = (uint64_t)(__builtin_sqrt((double)d2) * 16384.0);
+    double root = __builtin_sqrt((double)d2) * 16384.0;
+    /* The quotients' guide from the guess, not from the exact root: the division then runs
+     * beside the root's correction instead of after it (c5_div_he64_inv's result does not
+     * depend on the guide; |v * 2^28 / len| <= 2^14). */
+    double inv = 1.0 / root;
+    uint64_t len = (uint64_t)root;
     while ((unsigned __int128)len * len > x)
         len--;
     while ((unsigned __int128)(len + 1) * (len + 1) <= x)
@@ -52,7 +57,6 @@ static inline int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
         out[0] = out[1] = out[2] = 0;
         return 0;
     }
-    double inv = 1.0 / (double)len; /* |v * 2^28 / len| <= 2^14 */
     for (int a = 0; a < 3; a++)
         out[a] = c5_div_he64_inv(c5_shl(v[a], 28), (int64_t)len, inv);
     return (int64_t)(len >> 14);
