@@ -42,6 +42,10 @@ static inline int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
     if (!c5_geom_small3(v, 30))
         return c5_geom_normalize_wide(v, out);
     int64_t d2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    if (d2 == 0) {
+        out[0] = out[1] = out[2] = 0;
+        return 0;
+    }
     unsigned __int128 x = (unsigned __int128)d2 << 28;
     double root = __builtin_sqrt((double)d2) * 16384.0;
     /* The quotients' guide from the guess, not from the exact root: the division then runs
@@ -52,11 +56,7 @@ static inline int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
     while ((unsigned __int128)len * len > x)
         len--;
     while ((unsigned __int128)(len + 1) * (len + 1) <= x)
-        len++;
-    if (len == 0) {
-        out[0] = out[1] = out[2] = 0;
-        return 0;
-    }
+        len++; /* >= 2^14: d2 >= 1 */
     for (int a = 0; a < 3; a++)
         out[a] = c5_div_he64_inv(c5_shl(v[a], 28), (int64_t)len, inv);
     return (int64_t)(len >> 14);
