@@ -9,7 +9,8 @@
 /* Does a leave before b? Smaller key first, equal keys in acceptance order. */
 static inline int before(const c5_rqh_el *a, const c5_rqh_el *b)
 {
-    return a->key < b->key || (a->key == b->key && a->seq < b->seq);
+    /* (key, seq) as one number: one comparison, no branch (which child is smaller is data) */
+    return ((unsigned __int128)a->key << 64 | a->seq) < ((unsigned __int128)b->key << 64 | b->seq);
 }
 
 int c5_rqh_init(c5_rqh *q, const c5_rq_cfg *cfg)
@@ -49,8 +50,8 @@ static void sift_down(c5_rqh_el *a, uint32_t n, c5_rqh_el x)
         uint32_t c = 2 * i + 1;
         if (c >= n)
             break;
-        if (c + 1 < n && before(&a[c + 1], &a[c]))
-            c++;
+        if (c + 1 < n)
+            c += (uint32_t)before(&a[c + 1], &a[c]);
         if (!before(&a[c], &x))
             break;
         a[i] = a[c];
