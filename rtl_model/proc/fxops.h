@@ -52,16 +52,15 @@ static inline int64_t c5_div_he64(int64_t n, int64_t d)
 }
 
 /* c5_div_he64(n, d) for d > 0 and |n / d| < 2^40, with inv ~ 1 / d given: the quotient from
- * a double product, then the remainder taken exactly and the quotient moved until
- * 0 <= r < d, so the result is the same integer whatever inv's error (the estimate is off
- * by at most one). One division shared by a vector's three components instead of three
- * integer divisions: the shading normalises three vectors a sample. */
+ * a double product, checked or corrected on the exact remainder, so the result is the same
+ * integer whatever inv's error. One division shared by a vector's three components instead
+ * of three integer divisions: the shading normalises three vectors a sample. */
 static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
 {
     /* The double product rounded to the nearest integer (adding and taking away 1.5 * 2^52
      * rounds a double below 2^51 to an integer): when its remainder is less than half the
-     * divisor either way it is round(n / d), whatever inv's error; a tie and an estimate
-     * further off take the steps below. */
+     * divisor either way it is round(n / d); a tie and an estimate further off take the
+     * steps below, which move a truncated estimate until 0 <= r < d. */
     const double magic = 0x1.8p52;
     int64_t q = (int64_t)(((double)n * inv + magic) - magic), r = n - q * d, twice = 2 * r;
     if (twice < d && twice > -d) {
