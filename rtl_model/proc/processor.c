@@ -435,7 +435,11 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         p->st.samples++;
         p->st.cycles += grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
         int64_t rgba[4];
-        c5_classify(r, smp.value, rgba);
+        /* The opacity first: the colour of a sample with alpha 0 reaches no bit (unless a tap
+         * watches it, or a narrowed width may saturate it). */
+        c5_classify_channels(r, smp.value, 3, 4, rgba);
+        if (rgba[3] > 0 || tp || r->nsh[C5_W_RGBA])
+            c5_classify_channels(r, smp.value, 0, 3, rgba);
         if (r->nsh[C5_W_RGBA])
             for (int ch = 0; ch < 4; ch++)
                 rgba[ch] = c5_narrow_clamp(rgba[ch], r->nsh[C5_W_RGBA], 0, 65535, &p->st.saturations);

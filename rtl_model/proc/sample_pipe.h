@@ -189,8 +189,9 @@ static inline void c5_interp(const c5_frame_regs *r, const c5_rdram *m, const in
         c5_grad_blend_w(wt, k.d, r->gs, out->grad);
 }
 
-/* Table lookup, linear between entries floor(s) and floor(s) + 1 (254/255 at s = 255). */
-static inline void c5_classify(const c5_frame_regs *r, int64_t value, int64_t rgba[4])
+/* Table lookup, linear between entries floor(s) and floor(s) + 1 (254/255 at s = 255), of
+ * channels ch0 .. ch1 - 1. */
+static inline void c5_classify_channels(const c5_frame_regs *r, int64_t value, int ch0, int ch1, int64_t rgba[4])
 {
     int i = (int)(value >> 8);
     int64_t f = value & 255;
@@ -199,8 +200,13 @@ static inline void c5_classify(const c5_frame_regs *r, int64_t value, int64_t rg
         f = 256;
     }
     C5_ROUND_AT(C5_RS_CLASSIFY_LERP);
-    for (int ch = 0; ch < 4; ch++)
+    for (int ch = ch0; ch < ch1; ch++)
         rgba[ch] = c5_rshift_he((int64_t)r->tf[i][ch] * 256 + ((int64_t)r->tf[i + 1][ch] - r->tf[i][ch]) * f, 8);
+}
+
+static inline void c5_classify(const c5_frame_regs *r, int64_t value, int64_t rgba[4])
+{
+    c5_classify_channels(r, value, 0, 4, rgba);
 }
 
 /* (N.H)^p from the table, linear between its 2^10 + 1 entries (N.H in SQ1.14, > 0). */
