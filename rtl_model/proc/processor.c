@@ -381,6 +381,10 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     int shadow = ray->type == C5_RAY_SHADOW;
     int grad = !shadow && r->st.gradients;
     int shade = grad && r->n_lights > 0;
+    /* The sample's geom position feeds only a point light's direction (and the taps). */
+    int want_gpos = tp != NULL;
+    for (int i = 0; i < r->n_lights; i++)
+        want_gpos |= r->lights[i].kind == C5_LIGHT_POINT;
     int64_t S[3];
     step_vec(r, ray->dir, S);
     p->st.cycles += C5_CYC_ISSUE;
@@ -456,8 +460,9 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         if (rgba[3] > 0) {
             int64_t c[3];
             if (shade) {
-                int64_t gpos[3];
-                c5_geom_from_voxel(r, ray->pos, gpos);
+                int64_t gpos[3] = {0, 0, 0};
+                if (want_gpos)
+                    c5_geom_from_voxel(r, ray->pos, gpos);
                 if (tp)
                     shade_tapped(tp, r, &smp, rgba, gpos, ray->dir, c, &p->st.saturations);
                 else
