@@ -62,6 +62,14 @@ static inline int64_t c5_geom_normalize(const int64_t v[3], int64_t out[3])
     return (int64_t)(len >> 14);
 }
 
+/* c5_geom_dot14 of two directions, each a unit vector in SQ1.14 by its format (a normalised
+ * vector, a ray's or a light's direction: components within 2^15): the exact sum fits 64
+ * bits, so the shading's dot products take no range check. */
+static inline int64_t c5_geom_dot14_dirs(const int64_t a[3], const int64_t b[3])
+{
+    return c5_rshift_he(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], 14);
+}
+
 /* Dot product of two SQ1.14 vectors, SQ1.14 (rounded). Components in [-2^30, 2^30): the exact
  * sum in 64 bits (<= 3 * 2^60), else c5_geom_dot14_wide. */
 static inline int64_t c5_geom_dot14(const int64_t a[3], const int64_t b[3])

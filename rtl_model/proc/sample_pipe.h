@@ -244,7 +244,7 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
             for (int a = 0; a < 3; a++)
                 n[a] = c5_narrow(n[a], nsh_normal); /* a unit vector: stays in SQ1.14 */
         C5_ROUND_AT(C5_RS_SHADE_FACING);
-        if (c5_geom_dot14(n, v) < 0)
+        if (c5_geom_dot14_dirs(n, v) < 0)
             for (int a = 0; a < 3; a++)
                 n[a] = -n[a]; /* two-sided: the normal faces the viewer */
         int64_t diff = 0, spec = 0; /* 26 and 27 fraction bits */
@@ -259,7 +259,7 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
                 L[0] = l->dir[0], L[1] = l->dir[1], L[2] = l->dir[2];
             }
             C5_ROUND_AT(C5_RS_SHADE_NDL);
-            int64_t ndl = c5_geom_dot14(n, L);
+            int64_t ndl = c5_geom_dot14_dirs(n, L);
             if (ndl <= 0)
                 continue;
             diff += l->intensity * ndl;
@@ -269,7 +269,7 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
             if (c5_geom_normalize(h, H) == 0)
                 continue;
             C5_ROUND_AT(C5_RS_SHADE_NDH);
-            int64_t ndh = c5_geom_dot14(n, H);
+            int64_t ndh = c5_geom_dot14_dirs(n, H);
             if (ndh > 0)
                 spec += l->intensity * c5_spec_pow(r, ndh);
         }
