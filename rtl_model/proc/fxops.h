@@ -61,13 +61,13 @@ static inline int64_t c5_div_he64_inv(int64_t n, int64_t d, double inv)
      * rounds a double below 2^51 to an integer): when its remainder is less than half the
      * divisor either way it is round(n / d); a tie and an estimate further off take the
      * steps below, which move a truncated estimate until 0 <= r < d. */
-    const double magic = 0x1.8p52;
-    int64_t q = (int64_t)(((double)n * inv + magic) - magic), r = n - q * d, twice = 2 * r;
+    const double magic = 0x1.8p52, e = (double)n * inv;
+    int64_t q = (int64_t)((e + magic) - magic), r = n - q * d, twice = 2 * r;
     if (twice < d && twice > -d) {
         C5_ROUND_NOTE(r == 0, r > 0 ? -1 : 1, 0);
         return q;
     }
-    q = (int64_t)((double)n * inv), r = n - q * d;
+    q = (int64_t)e, r = n - q * d;
     /* One step each way without a branch (the truncation leaves r < 0 for every negative
      * quotient: the sign of a normal's component is data), then the loops for an estimate
      * further off, which the model's never is. */
