@@ -353,6 +353,8 @@ static int setup(int argc, char **argv, render_args *a, c5_scene *s, char *label
         return c5_fail(err, "--vcd: the waveform is of one frame; the scene has several (give --frames 1)");
     if (a->out && a->vcd && c5_cli_check_distinct_frames(a->out, frames, "-o", a->vcd, "--vcd", err) != 0)
         return -1;
+    if (a->out) /* opened while the grid is read or generated */
+        c5_image_preload();
     if (a->rtl ? c5_cli_model_grid(s, a->cells, label, sv, err) != 0 : c5_cli_grid(s, label, sv, err) != 0)
         return -1;
     if (a->rtl && c5_boards_begin(&a->bd, err) != 0)
@@ -384,6 +386,7 @@ static int run_frames(const render_args *a, const c5_scene *s, const c5_supervol
                       render_run *r, c5_err *err)
 {
     int frames = c5_scene_frames(s), rc = 0;
+    c5_image_preload_wait(); /* not beside the frames: their wall_s is theirs alone */
     c5_progress prog;
     c5_progress_begin(&prog, "render", frames);
     if (!lead)
@@ -505,6 +508,7 @@ int c5_cmd_render(int argc, char **argv)
     c5_supervol sv = {0};
     c5_frame_vcd *wave;
     if (setup(argc, argv, &a, &s, label, sizeof label, &sv, &wave, &err) != 0) {
+        c5_image_preload_wait();
         c5_supervol_free(&sv);
         fprintf(stderr, "cube5: error: %s\n", err.msg);
         return C5_EXIT_INPUT;

@@ -20,6 +20,12 @@ int c5_image_write(const char *path, const c5_image *img, c5_err *err);
 /* What c5_image_write refuses whatever the image, checked before the work that makes it: the
  * extension, and a folder that is missing, not a folder or not writable. */
 int c5_image_check_out(const char *path, c5_err *err);
+/* The library opened on a thread of its own, beside the caller's work (opening it is some
+ * 0.2 s of the dynamic linker's for OpenImageIO's dependencies); c5_image_preload_wait
+ * joins it. Whatever happens on that thread, the first read or write reports it as it
+ * would have without. From one thread (a program's main). */
+void c5_image_preload(void);
+void c5_image_preload_wait(void);
 /* Reads any format OpenImageIO knows into RGB floats (extra channels dropped, grey
  * replicated). Used by tests and comparisons. */
 int c5_image_read(const char *path, c5_image *img, c5_err *err);

@@ -78,6 +78,29 @@ static int ready(const char *path, c5_err *err)
                    why);
 }
 
+static pthread_t preloader;
+static int preloading;
+
+static void *preload_main(void *arg)
+{
+    (void)arg;
+    pthread_once(&once, load);
+    return NULL;
+}
+
+void c5_image_preload(void)
+{
+    if (!preloading && pthread_create(&preloader, NULL, preload_main, NULL) == 0)
+        preloading = 1;
+}
+
+void c5_image_preload_wait(void)
+{
+    if (preloading)
+        pthread_join(preloader, NULL);
+    preloading = 0;
+}
+
 int c5_image_write(const char *path, const c5_image *img, c5_err *err)
 {
     return ready(path, err) != 0 ? -1 : lib_write(path, img, err);

@@ -397,6 +397,52 @@ static int resolve_spacing(const c5_scene *s, const double file_sp[][3], c5_supe
     return 0;
 }
 
+/* A resident grid is read from its sources in slabs of SLAB z planes, on every core
+ * (c5_pool_cpus): a generated volume's voxels are each a function of their place, a file's
+ * are read with pread, so the bytes do not depend on the slabs or the threads. A failure is
+ * the first failing slab's, in z order, whichever thread met it first. */
+#define SLAB 4
+
+typedef struct {
+    const struct c5_svstore *st;
+    const size_t *dims;
+    uint8_t *v;
+    int *rc;     /* [slabs] */
+    c5_err *err; /* [slabs] */
+} slab_job;
+
+static void read_slab(void *ctx, size_t i, int worker)
+{
+    slab_job *j = ctx;
+    (void)worker;
+    size_t z = i * SLAB, plane = j->dims[0] * j->dims[1];
+    size_t lo[3] = {0, 0, z}, hi[3] = {j->dims[0], j->dims[1], z + SLAB < j->dims[2] ? z + SLAB : j->dims[2]};
+    j->rc[i] = sources_read(j->st, lo, hi, j->v + z * plane, j->dims[0], plane, &j->err[i]);
+}
+
+static int resident_read(const struct c5_svstore *st, const size_t dims[3], uint8_t *v, c5_err *err)
+{
+    size_t slabs = (dims[2] + SLAB - 1) / SLAB;
+    slab_job j = {.st = st, .dims = dims, .v = v, .rc = calloc(slabs, sizeof *j.rc), .err = calloc(slabs, sizeof *j.err)};
+    int threads = c5_pool_cpus() < (int)slabs ? c5_pool_cpus() : (int)slabs;
+    c5_pool *pool = j.rc && j.err ? c5_pool_new(threads) : NULL;
+    int rc = 0;
+    if (!pool) {
+        rc = c5_fail(err, "grid: out of memory for reading its sources");
+    } else {
+        c5_pool_run(pool, slabs, 1, read_slab, &j);
+        for (size_t i = 0; i < slabs && rc == 0; i++)
+            if (j.rc[i] != 0) {
+                *err = j.err[i];
+                rc = -1;
+            }
+    }
+    c5_pool_free(pool);
+    free(j.rc);
+    free(j.err);
+    return rc;
+}
+
 int c5_supervol_build(const c5_scene *s, c5_supervol *out, c5_err *err)
 {
     size_t budget, cache_max;
@@ -515,19 +561,12 @@ int c5_supervol_build_budget(const c5_scene *s, size_t budget, c5_supervol *out,
         }
     }
     if (n <= budget) {
-        /* resident: the whole grid read from the sources, slab by slab of z */
         out->v = malloc(n);
         if (!out->v) {
             c5_fail(err, "grid: out of memory for %zu voxels (C5_MEM_BUDGET is %zu bytes)", n, budget);
             goto done;
         }
-        size_t plane = out->dims[0] * out->dims[1];
-        for (size_t z = 0; z < out->dims[2]; z += 16) {
-            size_t lo[3] = {0, 0, z}, hi[3] = {out->dims[0], out->dims[1], z + 16 < out->dims[2] ? z + 16 : out->dims[2]};
-            if (sources_read(st, lo, hi, out->v + z * plane, out->dims[0], plane, err) != 0)
-                goto done;
-        }
-        rc = 0;
+        rc = resident_read(st, out->dims, out->v, err);
         goto done;
     }
     st->budget = budget;

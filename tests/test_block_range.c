@@ -710,6 +710,38 @@ TEST(cache_holds_at_most_c5_cache_max_least_recently_used_out)
     CHECK(refused);
 }
 
+TEST(resident_grid_same_bytes_for_1_2_and_7_threads)
+{
+    /* a resident grid of a file and a generator is read in slabs on every core: at 1, 2 and 7
+     * threads (C5_THREADS) the bytes are those the out-of-core grid's bricks give, read on
+     * one thread box by box */
+    CHECK(grid_file("c_37x21x45_uint8.raw", 1, 97, 100) == 0);
+    c5_scene s;
+    c5_supervol ooc;
+    CHECK(file_and_generator_scene(&s, &ooc, 20000) == 0 && ooc.store != NULL);
+    c5_err err;
+    size_t n = ooc.dims[0] * ooc.dims[1] * ooc.dims[2];
+    uint8_t *want = malloc(n);
+    long lo[3] = {0, 0, 0}, hi[3] = {(long)ooc.dims[0], (long)ooc.dims[1], (long)ooc.dims[2]};
+    CHECK(want != NULL && c5_supervol_read_box(&ooc, lo, hi, want, &err) == 0);
+    size_t seen[256] = {0}, kinds = 0;
+    for (size_t i = 0; i < n; i++)
+        kinds += seen[want[i]]++ == 0;
+    CHECK_MSG(kinds > 20, "%zu values: the fill, the file and the blobs", kinds);
+    static const char *threads[3] = {"1", "2", "7"};
+    for (int k = 0; k < 3; k++) {
+        setenv("C5_THREADS", threads[k], 1);
+        c5_supervol res;
+        int built = file_and_generator_scene(&s, &res, (size_t)1 << 30) == 0;
+        CHECK_MSG(built && res.v != NULL && !memcmp(res.v, want, n), "threads %s", threads[k]);
+        if (built)
+            c5_supervol_free(&res);
+    }
+    unsetenv("C5_THREADS");
+    free(want);
+    c5_supervol_free(&ooc);
+}
+
 TEST(one_time_passes_same_bytes_for_1_2_and_7_threads)
 {
     /* the block ranges (in parallel over layers) and the cell store (cells read in batches)
