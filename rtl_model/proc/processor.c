@@ -6,6 +6,7 @@
 #include "processor.h"
 #include "ray_log.h"
 #include "sample_pipe.h"
+#include "shade_wide.h"
 
 void c5_proc_init(c5_proc *p, const c5_frame_regs *r, const c5_cells *cells, const c5_rdram *mem, c5_proc_io io)
 {
@@ -226,9 +227,8 @@ void c5_proc_new_ray(c5_proc *p, const int64_t O[3], const int64_t d_in[3], int6
     c5_proc_finish(p, &ray, tmin0);
 }
 
-static void cache_access(c5_proc *p, const int64_t pos[3])
+static void cache_access(c5_proc *p, int64_t tag)
 {
-    int64_t tag = c5_cache_tag_of(pos);
     if (p->rec) {
         c5_rlog_access(p->rec, (uint64_t)tag);
         return;
@@ -372,6 +372,60 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
     return ray->opa >= r->a_max;
 }
 
+/* A run's samples taken but not yet composited, while they wait for their shaded samples to
+ * make four (c5_shade4). What each sample does to the processor's state (the voxel cache,
+ * the counters) waits with it, and is done in order when they are composited, up to the sample
+ * that ends the ray: so the state is what sample-by-sample processing leaves. */
+#define PENDING_MAX 32
+typedef struct {
+    int n;
+    c5_shade_lanes lit; /* the shaded ones' inputs, then their colours */
+    struct {
+        int64_t tag, alpha, pos[3]; /* the cache tag, the opacity, the ray's position after it */
+        uint32_t lifetime;
+        int lane;                   /* in lit, or -1: alpha 0, nothing composited */
+    } s[PENDING_MAX];
+} pending;
+
+/* The pending samples composited in order: 1 if one of them ended the ray (delivered). */
+static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycles)
+{
+    if (q->lit.n)
+        c5_shade4(p->r, ray->dir, &q->lit);
+    int n = q->n;
+    q->n = q->lit.n = 0;
+    for (int i = 0; i < n; i++) {
+        cache_access(p, q->s[i].tag);
+        p->st.samples++;
+        p->st.cycles += cycles;
+        int lane = q->s[i].lane;
+        if (lane < 0)
+            continue;
+        p->st.saturations += q->lit.sat[lane];
+        if (c5_composite(p->r, ray, q->s[i].alpha, q->lit.out[lane], &p->st.saturations)) {
+            for (int a = 0; a < 3; a++)
+                ray->pos[a] = q->s[i].pos[a];
+            ray->lifetime = q->s[i].lifetime;
+            p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
+            p->st.ends[C5_END_OPACITY]++;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether c5_proc_run shades four samples at a time: a shaded run without taps, at the
+ * shipped widths, on a host with the wide units. */
+static int shades_four(const c5_frame_regs *r, const c5_taps *tp, int shade)
+{
+    if (!shade || tp || !c5_shade4_wide())
+        return 0;
+    for (int w = 0; w < C5_W_COUNT; w++)
+        if (r->nsh[w])
+            return 0;
+    return 1;
+}
+
 void c5_proc_run(c5_proc *p, c5_bray *ray)
 {
     const c5_frame_regs *r = p->r;
@@ -399,6 +453,10 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
      * checks and take its result, one step S and one lifetime less. */
     int watched = tp && tp->traverse;
     int64_t ahead = 0;
+    const uint64_t sample_cycles = grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
+    pending q;
+    int four = shades_four(r, tp, shade);
+    q.n = q.lit.n = 0;
     for (;;) {
         c5_trav_out to;
         if (ahead > 0) {
@@ -418,6 +476,8 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             else if (to.action == C5_TRAV_SAMPLE)
                 ahead = samples_ahead(&ti);
         }
+        if (to.action != C5_TRAV_SAMPLE && q.n && composite_pending(p, ray, &q, sample_cycles))
+            return;
         if (to.action == C5_TRAV_LEAVE)
             break;
         if (to.action == C5_TRAV_LEAP) {
@@ -435,9 +495,11 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         c5_gather_values(r, m, ray->pos, &k);
         c5_tri_weights(k.frac, wt);
         smp.value = c5_narrow_clamp(c5_interp_blend_w(wt, k.v), r->nsh[C5_W_VALUE], 0, 65535, &p->st.saturations);
-        cache_access(p, ray->pos);
-        p->st.samples++;
-        p->st.cycles += grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
+        if (!four) {
+            cache_access(p, c5_cache_tag_of(ray->pos));
+            p->st.samples++;
+            p->st.cycles += sample_cycles;
+        }
         int64_t rgba[4];
         /* The opacity first: the colour of a sample with alpha 0 reaches no bit (unless a tap
          * watches it, or a narrowed width may saturate it). */
@@ -456,6 +518,29 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         }
         if (tp)
             tap_sample(tp, &k, &smp, grad, r->gs, rgba);
+        if (four) {
+            int i = q.n++;
+            q.s[i].tag = c5_cache_tag_of(ray->pos);
+            q.s[i].alpha = rgba[3];
+            q.s[i].lane = -1;
+            if (rgba[3] > 0) {
+                int lane = q.s[i].lane = q.lit.n++;
+                int64_t gpos[3] = {0, 0, 0};
+                if (want_gpos)
+                    c5_geom_from_voxel(r, ray->pos, gpos);
+                for (int a = 0; a < 3; a++) {
+                    q.lit.grad[lane][a] = smp.grad[a];
+                    q.lit.gpos[lane][a] = gpos[a];
+                    q.lit.rgb[lane][a] = rgba[a];
+                }
+            }
+            for (int a = 0; a < 3; a++)
+                ray->pos[a] = q.s[i].pos[a] = to.pos[a];
+            ray->lifetime = q.s[i].lifetime = to.lifetime;
+            if ((q.lit.n == 4 || q.n == PENDING_MAX) && composite_pending(p, ray, &q, sample_cycles))
+                return;
+            continue;
+        }
         int done = 0;
         if (rgba[3] > 0) {
             int64_t c[3];

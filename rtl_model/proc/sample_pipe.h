@@ -220,15 +220,14 @@ static inline int64_t c5_spec_pow(const c5_frame_regs *r, int64_t ndh)
     return c5_rshift_he((int64_t)r->pow_tab[i] * 16 + ((int64_t)r->pow_tab[i + 1] - r->pow_tab[i]) * f, 4);
 }
 
-/* Phong shading of the table colour (UQ1.15) into shaded_rgb (UQ4.12). gpos: the sample
- * in geom coordinates (for point lights), d: the ray direction. nsh_normal: fraction bits
- * the gradient normal is narrowed by (widths.h; 0 shipped, see c5_shade). */
-static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const int64_t rgba[4], const int64_t gpos[3],
-                              const int64_t d[3], int64_t out[3], uint64_t *sat, int nsh_normal)
+/* The light term of a shaded sample from its sums over the lights (diff, 26 fraction bits;
+ * spec, 27) and |g|^2 (m2, 16): then each channel of the table colour (UQ1.15) lit, into
+ * shaded_rgb (UQ4.12). The integer steps that end c5_shade_w, shared with the four-lane
+ * block (shade_wide.h). */
+static inline void c5_shade_finish(const c5_frame_regs *r, int64_t m2, int64_t diff, int64_t spec,
+                                   const int64_t rgb[3], int64_t out[3], uint64_t *sat)
 {
-    const int64_t *g = s->grad;
-    int64_t m2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2]; /* 16 fraction bits */
-    int64_t k, ks = 0;                                     /* light_term UQ4.12 */
+    int64_t k, ks = 0; /* light_term UQ4.12 */
     if (m2 == 0) {
         k = r->ka;
     } else {
@@ -237,6 +236,28 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
          * quarter of a value step a voxel, so that a gradient near zero, whose direction is
          * the data's noise, cannot switch a sample between ambient and fully lit. */
         const int64_t fade = m2 < 16384 ? 2 * m2 : C5_ONE15;
+        /* light_term is UQ4.12, saturating (spec/layouts.toml): 8 lights of intensity
+         * 15.9 would give ~2000. */
+        C5_ROUND_AT(C5_RS_SHADE_K);
+        k = c5_clamp64(r->ka + c5_rshift128_he((__int128)(r->kd * diff) * fade, 26 + 15), 0, 65535, sat);
+        C5_ROUND_AT(C5_RS_SHADE_KS);
+        ks = c5_clamp64(c5_rshift128_he((__int128)(r->ks * spec) * fade, 27 + 15), 0, 65535, sat);
+    }
+    C5_ROUND_AT(C5_RS_SHADE_CHANNEL);
+    for (int ch = 0; ch < 3; ch++)
+        out[ch] = c5_clamp64(c5_rshift_he(rgb[ch] * k, 15) + ks, 0, 65535, sat);
+}
+
+/* Phong shading of the table colour (UQ1.15) into shaded_rgb (UQ4.12). gpos: the sample
+ * in geom coordinates (for point lights), d: the ray direction. nsh_normal: fraction bits
+ * the gradient normal is narrowed by (widths.h; 0 shipped, see c5_shade). */
+static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const int64_t rgba[4], const int64_t gpos[3],
+                              const int64_t d[3], int64_t out[3], uint64_t *sat, int nsh_normal)
+{
+    const int64_t *g = s->grad;
+    int64_t m2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2]; /* 16 fraction bits */
+    int64_t diff = 0, spec = 0;                            /* 26 and 27 fraction bits */
+    if (m2 != 0) {
         int64_t mg[3] = {-g[0], -g[1], -g[2]}, n[3], v[3] = {-d[0], -d[1], -d[2]};
         C5_ROUND_AT(C5_RS_SHADE_NORMAL);
         c5_geom_normalize(mg, n);
@@ -247,7 +268,6 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
         if (c5_geom_dot14_dirs(n, v) < 0)
             for (int a = 0; a < 3; a++)
                 n[a] = -n[a]; /* two-sided: the normal faces the viewer */
-        int64_t diff = 0, spec = 0; /* 26 and 27 fraction bits */
         for (int i = 0; i < r->n_lights; i++) {
             const c5_light_regs *l = &r->lights[i];
             int64_t L[3], h[3], H[3];
@@ -273,16 +293,8 @@ static inline void c5_shade_w(const c5_frame_regs *r, const c5_sample *s, const 
             if (ndh > 0)
                 spec += l->intensity * c5_spec_pow(r, ndh);
         }
-        /* light_term is UQ4.12, saturating (spec/layouts.toml): 8 lights of intensity
-         * 15.9 would give ~2000. */
-        C5_ROUND_AT(C5_RS_SHADE_K);
-        k = c5_clamp64(r->ka + c5_rshift128_he((__int128)(r->kd * diff) * fade, 26 + 15), 0, 65535, sat);
-        C5_ROUND_AT(C5_RS_SHADE_KS);
-        ks = c5_clamp64(c5_rshift128_he((__int128)(r->ks * spec) * fade, 27 + 15), 0, 65535, sat);
     }
-    C5_ROUND_AT(C5_RS_SHADE_CHANNEL);
-    for (int ch = 0; ch < 3; ch++)
-        out[ch] = c5_clamp64(c5_rshift_he(rgba[ch] * k, 15) + ks, 0, 65535, sat);
+    c5_shade_finish(r, m2, diff, spec, rgba, out, sat);
 }
 
 /* The block at the shipped widths (golden vectors, vectors/gen/vec_shade.c). */

@@ -1,0 +1,38 @@
+/* The shading block (sample_pipe.h, c5_shade_w at the shipped widths) for four samples at
+ * once, on the host's AVX2 and FMA units: the same integers as c5_shade, lane by lane.
+ *
+ * Why it is exact in doubles: every value the block normalises or multiplies there is an
+ * integer below 2^53 (a normal's gradient below 2^17 a component, a half vector's below
+ * 2^16, a point light's direction below 2^25, checked), so sums and products are exact;
+ * each rounding of the block is done on an exact value (a dot product's half-to-even shift is
+ * a multiplication by 2^-14 and a round to even; a quotient is rounded from the correctly
+ * rounded double and checked on its exact remainder, which FMA forms; floor(sqrt) likewise).
+ * What does not fit (the 128-bit products of the light term, the clamps and their counts)
+ * is done per lane in the block's own integer steps. docs/board-model.md, "Host speed". */
+#ifndef C5_SHADE_WIDE_H
+#define C5_SHADE_WIDE_H
+
+#include <stdint.h>
+
+#include "regs.h"
+
+/* Four shaded samples of one ray (one direction): inputs and, after c5_shade4, outputs. */
+typedef struct {
+    int n;              /* lanes in use, 1..4 */
+    int64_t grad[4][3]; /* c5_sample.grad */
+    int64_t gpos[4][3]; /* geom position (read for point lights only) */
+    int64_t rgb[4][3];  /* the table colour, UQ1.15 */
+    int64_t out[4][3];  /* shaded_rgb UQ4.12 */
+    uint64_t sat[4];    /* each lane's saturations (c5_shade's count) */
+} c5_shade_lanes;
+
+/* out and sat of lanes 0..n-1 as c5_shade(r, lane, d) gives them; the lanes on the wide units
+ * where the host has them and every lane is in range, else one by one. */
+void c5_shade4(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
+/* Whether c5_shade4 runs on the wide units on this host (0 in builds without them). */
+int c5_shade4_wide(void);
+/* The wide path alone (tests): 0, or -1 where it does not run (no AVX2 and FMA on the host,
+ * or a lane out of its range), out and sat untouched. */
+int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
+
+#endif

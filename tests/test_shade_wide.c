@@ -1,0 +1,167 @@
+/* The four-lane shading block (rtl_model/proc/shade_wide.h) against c5_shade, lane by lane:
+ * the same outputs and saturation counts on random registers and samples across every range
+ * the block takes, and on every small gradient (where normalisations meet their ties). */
+#include <math.h>
+#include <string.h>
+
+#include "geom.h"
+#include "harness.h"
+#include "rng.h"
+#include "sample_pipe.h"
+#include "shade_wide.h"
+
+static int64_t uniform_i(uint64_t *st, int64_t lo, int64_t hi)
+{
+    return lo + (int64_t)(c5_splitmix64(st) % (uint64_t)(hi - lo + 1));
+}
+
+/* A unit direction in SQ1.14, as the set-up unit makes them. */
+static void unit_dir(uint64_t *st, int64_t out[3])
+{
+    int64_t v[3];
+    do {
+        for (int a = 0; a < 3; a++)
+            v[a] = uniform_i(st, -(1 << 20), 1 << 20);
+    } while (!v[0] && !v[1] && !v[2]);
+    c5_geom_normalize(v, out);
+}
+
+/* Registers: ka, kd, ks, 1..3 lights of either kind (point lights near, or now and then
+ * beyond the wide path's range), and a specular table of power p. */
+static void random_regs(uint64_t *st, c5_frame_regs *r)
+{
+    memset(r, 0, sizeof *r);
+    r->ka = uniform_i(st, 0, 65535);
+    r->kd = uniform_i(st, 0, 65535);
+    r->ks = uniform_i(st, 0, 65535);
+    r->n_lights = (int)uniform_i(st, 1, 3);
+    for (int i = 0; i < r->n_lights; i++) {
+        c5_light_regs *l = &r->lights[i];
+        l->kind = c5_splitmix64(st) & 1 ? C5_LIGHT_POINT : C5_LIGHT_DIRECTIONAL;
+        int64_t far = c5_splitmix64(st) % 8 == 0 ? (int64_t)1 << 27 : (int64_t)1 << 23;
+        for (int a = 0; a < 3; a++)
+            l->pos[a] = uniform_i(st, -far, far);
+        unit_dir(st, l->dir);
+        l->intensity = uniform_i(st, 0, 65535);
+    }
+    double p = 1 + 99 * c5_uniform(st);
+    for (int i = 0; i <= 1 << C5_POW_BITS; i++)
+        r->pow_tab[i] = (int32_t)lround(pow((double)i / (1 << C5_POW_BITS), p) * 32768);
+}
+
+/* A gradient from one of the block's regimes: zero, a few LSBs (faded, and the ties of small
+ * normalisations), mid-range, the largest the gradient block makes, or along one axis. */
+static void random_grad(uint64_t *st, int64_t g[3])
+{
+    int kind = (int)(c5_splitmix64(st) % 5);
+    int64_t m = kind == 0 ? 0 : kind == 1 ? 4 : kind == 2 ? 1 << 10 : (1 << 17) - 1;
+    for (int a = 0; a < 3; a++)
+        g[a] = uniform_i(st, -m, m);
+    if (kind == 4)
+        g[1] = g[2] = 0;
+}
+
+/* Lanes 0..n-1 of b from c5_shade: 1 where every output and count is the same. */
+static int same_as_c5_shade(const c5_frame_regs *r, const int64_t d[3], const c5_shade_lanes *b, char *why, size_t n)
+{
+    for (int i = 0; i < b->n; i++) {
+        c5_sample smp = {.value = 0, .grad = {b->grad[i][0], b->grad[i][1], b->grad[i][2]}};
+        int64_t rgba[4] = {b->rgb[i][0], b->rgb[i][1], b->rgb[i][2], 0}, out[3];
+        uint64_t sat = 0;
+        c5_shade(r, &smp, rgba, b->gpos[i], d, out, &sat);
+        if (memcmp(out, b->out[i], sizeof out) || sat != b->sat[i]) {
+            snprintf(why, n, "lane %d, grad (%lld %lld %lld): (%lld %lld %lld) sat %llu, c5_shade (%lld %lld %lld) sat %llu",
+                     i, (long long)b->grad[i][0], (long long)b->grad[i][1], (long long)b->grad[i][2],
+                     (long long)b->out[i][0], (long long)b->out[i][1], (long long)b->out[i][2],
+                     (unsigned long long)b->sat[i], (long long)out[0], (long long)out[1], (long long)out[2],
+                     (unsigned long long)sat);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+TEST(shade_wide_is_c5_shade_on_random_samples)
+{
+    static c5_frame_regs r;
+    uint64_t st = 0x5eed5;
+    long wide = 0, fallback = 0, saturated = 0, cases = 0;
+    char why[400];
+    for (int frame = 0; frame < 200; frame++) {
+        random_regs(&st, &r);
+        int64_t d[3];
+        unit_dir(&st, d);
+        for (int k = 0; k < 100; k++) {
+            c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, 4)};
+            for (int i = 0; i < b.n; i++) {
+                random_grad(&st, b.grad[i]);
+                for (int a = 0; a < 3; a++) {
+                    b.gpos[i][a] = uniform_i(&st, -(1 << 22), 1 << 22);
+                    b.rgb[i][a] = uniform_i(&st, 0, 32768);
+                }
+            }
+            c5_shade_lanes w = b;
+            if (c5_shade4_wide_only(&r, d, &w) == 0) {
+                wide++;
+                CHECK_MSG(same_as_c5_shade(&r, d, &w, why, sizeof why), "frame %d case %d, wide: %s", frame, k, why);
+                for (int i = 0; i < w.n; i++)
+                    saturated += w.sat[i] > 0;
+            } else {
+                fallback++;
+            }
+            c5_shade4(&r, d, &b); /* the caller's function, whichever way it goes */
+            CHECK_MSG(same_as_c5_shade(&r, d, &b, why, sizeof why), "frame %d case %d: %s", frame, k, why);
+            cases++;
+        }
+    }
+    if (c5_shade4_wide()) {
+        /* most cases on the wide path; the far point lights on the lanes' own */
+        CHECK_MSG(wide > cases / 2 && fallback > 0 && saturated > 0, "wide %ld, fallback %ld of %ld, saturated %ld",
+                  wide, fallback, cases, saturated);
+    } else {
+        CHECK(wide == 0);
+        printf("note: this host has no AVX2 and FMA: only c5_shade4's lane-by-lane path is checked\n");
+    }
+}
+
+TEST(shade_wide_is_c5_shade_on_every_small_gradient)
+{
+    /* every gradient in [-6, 6]^3, four at a time, under a point and a directional light:
+     * small vectors are where a normalised component lies exactly on a half */
+    static c5_frame_regs r;
+    uint64_t st = 77;
+    random_regs(&st, &r);
+    r.n_lights = 2;
+    r.lights[0].kind = C5_LIGHT_POINT;
+    r.lights[1].kind = C5_LIGHT_DIRECTIONAL;
+    for (int a = 0; a < 3; a++)
+        r.lights[0].pos[a] = (a + 1) << 20;
+    const int64_t views[3][3] = {{0, 0, -(1 << 14)}, {1 << 14, 0, 0}, {9459, -9459, 9459}};
+    char why[400];
+    long lanes = 0;
+    for (int vi = 0; vi < 3; vi++) {
+        c5_shade_lanes b = {0};
+        for (int x = -6; x <= 6; x++)
+            for (int y = -6; y <= 6; y++)
+                for (int z = -6; z <= 6; z++) {
+                    int i = b.n++;
+                    int64_t g[3] = {x, y, z};
+                    for (int a = 0; a < 3; a++) {
+                        b.grad[i][a] = g[a];
+                        b.gpos[i][a] = (int64_t)(x * 7 + y * 3 + z) << 12;
+                        b.rgb[i][a] = 20000 + 1000 * a;
+                    }
+                    if (b.n == 4 || (x == 6 && y == 6 && z == 6)) {
+                        c5_shade_lanes w = b;
+                        int ran = c5_shade4_wide_only(&r, views[vi], &w);
+                        CHECK(ran == 0 || !c5_shade4_wide());
+                        if (ran == 0) {
+                            CHECK_MSG(same_as_c5_shade(&r, views[vi], &w, why, sizeof why), "view %d: %s", vi, why);
+                            lanes += w.n;
+                        }
+                        b.n = 0;
+                    }
+                }
+    }
+    CHECK(lanes == 3 * 13 * 13 * 13 || !c5_shade4_wide());
+}
