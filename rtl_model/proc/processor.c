@@ -378,39 +378,41 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
  * that ends the ray: so the state is what sample-by-sample processing leaves. */
 #define PENDING_MAX 32
 typedef struct {
-    int n;
-    c5_shade_lanes lit; /* the shaded ones' inputs, then their colours */
-    struct {
-        int64_t tag, alpha, pos[3]; /* the cache tag, the opacity, the ray's position after it */
-        uint32_t lifetime;
-        int lane;                   /* in lit, or -1: alpha 0, nothing composited */
-    } s[PENDING_MAX];
+    int n;                     /* samples */
+    int64_t tag[PENDING_MAX];  /* each one's cache tag */
+    c5_shade_lanes lit;        /* the shaded ones' inputs, then their colours */
+    int at[C5_SHADE_LANES];    /* a shaded one's place among the samples */
+    int64_t alpha[C5_SHADE_LANES], pos[C5_SHADE_LANES][3]; /* its opacity, the ray's position after it */
+    uint32_t lifetime[C5_SHADE_LANES];
 } pending;
 
-/* The pending samples composited in order: 1 if one of them ended the ray (delivered). */
+/* The pending samples composited in order: 1 if one of them ended the ray (delivered). The
+ * cache accesses of the samples up to each shaded one, then its compositing. */
 static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycles)
 {
-    if (q->lit.n)
+    int n = q->n, lit = q->lit.n, i = 0;
+    if (lit)
         c5_shade4(p->r, ray->dir, &q->lit);
-    int n = q->n;
     q->n = q->lit.n = 0;
-    for (int i = 0; i < n; i++) {
-        cache_access(p, q->s[i].tag);
-        p->st.samples++;
-        p->st.cycles += cycles;
-        int lane = q->s[i].lane;
-        if (lane < 0)
-            continue;
-        p->st.saturations += q->lit.sat[lane];
-        if (c5_composite(p->r, ray, q->s[i].alpha, q->lit.out[lane], &p->st.saturations)) {
+    for (int j = 0; j < lit; j++) {
+        for (; i <= q->at[j]; i++)
+            cache_access(p, q->tag[i]);
+        p->st.saturations += q->lit.sat[j];
+        if (c5_composite(p->r, ray, q->alpha[j], q->lit.out[j], &p->st.saturations)) {
             for (int a = 0; a < 3; a++)
-                ray->pos[a] = q->s[i].pos[a];
-            ray->lifetime = q->s[i].lifetime;
+                ray->pos[a] = q->pos[j][a];
+            ray->lifetime = q->lifetime[j];
+            p->st.samples += (uint64_t)i;
+            p->st.cycles += (uint64_t)i * cycles;
             p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
             p->st.ends[C5_END_OPACITY]++;
             return 1;
         }
     }
+    for (; i < n; i++)
+        cache_access(p, q->tag[i]);
+    p->st.samples += (uint64_t)n;
+    p->st.cycles += (uint64_t)n * cycles;
     return 0;
 }
 
@@ -520,11 +522,9 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             tap_sample(tp, &k, &smp, grad, r->gs, rgba);
         if (four) {
             int i = q.n++;
-            q.s[i].tag = c5_cache_tag_of(ray->pos);
-            q.s[i].alpha = rgba[3];
-            q.s[i].lane = -1;
+            q.tag[i] = c5_cache_tag_of(ray->pos);
             if (rgba[3] > 0) {
-                int lane = q.s[i].lane = q.lit.n++;
+                int lane = q.lit.n++;
                 int64_t gpos[3] = {0, 0, 0};
                 if (want_gpos)
                     c5_geom_from_voxel(r, ray->pos, gpos);
@@ -532,12 +532,16 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
                     q.lit.grad[lane][a] = smp.grad[a];
                     q.lit.gpos[lane][a] = gpos[a];
                     q.lit.rgb[lane][a] = rgba[a];
+                    q.pos[lane][a] = to.pos[a];
                 }
+                q.at[lane] = i;
+                q.alpha[lane] = rgba[3];
+                q.lifetime[lane] = to.lifetime;
             }
             for (int a = 0; a < 3; a++)
-                ray->pos[a] = q.s[i].pos[a] = to.pos[a];
-            ray->lifetime = q.s[i].lifetime = to.lifetime;
-            if ((q.lit.n == 4 || q.n == PENDING_MAX) && composite_pending(p, ray, &q, sample_cycles))
+                ray->pos[a] = to.pos[a];
+            ray->lifetime = to.lifetime;
+            if ((q.lit.n == C5_SHADE_LANES || q.n == PENDING_MAX) && composite_pending(p, ray, &q, sample_cycles))
                 return;
             continue;
         }

@@ -4,6 +4,7 @@
  * probes sit in c5_shade_w's steps. */
 #include "shade_wide.h"
 
+
 #include "sample_pipe.h"
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(C5_ROUND_PROBE)
@@ -34,56 +35,109 @@ int c5_shade4_wide(void)
 
 #define WIDE __attribute__((target("avx2,fma")))
 
-/* Lane i of the four, component c of an int64_t [4][3] (exact: every value is below 2^53). */
-WIDE static inline __m256d lanes(const int64_t a[4][3], int c)
+/* Eight lanes as two registers: every step is written once and done on both side by side, so
+ * that the two chains of the block's long latencies (root, quotient, then the half vector's)
+ * overlap. */
+typedef struct {
+    __m256d h[2];
+} v8;
+
+#define V8_1(name, expr)                                                                                       \
+    WIDE static inline v8 name(v8 a)                                                                           \
+    {                                                                                                          \
+        v8 o;                                                                                                  \
+        for (int k = 0; k < 2; k++) {                                                                          \
+            __m256d x = a.h[k];                                                                                \
+            o.h[k] = (expr);                                                                                   \
+        }                                                                                                      \
+        return o;                                                                                              \
+    }
+#define V8_2(name, expr)                                                                                       \
+    WIDE static inline v8 name(v8 a, v8 b)                                                                     \
+    {                                                                                                          \
+        v8 o;                                                                                                  \
+        for (int k = 0; k < 2; k++) {                                                                          \
+            __m256d x = a.h[k], y = b.h[k];                                                                    \
+            o.h[k] = (expr);                                                                                   \
+        }                                                                                                      \
+        return o;                                                                                              \
+    }
+V8_2(add, _mm256_add_pd(x, y))
+V8_2(sub, _mm256_sub_pd(x, y))
+V8_2(mul, _mm256_mul_pd(x, y))
+V8_2(dvd, _mm256_div_pd(x, y))
+V8_2(and, _mm256_and_pd(x, y))
+V8_2(gt, _mm256_cmp_pd(x, y, _CMP_GT_OQ))
+V8_2(lt, _mm256_cmp_pd(x, y, _CMP_LT_OQ))
+V8_2(ge, _mm256_cmp_pd(x, y, _CMP_GE_OQ))
+V8_2(ne, _mm256_cmp_pd(x, y, _CMP_NEQ_OQ))
+V8_2(_v8_eq, _mm256_cmp_pd(x, y, _CMP_EQ_OQ))
+V8_1(root, _mm256_sqrt_pd(x))
+V8_1(floor8, _mm256_floor_pd(x))
+V8_1(rne, _mm256_round_pd(x, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC))
+V8_1(neg, _mm256_sub_pd(_mm256_setzero_pd(), x))
+V8_1(mag, _mm256_andnot_pd(_mm256_set1_pd(-0.0), x))
+
+WIDE static inline v8 set1(double v) { return (v8){{_mm256_set1_pd(v), _mm256_set1_pd(v)}}; }
+/* where m, b; else a */
+WIDE static inline v8 blend(v8 a, v8 b, v8 m)
 {
-    return _mm256_set_pd((double)a[3][c], (double)a[2][c], (double)a[1][c], (double)a[0][c]);
+    return (v8){{_mm256_blendv_pd(a.h[0], b.h[0], m.h[0]), _mm256_blendv_pd(a.h[1], b.h[1], m.h[1])}};
+}
+/* a b - c and c - a b, each rounded once */
+WIDE static inline v8 fmsub(v8 a, v8 b, v8 c)
+{
+    return (v8){{_mm256_fmsub_pd(a.h[0], b.h[0], c.h[0]), _mm256_fmsub_pd(a.h[1], b.h[1], c.h[1])}};
+}
+WIDE static inline v8 fnmadd(v8 a, v8 b, v8 c)
+{
+    return (v8){{_mm256_fnmadd_pd(a.h[0], b.h[0], c.h[0]), _mm256_fnmadd_pd(a.h[1], b.h[1], c.h[1])}};
 }
 
-WIDE static inline __m256d rne(__m256d x) { return _mm256_round_pd(x, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC); }
+/* Component c of lanes 0..7 of an int64_t [8][3] (exact: every value is below 2^53). */
+WIDE static inline v8 lanes(const int64_t a[8][3], int c)
+{
+    return (v8){{_mm256_set_pd((double)a[3][c], (double)a[2][c], (double)a[1][c], (double)a[0][c]),
+                 _mm256_set_pd((double)a[7][c], (double)a[6][c], (double)a[5][c], (double)a[4][c])}};
+}
 
 /* c5_geom_dot14_dirs: the exact sum (below 2^31), times 2^-14 (exact), rounded to even. */
-WIDE static inline __m256d dot14(const __m256d a[3], const __m256d b[3])
+WIDE static inline v8 dot14(const v8 a[3], const v8 b[3])
 {
-    __m256d s = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(a[0], b[0]), _mm256_mul_pd(a[1], b[1])),
-                              _mm256_mul_pd(a[2], b[2]));
-    return rne(_mm256_mul_pd(s, _mm256_set1_pd(0x1p-14)));
+    return rne(mul(add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2])), set1(0x1p-14)));
 }
 
 /* c5_geom_normalize for components below 2^25 (|v|^2 < 2^52): len = floor(sqrt(|v|^2 2^28))
  * and out = round(v 2^28 / len) half to even, each exact; the zero vector gives 0 and a
  * clear lane in *nonzero. */
-WIDE static inline void normalize(const __m256d v[3], __m256d out[3], __m256d *nonzero)
+WIDE static inline __attribute__((always_inline)) void normalize(const v8 v[3], v8 out[3], v8 *nonzero)
 {
-    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1), two28 = _mm256_set1_pd(0x1p28);
-    __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(v[0], v[0]), _mm256_mul_pd(v[1], v[1])),
-                               _mm256_mul_pd(v[2], v[2]));
-    __m256d x = _mm256_mul_pd(d2, two28); /* an integer below 2^80, exact */
+    const v8 zero = set1(0), one = set1(1), two28 = set1(0x1p28);
+    v8 d2 = add(add(mul(v[0], v[0]), mul(v[1], v[1])), mul(v[2], v[2]));
+    v8 x = mul(d2, two28); /* an integer below 2^80, exact */
     /* floor of the correctly rounded root is floor(sqrt(x)) or one more (the rounding is
      * monotonic and floor(sqrt(x)) is a double); len^2 - x, below 2^41 in magnitude, is
      * formed exactly by one FMA */
-    __m256d len = _mm256_floor_pd(_mm256_sqrt_pd(x));
-    __m256d over = _mm256_cmp_pd(_mm256_fmsub_pd(len, len, x), zero, _CMP_GT_OQ);
-    len = _mm256_sub_pd(len, _mm256_and_pd(over, one));
-    __m256d nz = _mm256_cmp_pd(d2, zero, _CMP_NEQ_OQ);
-    len = _mm256_blendv_pd(one, len, nz); /* the zero vector divides by 1, and is cleared */
+    v8 len = floor8(root(x));
+    len = sub(len, and(gt(fmsub(len, len, x), zero), one));
+    v8 nz = ne(d2, zero);
+    len = blend(one, len, nz); /* the zero vector divides by 1, and is cleared */
     for (int a = 0; a < 3; a++) {
-        __m256d num = _mm256_mul_pd(v[a], two28);
+        v8 num = mul(v[a], two28);
         /* the correctly rounded quotient rounded to even: round(num / len) half to even, or
-         * one off where num / len lies within a double's rounding of a half; the exact
-         * remainder (|r| < 2^41) says which */
-        __m256d q = rne(_mm256_div_pd(num, len));
-        __m256d r2 = _mm256_mul_pd(_mm256_fnmadd_pd(q, len, num), _mm256_set1_pd(2));
-        __m256d up = _mm256_and_pd(_mm256_cmp_pd(r2, len, _CMP_GT_OQ), one);
-        __m256d down = _mm256_and_pd(_mm256_cmp_pd(r2, _mm256_sub_pd(zero, len), _CMP_LT_OQ), one);
-        q = _mm256_add_pd(q, _mm256_sub_pd(up, down));
-        out[a] = _mm256_and_pd(q, nz);
+         * one off where num / len lies within a double's rounding of a half (possible for a
+         * light's direction only, len above 2^37); the exact remainder (|r| < 2^41) says
+         * which */
+        v8 q = rne(dvd(num, len));
+        v8 r2 = mul(fnmadd(q, len, num), set1(2));
+        q = add(q, sub(and(gt(r2, len), one), and(lt(r2, neg(len)), one)));
+        out[a] = and(q, nz);
     }
     *nonzero = nz;
 }
 
 /* c5_spec_pow of N.H in (0, 2^14] (other lanes: any value, not used) from the table. */
-WIDE static inline __m256d spec_pow(const c5_frame_regs *r, __m256d ndh)
+WIDE static inline __m256d spec_pow4(const c5_frame_regs *r, __m256d ndh)
 {
     __m256d big = _mm256_cmp_pd(ndh, _mm256_set1_pd(16384), _CMP_GE_OQ);
     __m256d clamped = _mm256_max_pd(_mm256_min_pd(ndh, _mm256_set1_pd(16383)), _mm256_setzero_pd());
@@ -99,73 +153,111 @@ WIDE static inline __m256d spec_pow(const c5_frame_regs *r, __m256d ndh)
     return _mm256_blendv_pd(p, _mm256_set1_pd((double)r->pow_tab[1 << C5_POW_BITS]), big);
 }
 
-/* Every component below 2^25 in magnitude: the lanes normalise in doubles. */
-WIDE static inline int in_range(const __m256d v[3])
+WIDE static inline v8 spec_pow(const c5_frame_regs *r, v8 ndh)
 {
-    const __m256d lim = _mm256_set1_pd(0x1p25), sign = _mm256_set1_pd(-0.0);
-    __m256d ok = _mm256_set1_pd(-1.0);
+    return (v8){{spec_pow4(r, ndh.h[0]), spec_pow4(r, ndh.h[1])}};
+}
+
+/* rshift128_he(x fade, s) for 0 <= x < 2^50, 0 <= fade <= 2^15, s in 41..42: x = xh 2^24 + xl,
+ * xh fade = aq 2^(s-24) + ar, so that x fade / 2^s = aq + b / 2^s with b = ar 2^24 + xl fade
+ * below 2^(s+1): every term exact, and the rounding to even on aq's parity. */
+WIDE static inline __attribute__((always_inline)) v8 faded(v8 x, v8 fade, int s)
+{
+    const v8 one = set1(1), half = set1(0.5);
+    v8 xh = floor8(mul(x, set1(0x1p-24))), xl = sub(x, mul(xh, set1(0x1p24)));
+    v8 a = mul(xh, fade), sc = set1((double)(1 << (s - 24)));
+    v8 aq = floor8(mul(a, set1(1.0 / (double)(1 << (s - 24))))), ar = sub(a, mul(aq, sc));
+    v8 f = mul(add(mul(ar, set1(0x1p24)), mul(xl, fade)), set1(1.0 / (double)((int64_t)1 << s)));
+    v8 fl = floor8(f), frac = sub(f, fl), base = add(aq, fl);
+    v8 odd = sub(base, mul(floor8(mul(base, half)), set1(2)));
+    v8 tie = and(_v8_eq(frac, half), gt(odd, set1(0)));
+    return add(base, and(blend(gt(frac, half), tie, tie), one));
+}
+
+/* v clamped to [0, 65535], and the count (1 if clamped) added to sat */
+WIDE static inline v8 clamp16(v8 v, v8 *sat)
+{
+    const v8 lo = set1(0), hi = set1(65535);
+    v8 under = lt(v, lo), over = gt(v, hi);
+    *sat = add(*sat, and(blend(over, under, under), set1(1)));
+    return blend(blend(v, hi, over), lo, under);
+}
+
+/* Every component below 2^25 in magnitude: the lanes normalise in doubles. */
+WIDE static inline int in_range(const v8 v[3])
+{
+    v8 ok = set1(-1.0);
     for (int a = 0; a < 3; a++)
-        ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, v[a]), lim, _CMP_LT_OQ));
-    return _mm256_movemask_pd(ok) == 15;
+        ok = and(ok, lt(mag(v[a]), set1(0x1p25)));
+    return (_mm256_movemask_pd(ok.h[0]) & _mm256_movemask_pd(ok.h[1])) == 15;
 }
 
 WIDE int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
-    if (!c5_shade4_wide() || b->n < 1 || b->n > 4)
+    if (!c5_shade4_wide() || b->n < 1 || b->n > C5_SHADE_LANES)
         return -1;
-    int64_t grad[4][3], gpos[4][3];
-    for (int i = 0; i < 4; i++) /* unused lanes repeat lane 0 */
+    int64_t grad[8][3], gpos[8][3];
+    for (int i = 0; i < 8; i++) /* unused lanes repeat lane 0 */
         for (int a = 0; a < 3; a++) {
             grad[i][a] = b->grad[i < b->n ? i : 0][a];
             gpos[i][a] = b->gpos[i < b->n ? i : 0][a];
         }
-    const __m256d zero = _mm256_setzero_pd();
-    __m256d g[3] = {lanes(grad, 0), lanes(grad, 1), lanes(grad, 2)}, mg[3], n[3], v[3], nz;
+    const v8 zero = set1(0);
+    v8 g[3] = {lanes(grad, 0), lanes(grad, 1), lanes(grad, 2)}, mg[3], n[3], v[3], nz;
     if (!in_range(g))
         return -1;
-    __m256d m2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g[0], g[0]), _mm256_mul_pd(g[1], g[1])),
-                               _mm256_mul_pd(g[2], g[2]));
+    v8 m2 = add(add(mul(g[0], g[0]), mul(g[1], g[1])), mul(g[2], g[2]));
     for (int a = 0; a < 3; a++) {
-        mg[a] = _mm256_sub_pd(zero, g[a]);
-        v[a] = _mm256_set1_pd((double)-d[a]);
+        mg[a] = neg(g[a]);
+        v[a] = set1((double)-d[a]);
     }
     normalize(mg, n, &nz);
     /* two-sided: the normal faces the viewer */
-    __m256d flip = _mm256_cmp_pd(dot14(n, v), zero, _CMP_LT_OQ);
+    v8 flip = lt(dot14(n, v), zero);
     for (int a = 0; a < 3; a++)
-        n[a] = _mm256_blendv_pd(n[a], _mm256_sub_pd(zero, n[a]), flip);
-    __m256d diff = zero, spec = zero;
+        n[a] = blend(n[a], neg(n[a]), flip);
+    v8 diff = zero, spec = zero;
     for (int li = 0; li < r->n_lights; li++) {
         const c5_light_regs *l = &r->lights[li];
-        __m256d L[3], h[3], H[3], lz, hz;
+        v8 L[3], h[3], H[3], lz, hz;
         if (l->kind == C5_LIGHT_POINT) {
-            __m256d to[3];
+            v8 to[3];
             for (int a = 0; a < 3; a++)
-                to[a] = _mm256_sub_pd(_mm256_set1_pd((double)l->pos[a]), lanes(gpos, a));
+                to[a] = sub(set1((double)l->pos[a]), lanes(gpos, a));
             if (!in_range(to))
                 return -1;
             normalize(to, L, &lz);
         } else {
             for (int a = 0; a < 3; a++)
-                L[a] = _mm256_set1_pd((double)l->dir[a]);
+                L[a] = set1((double)l->dir[a]);
         }
-        __m256d ndl = dot14(n, L), lit = _mm256_cmp_pd(ndl, zero, _CMP_GT_OQ);
-        __m256d intensity = _mm256_set1_pd((double)l->intensity);
-        diff = _mm256_add_pd(diff, _mm256_and_pd(_mm256_mul_pd(intensity, ndl), lit));
+        v8 ndl = dot14(n, L), lit = gt(ndl, zero), intensity = set1((double)l->intensity);
+        diff = add(diff, and(mul(intensity, ndl), lit));
         for (int a = 0; a < 3; a++)
-            h[a] = _mm256_add_pd(L[a], v[a]);
+            h[a] = add(L[a], v[a]);
         normalize(h, H, &hz);
-        __m256d ndh = dot14(n, H);
-        __m256d lit_spec = _mm256_and_pd(_mm256_and_pd(lit, hz), _mm256_cmp_pd(ndh, zero, _CMP_GT_OQ));
-        spec = _mm256_add_pd(spec, _mm256_and_pd(_mm256_mul_pd(intensity, spec_pow(r, ndh)), lit_spec));
+        v8 ndh = dot14(n, H);
+        v8 lit_spec = and(and(lit, hz), gt(ndh, zero));
+        spec = add(spec, and(mul(intensity, spec_pow(r, ndh)), lit_spec));
     }
-    double m2s[4], diffs[4], specs[4];
-    _mm256_storeu_pd(m2s, m2);
-    _mm256_storeu_pd(diffs, diff);
-    _mm256_storeu_pd(specs, spec);
+    /* c5_shade_finish: the light terms (m2 = 0 gives diff = spec = fade = 0, so k = ka and
+     * ks = 0 without a case of its own), then the channels */
+    v8 fade = blend(set1(C5_ONE15), mul(m2, set1(2)), lt(m2, set1(16384))), sat = zero;
+    v8 k = clamp16(add(set1((double)r->ka), faded(mul(set1((double)r->kd), diff), fade, 26 + 15)), &sat);
+    v8 ks = clamp16(faded(mul(set1((double)r->ks), spec), fade, 27 + 15), &sat);
+    v8 out[3];
+    for (int c = 0; c < 3; c++)
+        out[c] = clamp16(add(rne(mul(mul(lanes(b->rgb, c), k), set1(0x1p-15))), ks), &sat);
+    double o[3][8], sats[8];
+    for (int h = 0; h < 2; h++) {
+        for (int c = 0; c < 3; c++)
+            _mm256_storeu_pd(o[c] + 4 * h, out[c].h[h]);
+        _mm256_storeu_pd(sats + 4 * h, sat.h[h]);
+    }
     for (int i = 0; i < b->n; i++) {
-        b->sat[i] = 0;
-        c5_shade_finish(r, (int64_t)m2s[i], (int64_t)diffs[i], (int64_t)specs[i], b->rgb[i], b->out[i], &b->sat[i]);
+        for (int c = 0; c < 3; c++)
+            b->out[i][c] = (int64_t)o[c][i];
+        b->sat[i] = (uint64_t)sats[i];
     }
     return 0;
 }

@@ -16,14 +16,16 @@
 
 #include "regs.h"
 
-/* Four shaded samples of one ray (one direction): inputs and, after c5_shade4, outputs. */
+#define C5_SHADE_LANES 8
+
+/* Up to C5_SHADE_LANES shaded samples of one ray (one direction): inputs and, after c5_shade4, outputs. */
 typedef struct {
-    int n;              /* lanes in use, 1..4 */
-    int64_t grad[4][3]; /* c5_sample.grad */
-    int64_t gpos[4][3]; /* geom position (read for point lights only) */
-    int64_t rgb[4][3];  /* the table colour, UQ1.15 */
-    int64_t out[4][3];  /* shaded_rgb UQ4.12 */
-    uint64_t sat[4];    /* each lane's saturations (c5_shade's count) */
+    int n;              /* lanes in use, 1..C5_SHADE_LANES */
+    int64_t grad[C5_SHADE_LANES][3]; /* c5_sample.grad */
+    int64_t gpos[C5_SHADE_LANES][3]; /* geom position (read for point lights only) */
+    int64_t rgb[C5_SHADE_LANES][3];  /* the table colour, UQ1.15 */
+    int64_t out[C5_SHADE_LANES][3];  /* shaded_rgb UQ4.12 */
+    uint64_t sat[C5_SHADE_LANES];    /* each lane's saturations (c5_shade's count) */
 } c5_shade_lanes;
 
 /* out and sat of lanes 0..n-1 as c5_shade(r, lane, d) gives them; the lanes on the wide units
