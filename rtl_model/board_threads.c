@@ -163,7 +163,7 @@ static void run_item(struct c5_bd_threads *t, helper *h, size_t j)
 #define AHEAD 4096
 
 /* The helper's share of a visit: the next item not taken, LEAD to AHEAD beyond the board's
- * thread, until none is left. */
+ * thread, until none is left; then any the board's thread has not reached. */
 static void run_visit(struct c5_bd_threads *t, helper *h)
 {
     h->cur = NULL;
@@ -172,7 +172,7 @@ static void run_visit(struct c5_bd_threads *t, helper *h)
         long mark = (long)atomic_load_explicit(&t->mark, memory_order_relaxed), lo = t->replay_all ? 0 : mark + LEAD;
         j = cur > lo ? cur : lo;
         if (j >= (long)t->n)
-            return;
+            break;
         if (j > mark + AHEAD) {
             sched_yield();
             cur = atomic_load_explicit(&t->next, memory_order_relaxed);
@@ -185,6 +185,16 @@ static void run_visit(struct c5_bd_threads *t, helper *h)
         if (atomic_compare_exchange_strong_explicit(&t->it[j].state, &s, CLAIMED, memory_order_acq_rel,
                                                     memory_order_acquire))
             run_item(t, h, (size_t)j);
+    }
+    /* None is left beyond LEAD of the board's thread, which reaches the rest in the sorter's
+     * order, whatever their place: the helper takes those not yet taken, from the last one
+     * down, rather than sit idle while the board's thread runs the visit's end alone. */
+    for (long k = (long)t->n - 1; k >= 0; k--) {
+        uint32_t s = TODO;
+        if (atomic_load_explicit(&t->it[k].state, memory_order_relaxed) == TODO &&
+            atomic_compare_exchange_strong_explicit(&t->it[k].state, &s, CLAIMED, memory_order_acq_rel,
+                                                    memory_order_acquire))
+            run_item(t, h, (size_t)k);
     }
 }
 

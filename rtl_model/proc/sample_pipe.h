@@ -36,7 +36,7 @@ static inline void c5_gather_values(const c5_frame_regs *r, const c5_rdram *m, c
         int i = (int)(x >> C5_POS_F);
         k->frac[a] = x & ((1 << C5_POS_F) - 1);     /* voxel_frac UQ0.15 */
         i3[a] = i;
-        inner &= i >= 0 && i + 1 <= r->dims[a] - 1; /* no clamp changes an index */
+        inner &= (unsigned)i < (unsigned)(r->dims[a] - 1); /* 0 <= i, i + 1 <= dims - 1: no clamp changes an index */
     }
     ptrdiff_t sx = 1, sy, sz, o0;
     const uint8_t *v = c5_rdram_data(m, &o0, &sy, &sz);
@@ -69,7 +69,8 @@ static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, co
     for (int a = 0; a < 3; a++) {
         int i = (int)((pos[a] - (1 << (C5_POS_F - 1))) >> C5_POS_F);
         i3[a] = i;
-        inner &= i >= 1 && i + 2 <= r->dims[a] - 1; /* i - 1 .. i + 2 inside: no clamp */
+        int room = r->dims[a] - 3 > 0 ? r->dims[a] - 3 : 0;
+        inner &= (unsigned)(i - 1) < (unsigned)room; /* 1 <= i, i + 2 <= dims - 1: no clamp */
     }
     ptrdiff_t sx = 1, sy, sz, o0;
     const uint8_t *v = c5_rdram_data(m, &o0, &sy, &sz);
