@@ -165,3 +165,95 @@ TEST(shade_wide_is_c5_shade_on_every_small_gradient)
     }
     CHECK(lanes == 3 * 13 * 13 * 13 || !c5_shade4_wide());
 }
+
+/* round(n / d) half to even, exact (d > 0) */
+static int64_t div_he(__int128 n, __int128 d)
+{
+    __int128 q = n / d, r = n % d;
+    if (r < 0)
+        q--, r += d;
+    return (int64_t)(q + (2 * r > d || (2 * r == d && (q & 1))));
+}
+
+/* A vector of components below 2^25 whose x quotient v_x 2^28 / len lies within 1..3 units of
+ * 1 / (2 len) of a half (below half a double's spacing there once len passes 2^39): len = floor(|v| 2^14) is chosen first so that 2^29 v_x - m = (2k + 1)
+ * len for a small m, then y and z so that |v|^2 2^28 falls in [len^2, (len + 1)^2). 0 if the
+ * search gives up. */
+static int near_tie(uint64_t *st, int64_t v[3])
+{
+    for (int tries = 0; tries < 50; tries++) {
+        int64_t k = uniform_i(st, 9600, 11400), x = uniform_i(st, (1 << 25) - (1 << 22), (1 << 25) - 300000), len = 0;
+        for (int step = 0; step < 200000 && !len; step++, x++)
+            for (int m = -3; m <= 3 && !len; m++)
+                if (m && (((__int128)x << 29) - m) % (2 * k + 1) == 0)
+                    len = (int64_t)((((__int128)x << 29) - m) / (2 * k + 1));
+        if (!len)
+            continue;
+        x--;
+        __int128 lo = ((__int128)len * len + ((__int128)1 << 28) - 1) >> 28,
+                 hi = ((__int128)(len + 1) * (len + 1) + ((__int128)1 << 28) - 1) >> 28; /* |v|^2 in [lo, hi) */
+        __int128 rest_lo = lo - (__int128)x * x, rest_hi = hi - (__int128)x * x;
+        if (rest_lo <= 0)
+            continue;
+        int64_t y0 = (int64_t)sqrtl((long double)rest_lo / 2) + uniform_i(st, 0, 1 << 16);
+        for (int64_t y = y0; y < y0 + 200000 && (__int128)y * y < rest_lo; y++) {
+            __int128 need = rest_lo - (__int128)y * y;
+            int64_t z = need > 0 ? (int64_t)sqrtl((long double)need) : 0;
+            while ((__int128)z * z < need)
+                z++;
+            while (z > 0 && (__int128)(z - 1) * (z - 1) >= need)
+                z--;
+            if ((__int128)y * y + (__int128)z * z < rest_hi && y < (1 << 25) && z < (1 << 25)) {
+                v[0] = x, v[1] = y, v[2] = z;
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+TEST(shade_wide_normalize_is_c5_geom_normalize_near_its_ties)
+{
+    /* random vectors of every size the block normalises, and vectors built so that a quotient
+     * lies within a double's rounding of a half (a light's direction only: len above 2^37),
+     * where the double quotient rounds to the wrong side and the exact remainder corrects it */
+    if (!c5_shade4_wide()) {
+        printf("note: this host has no AVX2 and FMA: the wide normalisation is not run\n");
+        return;
+    }
+    uint64_t st = 91;
+    int64_t v[C5_SHADE_LANES][3], out[C5_SHADE_LANES][3];
+    long corrected = 0, built = 0;
+    for (int round = 0; round < 4000; round++) {
+        for (int i = 0; i < C5_SHADE_LANES; i++) {
+            int64_t m = (int64_t)1 << uniform_i(&st, 0, 24);
+            for (int a = 0; a < 3; a++)
+                v[i][a] = uniform_i(&st, -m, m);
+        }
+        if (round % 40 == 0) /* a lane built near a tie, its signs and axes shuffled */
+            for (int i = 0; i < 2; i++) {
+                int64_t t[3];
+                if (!near_tie(&st, t))
+                    continue;
+                built++;
+                int rot = (int)uniform_i(&st, 0, 2);
+                for (int a = 0; a < 3; a++)
+                    v[i][(a + rot) % 3] = c5_splitmix64(&st) & 1 ? -t[a] : t[a];
+                int64_t len = (int64_t)c5_isqrt((unsigned __int128)((__int128)t[0] * t[0] + (__int128)t[1] * t[1] +
+                                                                     (__int128)t[2] * t[2]) << 28);
+                double e = (double)(t[0] * ((int64_t)1 << 28)) / (double)len;
+                corrected += (int64_t)nearbyint(e) != div_he((__int128)t[0] << 28, len);
+            }
+        CHECK(c5_shade_wide_normalize(v, out) == 0);
+        for (int i = 0; i < C5_SHADE_LANES; i++) {
+            int64_t want[3];
+            c5_geom_normalize(v[i], want);
+            CHECK_MSG(!memcmp(want, out[i], sizeof want), "round %d lane %d: (%lld %lld %lld) -> (%lld %lld %lld), "
+                      "c5_geom_normalize (%lld %lld %lld)", round, i, (long long)v[i][0], (long long)v[i][1],
+                      (long long)v[i][2], (long long)out[i][0], (long long)out[i][1], (long long)out[i][2],
+                      (long long)want[0], (long long)want[1], (long long)want[2]);
+        }
+    }
+    CHECK_MSG(built >= 100 && corrected > 0, "%ld built near a tie, %ld where the double quotient rounds wrong", built,
+              corrected);
+}

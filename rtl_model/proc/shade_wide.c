@@ -192,6 +192,22 @@ WIDE static inline int in_range(const v8 v[3])
     return (_mm256_movemask_pd(ok.h[0]) & _mm256_movemask_pd(ok.h[1])) == 15;
 }
 
+WIDE int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_SHADE_LANES][3])
+{
+    v8 in[3] = {lanes(v, 0), lanes(v, 1), lanes(v, 2)}, o[3], nz;
+    if (!c5_shade4_wide() || !in_range(in))
+        return -1;
+    normalize(in, o, &nz);
+    for (int a = 0; a < 3; a++) {
+        double d[8];
+        _mm256_storeu_pd(d, o[a].h[0]);
+        _mm256_storeu_pd(d + 4, o[a].h[1]);
+        for (int i = 0; i < 8; i++)
+            out[i][a] = (int64_t)d[i];
+    }
+    return 0;
+}
+
 WIDE int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
     if (!c5_shade4_wide() || b->n < 1 || b->n > C5_SHADE_LANES)
@@ -269,6 +285,12 @@ int c5_shade4_wide(void) { return 0; }
 int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
     (void)r, (void)d, (void)b;
+    return -1;
+}
+
+int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_SHADE_LANES][3])
+{
+    (void)v, (void)out;
     return -1;
 }
 

@@ -36,5 +36,8 @@ int c5_shade4_wide(void);
 /* The wide path alone (tests): 0, or -1 where it does not run (no AVX2 and FMA on the host,
  * or a lane out of its range), out and sat untouched. */
 int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
+/* Its normalisation alone (tests): c5_geom_normalize of eight vectors with components below
+ * 2^25; 0, or -1 where it does not run. */
+int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_SHADE_LANES][3]);
 
 #endif
