@@ -148,7 +148,7 @@ TEST(shade_wide_is_c5_shade_on_every_small_gradient)
                     int64_t g[3] = {x, y, z};
                     for (int a = 0; a < 3; a++) {
                         b.grad[i][a] = g[a];
-                        b.gpos[i][a] = (int64_t)(x * 7 + y * 3 + z) << 12;
+                        b.gpos[i][a] = (int64_t)(x * 7 + y * 3 + z) * 4096;
                         b.rgb[i][a] = 20000 + 1000 * a;
                     }
                     if (b.n == 4 || (x == 6 && y == 6 && z == 6)) {
