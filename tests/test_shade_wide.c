@@ -1,4 +1,4 @@
-/* The four-lane shading block (rtl_model/proc/shade_wide.h) against c5_shade, lane by lane:
+/* The eight-lane shading block (rtl_model/proc/shade_wide.h) against c5_shade, lane by lane:
  * the same outputs and saturation counts on random registers and samples across every range
  * the block takes, and on every small gradient (where normalisations meet their ties). */
 #include <math.h>
@@ -92,7 +92,7 @@ TEST(shade_wide_is_c5_shade_on_random_samples)
         int64_t d[3];
         unit_dir(&st, d);
         for (int k = 0; k < 100; k++) {
-            c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, 4)};
+            c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, C5_SHADE_LANES)};
             for (int i = 0; i < b.n; i++) {
                 random_grad(&st, b.grad[i]);
                 for (int a = 0; a < 3; a++) {
@@ -101,7 +101,7 @@ TEST(shade_wide_is_c5_shade_on_random_samples)
                 }
             }
             c5_shade_lanes w = b;
-            if (c5_shade4_wide_only(&r, d, &w) == 0) {
+            if (c5_shade_wide_only(&r, d, &w) == 0) {
                 wide++;
                 CHECK_MSG(same_as_c5_shade(&r, d, &w, why, sizeof why), "frame %d case %d, wide: %s", frame, k, why);
                 for (int i = 0; i < w.n; i++)
@@ -109,24 +109,24 @@ TEST(shade_wide_is_c5_shade_on_random_samples)
             } else {
                 fallback++;
             }
-            c5_shade4(&r, d, &b); /* the caller's function, whichever way it goes */
+            c5_shade_wide(&r, d, &b); /* the caller's function, whichever way it goes */
             CHECK_MSG(same_as_c5_shade(&r, d, &b, why, sizeof why), "frame %d case %d: %s", frame, k, why);
             cases++;
         }
     }
-    if (c5_shade4_wide()) {
+    if (c5_shade_wide_usable()) {
         /* most cases on the wide path; the far point lights on the lanes' own */
         CHECK_MSG(wide > cases / 2 && fallback > 0 && saturated > 0, "wide %ld, fallback %ld of %ld, saturated %ld",
                   wide, fallback, cases, saturated);
     } else {
         CHECK(wide == 0);
-        printf("note: this host has no AVX2 and FMA: only c5_shade4's lane-by-lane path is checked\n");
+        printf("note: this host has no AVX2 and FMA: only c5_shade_wide's lane-by-lane path is checked\n");
     }
 }
 
 TEST(shade_wide_is_c5_shade_on_every_small_gradient)
 {
-    /* every gradient in [-6, 6]^3, four at a time, under a point and a directional light:
+    /* every gradient in [-6, 6]^3, eight at a time, under a point and a directional light:
      * small vectors are where a normalised component lies exactly on a half */
     static c5_frame_regs r;
     uint64_t st = 77;
@@ -151,10 +151,10 @@ TEST(shade_wide_is_c5_shade_on_every_small_gradient)
                         b.gpos[i][a] = (int64_t)(x * 7 + y * 3 + z) * 4096;
                         b.rgb[i][a] = 20000 + 1000 * a;
                     }
-                    if (b.n == 4 || (x == 6 && y == 6 && z == 6)) {
+                    if (b.n == C5_SHADE_LANES || (x == 6 && y == 6 && z == 6)) {
                         c5_shade_lanes w = b;
-                        int ran = c5_shade4_wide_only(&r, views[vi], &w);
-                        CHECK(ran == 0 || !c5_shade4_wide());
+                        int ran = c5_shade_wide_only(&r, views[vi], &w);
+                        CHECK(ran == 0 || !c5_shade_wide_usable());
                         if (ran == 0) {
                             CHECK_MSG(same_as_c5_shade(&r, views[vi], &w, why, sizeof why), "view %d: %s", vi, why);
                             lanes += w.n;
@@ -163,7 +163,7 @@ TEST(shade_wide_is_c5_shade_on_every_small_gradient)
                     }
                 }
     }
-    CHECK(lanes == 3 * 13 * 13 * 13 || !c5_shade4_wide());
+    CHECK(lanes == 3 * 13 * 13 * 13 || !c5_shade_wide_usable());
 }
 
 /* round(n / d) half to even, exact (d > 0) */
@@ -217,7 +217,7 @@ TEST(shade_wide_normalize_is_c5_geom_normalize_near_its_ties)
     /* random vectors of every size the block normalises, and vectors built so that a quotient
      * lies within a double's rounding of a half (a light's direction only: len above 2^37),
      * where the double quotient rounds to the wrong side and the exact remainder corrects it */
-    if (!c5_shade4_wide()) {
+    if (!c5_shade_wide_usable()) {
         printf("note: this host has no AVX2 and FMA: the wide normalisation is not run\n");
         return;
     }

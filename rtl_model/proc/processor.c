@@ -373,7 +373,7 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
 }
 
 /* A run's samples taken but not yet composited, while they wait for their shaded samples to
- * make four (c5_shade4). What each sample does to the processor's state (the voxel cache,
+ * fill the lanes of c5_shade_wide. What each sample does to the processor's state (the voxel cache,
  * the counters) waits with it, and is done in order when they are composited, up to the sample
  * that ends the ray: so the state is what sample-by-sample processing leaves. */
 #define PENDING_MAX 32
@@ -392,7 +392,7 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
 {
     int n = q->n, lit = q->lit.n, i = 0;
     if (lit)
-        c5_shade4(p->r, ray->dir, &q->lit);
+        c5_shade_wide(p->r, ray->dir, &q->lit);
     q->n = q->lit.n = 0;
     for (int j = 0; j < lit; j++) {
         for (; i <= q->at[j]; i++)
@@ -416,11 +416,11 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
     return 0;
 }
 
-/* Whether c5_proc_run shades four samples at a time: a shaded run without taps, at the
- * shipped widths, on a host with the wide units. */
-static int shades_four(const c5_frame_regs *r, const c5_taps *tp, int shade)
+/* Whether c5_proc_run shades its samples in lanes (c5_shade_wide): a shaded run without
+ * taps, at the shipped widths, on a host with the wide units. */
+static int shades_in_lanes(const c5_frame_regs *r, const c5_taps *tp, int shade)
 {
-    if (!shade || tp || !c5_shade4_wide())
+    if (!shade || tp || !c5_shade_wide_usable())
         return 0;
     for (int w = 0; w < C5_W_COUNT; w++)
         if (r->nsh[w])
@@ -457,7 +457,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     int64_t ahead = 0;
     const uint64_t sample_cycles = grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
     pending q;
-    int four = shades_four(r, tp, shade);
+    int in_lanes = shades_in_lanes(r, tp, shade);
     q.n = q.lit.n = 0;
     for (;;) {
         c5_trav_out to;
@@ -497,7 +497,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         c5_gather_values(r, m, ray->pos, &k);
         c5_tri_weights(k.frac, wt);
         smp.value = c5_narrow_clamp(c5_interp_blend_w(wt, k.v), r->nsh[C5_W_VALUE], 0, 65535, &p->st.saturations);
-        if (!four) {
+        if (!in_lanes) {
             cache_access(p, c5_cache_tag_of(ray->pos));
             p->st.samples++;
             p->st.cycles += sample_cycles;
@@ -520,7 +520,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         }
         if (tp)
             tap_sample(tp, &k, &smp, grad, r->gs, rgba);
-        if (four) {
+        if (in_lanes) {
             int i = q.n++;
             q.tag[i] = c5_cache_tag_of(ray->pos);
             if (rgba[3] > 0) {

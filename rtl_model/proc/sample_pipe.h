@@ -223,7 +223,7 @@ static inline int64_t c5_spec_pow(const c5_frame_regs *r, int64_t ndh)
 
 /* The light term of a shaded sample from its sums over the lights (diff, 26 fraction bits;
  * spec, 27) and |g|^2 (m2, 16): then each channel of the table colour (UQ1.15) lit, into
- * shaded_rgb (UQ4.12). The integer steps that end c5_shade_w, shared with the four-lane
+ * shaded_rgb (UQ4.12). The integer steps that end c5_shade_w, shared with the eight-lane
  * block (shade_wide.h). */
 static inline void c5_shade_finish(const c5_frame_regs *r, int64_t m2, int64_t diff, int64_t spec,
                                    const int64_t rgb[3], int64_t out[3], uint64_t *sat)

@@ -1,9 +1,8 @@
-/* Four samples' shading on AVX2 and FMA (shade_wide.h). Only the functions marked with the
- * target use those units, so the rest of the build stays at the baseline and c5_shade4_wide
- * decides at run time. The round-probe build (C5_ROUND_PROBE) shades sample by sample: its
- * probes sit in c5_shade_w's steps. */
+/* Eight samples' shading on AVX2 and FMA (shade_wide.h). Only the functions marked with the
+ * target use those units, so the rest of the build stays at the baseline and
+ * c5_shade_wide_usable decides at run time. The round-probe build (C5_ROUND_PROBE) shades
+ * sample by sample: its probes sit in c5_shade_w's steps. */
 #include "shade_wide.h"
-
 
 #include "sample_pipe.h"
 
@@ -13,7 +12,7 @@
 #define C5_SHADE_WIDE 0
 #endif
 
-static void shade4_scalar(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+static void shade_lanes_scalar(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
     for (int i = 0; i < b->n; i++) {
         c5_sample smp = {.value = 0, .grad = {b->grad[i][0], b->grad[i][1], b->grad[i][2]}};
@@ -27,7 +26,7 @@ static void shade4_scalar(const c5_frame_regs *r, const int64_t d[3], c5_shade_l
 
 #include <immintrin.h>
 
-int c5_shade4_wide(void)
+int c5_shade_wide_usable(void)
 {
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -35,9 +34,7 @@ int c5_shade4_wide(void)
 
 #define WIDE __attribute__((target("avx2,fma")))
 
-/* Eight lanes as two registers: every step is written once and done on both side by side, so
- * that the two chains of the block's long latencies (root, quotient, then the half vector's)
- * overlap. */
+/* Eight lanes as two registers: every step is written once and done on both. */
 typedef struct {
     __m256d h[2];
 } v8;
@@ -69,9 +66,8 @@ V8_2(dvd, _mm256_div_pd(x, y))
 V8_2(and, _mm256_and_pd(x, y))
 V8_2(gt, _mm256_cmp_pd(x, y, _CMP_GT_OQ))
 V8_2(lt, _mm256_cmp_pd(x, y, _CMP_LT_OQ))
-V8_2(ge, _mm256_cmp_pd(x, y, _CMP_GE_OQ))
 V8_2(ne, _mm256_cmp_pd(x, y, _CMP_NEQ_OQ))
-V8_2(_v8_eq, _mm256_cmp_pd(x, y, _CMP_EQ_OQ))
+V8_2(eq, _mm256_cmp_pd(x, y, _CMP_EQ_OQ))
 V8_1(root, _mm256_sqrt_pd(x))
 V8_1(floor8, _mm256_floor_pd(x))
 V8_1(rne, _mm256_round_pd(x, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC))
@@ -125,8 +121,8 @@ WIDE static inline __attribute__((always_inline)) void normalize(const v8 v[3], 
     for (int a = 0; a < 3; a++) {
         v8 num = mul(v[a], two28);
         /* the correctly rounded quotient rounded to even: round(num / len) half to even, or
-         * one off where num / len lies within a double's rounding of a half (possible for a
-         * light's direction only, len above 2^37); the exact remainder (|r| < 2^41) says
+         * one off where num / len lies within half a double's spacing of a half (len near
+         * 2^39 and above: a light's direction only); the exact remainder (|r| < 2^41) says
          * which */
         v8 q = rne(dvd(num, len));
         v8 r2 = mul(fnmadd(q, len, num), set1(2));
@@ -170,7 +166,7 @@ WIDE static inline __attribute__((always_inline)) v8 faded(v8 x, v8 fade, int s)
     v8 f = mul(add(mul(ar, set1(0x1p24)), mul(xl, fade)), set1(1.0 / (double)((int64_t)1 << s)));
     v8 fl = floor8(f), frac = sub(f, fl), base = add(aq, fl);
     v8 odd = sub(base, mul(floor8(mul(base, half)), set1(2)));
-    v8 tie = and(_v8_eq(frac, half), gt(odd, set1(0)));
+    v8 tie = and(eq(frac, half), gt(odd, set1(0)));
     return add(base, and(blend(gt(frac, half), tie, tie), one));
 }
 
@@ -192,10 +188,10 @@ WIDE static inline int in_range(const v8 v[3])
     return (_mm256_movemask_pd(ok.h[0]) & _mm256_movemask_pd(ok.h[1])) == 15;
 }
 
-WIDE int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_SHADE_LANES][3])
+WIDE static int normalize_wide(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_SHADE_LANES][3])
 {
     v8 in[3] = {lanes(v, 0), lanes(v, 1), lanes(v, 2)}, o[3], nz;
-    if (!c5_shade4_wide() || !in_range(in))
+    if (!in_range(in))
         return -1;
     normalize(in, o, &nz);
     for (int a = 0; a < 3; a++) {
@@ -208,15 +204,14 @@ WIDE int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out
     return 0;
 }
 
-WIDE int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
-    if (!c5_shade4_wide() || b->n < 1 || b->n > C5_SHADE_LANES)
-        return -1;
-    int64_t grad[8][3], gpos[8][3];
+    int64_t grad[8][3], gpos[8][3], rgb[8][3];
     for (int i = 0; i < 8; i++) /* unused lanes repeat lane 0 */
         for (int a = 0; a < 3; a++) {
             grad[i][a] = b->grad[i < b->n ? i : 0][a];
             gpos[i][a] = b->gpos[i < b->n ? i : 0][a];
+            rgb[i][a] = b->rgb[i < b->n ? i : 0][a];
         }
     const v8 zero = set1(0);
     v8 g[3] = {lanes(grad, 0), lanes(grad, 1), lanes(grad, 2)}, mg[3], n[3], v[3], nz;
@@ -263,7 +258,7 @@ WIDE int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shad
     v8 ks = clamp16(faded(mul(set1((double)r->ks), spec), fade, 27 + 15), &sat);
     v8 out[3];
     for (int c = 0; c < 3; c++)
-        out[c] = clamp16(add(rne(mul(mul(lanes(b->rgb, c), k), set1(0x1p-15))), ks), &sat);
+        out[c] = clamp16(add(rne(mul(mul(lanes(rgb, c), k), set1(0x1p-15))), ks), &sat);
     double o[3][8], sats[8];
     for (int h = 0; h < 2; h++) {
         for (int c = 0; c < 3; c++)
@@ -278,11 +273,22 @@ WIDE int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shad
     return 0;
 }
 
+/* The checks before any instruction of the wide units runs. */
+int c5_shade_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+{
+    return c5_shade_wide_usable() && b->n >= 1 && b->n <= C5_SHADE_LANES ? shade_wide(r, d, b) : -1;
+}
+
+int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_SHADE_LANES][3])
+{
+    return c5_shade_wide_usable() ? normalize_wide(v, out) : -1;
+}
+
 #else
 
-int c5_shade4_wide(void) { return 0; }
+int c5_shade_wide_usable(void) { return 0; }
 
-int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+int c5_shade_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
     (void)r, (void)d, (void)b;
     return -1;
@@ -296,8 +302,8 @@ int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_S
 
 #endif
 
-void c5_shade4(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+void c5_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
-    if (c5_shade4_wide_only(r, d, b) != 0)
-        shade4_scalar(r, d, b);
+    if (c5_shade_wide_only(r, d, b) != 0)
+        shade_lanes_scalar(r, d, b);
 }

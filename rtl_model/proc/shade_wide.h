@@ -1,5 +1,5 @@
-/* The shading block (sample_pipe.h, c5_shade_w at the shipped widths) for four samples at
- * once, on the host's AVX2 and FMA units: the same integers as c5_shade, lane by lane.
+/* The shading block (sample_pipe.h, c5_shade_w at the shipped widths) for up to eight samples
+ * at once, on the host's AVX2 and FMA units: the same integers as c5_shade, lane by lane.
  *
  * Why it is exact in doubles: every value the block normalises or multiplies there is an
  * integer below 2^53 (a normal's gradient below 2^17 a component, a half vector's below
@@ -18,7 +18,7 @@
 
 #define C5_SHADE_LANES 8
 
-/* Up to C5_SHADE_LANES shaded samples of one ray (one direction): inputs and, after c5_shade4, outputs. */
+/* Shaded samples of one ray (one direction): inputs and, after c5_shade_wide, outputs. */
 typedef struct {
     int n;              /* lanes in use, 1..C5_SHADE_LANES */
     int64_t grad[C5_SHADE_LANES][3]; /* c5_sample.grad */
@@ -30,12 +30,12 @@ typedef struct {
 
 /* out and sat of lanes 0..n-1 as c5_shade(r, lane, d) gives them; the lanes on the wide units
  * where the host has them and every lane is in range, else one by one. */
-void c5_shade4(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
-/* Whether c5_shade4 runs on the wide units on this host (0 in builds without them). */
-int c5_shade4_wide(void);
+void c5_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
+/* Whether c5_shade_wide runs on the wide units on this host (0 in builds without them). */
+int c5_shade_wide_usable(void);
 /* The wide path alone (tests): 0, or -1 where it does not run (no AVX2 and FMA on the host,
  * or a lane out of its range), out and sat untouched. */
-int c5_shade4_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
+int c5_shade_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
 /* Its normalisation alone (tests): c5_geom_normalize of eight vectors with components below
  * 2^25; 0, or -1 where it does not run. */
 int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_SHADE_LANES][3]);
