@@ -10,8 +10,9 @@
  * helper has taken it runs itself. So the image, every counter and every cycle count are
  * the same for any number of threads; the helpers' counters are added to the processor's
  * at the end of the visit (sums). The board's thread, which also runs the sorter, the DSP
- * and the replays, runs more items itself the more the helpers fall behind, so neither side
- * waits for the other but at the end of a visit.
+ * and the replays, runs more items itself the more the helpers fall behind, and a helper
+ * with nothing left ahead takes the items the board's thread has not reached yet, so neither
+ * side waits for the other but for an item in hand.
  *
  * An item is the ray's position in the cell's SDRAM queue when the cell was loaded: the
  * queue is moved into the sorter in order (refill), so the k-th ray moved is item k, and the
