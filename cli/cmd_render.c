@@ -353,7 +353,9 @@ static int setup(int argc, char **argv, render_args *a, c5_scene *s, char *label
         return c5_fail(err, "--vcd: the waveform is of one frame; the scene has several (give --frames 1)");
     if (a->out && a->vcd && c5_cli_check_distinct_frames(a->out, frames, "-o", a->vcd, "--vcd", err) != 0)
         return -1;
-    if (a->out) /* opened while the grid is read or generated */
+    /* opened while the grid is read or generated; not with --boards, whose ranks but the
+     * first never write an image and are not known yet (MPI starts below) */
+    if (a->out && !a->bd.given)
         c5_image_preload();
     if (a->rtl ? c5_cli_model_grid(s, a->cells, label, sv, err) != 0 : c5_cli_grid(s, label, sv, err) != 0)
         return -1;
