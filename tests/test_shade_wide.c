@@ -1,6 +1,7 @@
-/* The eight-lane shading block (rtl_model/proc/shade_wide.h) against c5_shade, lane by lane:
- * the same outputs and saturation counts on random registers and samples across every range
- * the block takes, and on every small gradient (where normalisations meet their ties). */
+/* The eight-lane gradient and shading blocks (rtl_model/proc/shade_wide.h) against
+ * c5_grad_blend and c5_shade, lane by lane: the same outputs and saturation counts on random
+ * inputs across every range the blocks take, on every small gradient, and where the
+ * normalisations meet their ties. */
 #include <math.h>
 #include <string.h>
 
@@ -256,4 +257,46 @@ TEST(shade_wide_normalize_is_c5_geom_normalize_near_its_ties)
     }
     CHECK_MSG(built >= 100 && corrected > 0, "%ld built near a tie, %ld where the double quotient rounds wrong", built,
               corrected);
+}
+
+TEST(grad_wide_is_c5_grad_blend)
+{
+    /* the gradient block in lanes against c5_grad_blend: random differences and fractions, the
+     * largest differences either way with the fractions at their ends, and all-zero lanes */
+    static c5_frame_regs r;
+    memset(&r, 0, sizeof r);
+    uint64_t st = 5;
+    long lanes_checked = 0;
+    for (int round = 0; round < 3000; round++) {
+        for (int a = 0; a < 3; a++)
+            r.gs[a] = round % 7 == 0 ? C5_ONE15 : uniform_i(&st, 1, C5_ONE15);
+        c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, C5_SHADE_LANES)};
+        int kind = round % 4;
+        for (int i = 0; i < b.n; i++)
+            for (int a = 0; a < 3; a++) {
+                b.frac[a][i] = kind == 1 ? (c5_splitmix64(&st) & 1 ? 0 : C5_ONE15 - 1)
+                                         : (int32_t)uniform_i(&st, 0, C5_ONE15 - 1);
+                for (int j = 0; j < 8; j++)
+                    b.diff[a][j][i] = kind == 1   ? (c5_splitmix64(&st) & 1 ? 255 : -255)
+                                      : kind == 2 ? 0
+                                      : kind == 3 ? (int32_t)uniform_i(&st, -2, 2)
+                                                  : (int32_t)uniform_i(&st, -255, 255);
+            }
+        c5_grad_wide(&r, &b);
+        for (int i = 0; i < b.n; i++) {
+            int64_t frac[3], want[3];
+            int32_t d[3][8];
+            for (int a = 0; a < 3; a++) {
+                frac[a] = b.frac[a][i];
+                for (int j = 0; j < 8; j++)
+                    d[a][j] = b.diff[a][j][i];
+            }
+            c5_grad_blend(frac, d, r.gs, want);
+            CHECK_MSG(!memcmp(want, b.grad[i], sizeof want), "round %d lane %d: (%lld %lld %lld), c5_grad_blend (%lld %lld %lld)",
+                      round, i, (long long)b.grad[i][0], (long long)b.grad[i][1], (long long)b.grad[i][2],
+                      (long long)want[0], (long long)want[1], (long long)want[2]);
+            lanes_checked++;
+        }
+    }
+    CHECK(lanes_checked > 3000 * 3);
 }

@@ -391,8 +391,10 @@ typedef struct {
 static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycles)
 {
     int n = q->n, lit = q->lit.n, i = 0;
-    if (lit)
+    if (lit) {
+        c5_grad_wide(p->r, &q->lit);
         c5_shade_wide(p->r, ray->dir, &q->lit);
+    }
     q->n = q->lit.n = 0;
     for (int j = 0; j < lit; j++) {
         for (; i <= q->at[j]; i++)
@@ -514,7 +516,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
         /* The gradient feeds only the shading of a sample with alpha > 0 (and the taps):
          * the processor computes it for every sample with gradients on (the cycles count
          * it), the model skips the host work where no bit depends on it. */
-        if (grad && (tp || rgba[3] > 0)) {
+        if (grad && (tp || rgba[3] > 0) && !in_lanes) {
             c5_gather_diffs(r, m, ray->pos, &k);
             c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
         }
@@ -528,8 +530,9 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
                 int64_t gpos[3] = {0, 0, 0};
                 if (want_gpos)
                     c5_geom_from_voxel(r, ray->pos, gpos);
+                c5_gather_diffs_to(r, m, ray->pos, &q.lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
                 for (int a = 0; a < 3; a++) {
-                    q.lit.grad[lane][a] = smp.grad[a];
+                    q.lit.frac[a][lane] = (int32_t)k.frac[a];
                     q.lit.gpos[lane][a] = gpos[a];
                     q.lit.rgb[lane][a] = rgba[a];
                     q.pos[lane][a] = to.pos[a];

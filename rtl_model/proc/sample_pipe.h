@@ -63,7 +63,10 @@ static inline void c5_gather_values(const c5_frame_regs *r, const c5_rdram *m, c
                 k->v[kx + 2 * ky + 4 * kz] = v[o0 + c[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
 }
 
-static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], c5_corners *k)
+/* The differences into d[a * sa + j * sj] (corner j, axis a): c5_corners.d, or the lanes of
+ * the gradient block (shade_wide.h). */
+static inline void c5_gather_diffs_to(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int32_t *d,
+                                      ptrdiff_t sa, ptrdiff_t sj)
 {
     int c[3][2], lo[3][2], hi[3][2], i3[3], inner = 1;
     for (int a = 0; a < 3; a++) {
@@ -78,9 +81,9 @@ static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, co
         const uint8_t *b = v + (o0 + (i3[0] - m->org[0]) * sx + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz);
         const uint8_t *p[8] = {b, b + sx, b + sy, b + sx + sy, b + sz, b + sx + sz, b + sy + sz, b + sx + sy + sz};
         for (int j = 0; j < 8; j++) {
-            k->d[0][j] = p[j][sx] - p[j][-sx];
-            k->d[1][j] = p[j][sy] - p[j][-sy];
-            k->d[2][j] = p[j][sz] - p[j][-sz];
+            d[j * sj] = p[j][sx] - p[j][-sx];
+            d[sa + j * sj] = p[j][sy] - p[j][-sy];
+            d[2 * sa + j * sj] = p[j][sz] - p[j][-sz];
         }
         return;
     }
@@ -97,13 +100,18 @@ static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, co
         for (int ky = 0; ky < 2; ky++)
             for (int kx = 0; kx < 2; kx++) {
                 int j = kx + 2 * ky + 4 * kz;
-                k->d[0][j] = v[o0 + hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
-                             v[o0 + lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
-                k->d[1][j] = v[o0 + c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
-                             v[o0 + c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz];
-                k->d[2][j] = v[o0 + c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
-                             v[o0 + c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
+                d[j * sj] = v[o0 + hi[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz] -
+                            v[o0 + lo[0][kx] * sx + c[1][ky] * sy + c[2][kz] * sz];
+                d[sa + j * sj] = v[o0 + c[0][kx] * sx + hi[1][ky] * sy + c[2][kz] * sz] -
+                                 v[o0 + c[0][kx] * sx + lo[1][ky] * sy + c[2][kz] * sz];
+                d[2 * sa + j * sj] = v[o0 + c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
+                                     v[o0 + c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
             }
+}
+
+static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], c5_corners *k)
+{
+    c5_gather_diffs_to(r, m, pos, &k->d[0][0], 8, 1);
 }
 
 static inline void c5_gather(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], int want_grad,

@@ -22,6 +22,20 @@ static void shade_lanes_scalar(const c5_frame_regs *r, const int64_t d[3], c5_sh
     }
 }
 
+static void grad_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
+{
+    for (int i = 0; i < b->n; i++) {
+        int64_t frac[3];
+        int32_t d[3][8];
+        for (int a = 0; a < 3; a++) {
+            frac[a] = b->frac[a][i];
+            for (int j = 0; j < 8; j++)
+                d[a][j] = b->diff[a][j][i];
+        }
+        c5_grad_blend(frac, d, r->gs, b->grad[i]);
+    }
+}
+
 #if C5_SHADE_WIDE
 
 #include <immintrin.h>
@@ -273,6 +287,45 @@ WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_
     return 0;
 }
 
+/* Eight lanes of an int32_t [C5_SHADE_LANES] row (exact). */
+WIDE static inline v8 lanes32(const int32_t *row)
+{
+    __m256i x = _mm256_loadu_si256((const __m256i *)row);
+    return (v8){{_mm256_cvtepi32_pd(_mm256_castsi256_si128(x)), _mm256_cvtepi32_pd(_mm256_extracti128_si256(x, 1))}};
+}
+
+/* c5_grad_blend: per axis sum_j w_j d_j with w_j the product of the corner's three
+ * fractions, taken as z (y (x d)): the same integer as the blend's in any order, and every
+ * partial sum within 255 2^45 < 2^53, so exact; then the two half-to-even shifts as
+ * multiplications by powers of 2 and rounds to even. */
+WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
+{
+    const v8 one = set1(1 << 15);
+    v8 w[3][2];
+    for (int a = 0; a < 3; a++) {
+        w[a][1] = lanes32(b->frac[a]);
+        w[a][0] = sub(one, w[a][1]);
+    }
+    for (int a = 0; a < 3; a++) {
+        v8 yb[2];
+        for (int cz = 0; cz < 2; cz++) {
+            v8 xa[2];
+            for (int cy = 0; cy < 2; cy++) {
+                int j = 2 * cy + 4 * cz;
+                xa[cy] = add(mul(w[0][0], lanes32(b->diff[a][j])), mul(w[0][1], lanes32(b->diff[a][j + 1])));
+            }
+            yb[cz] = add(mul(w[1][0], xa[0]), mul(w[1][1], xa[1]));
+        }
+        v8 blend = rne(mul(add(mul(w[2][0], yb[0]), mul(w[2][1], yb[1])), set1(0x1p-37)));
+        v8 g = rne(mul(mul(blend, set1((double)r->gs[a])), set1(0x1p-15)));
+        double o[8];
+        _mm256_storeu_pd(o, g.h[0]);
+        _mm256_storeu_pd(o + 4, g.h[1]);
+        for (int i = 0; i < b->n; i++)
+            b->grad[i][a] = (int64_t)o[i];
+    }
+}
+
 /* The checks before any instruction of the wide units runs. */
 int c5_shade_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
@@ -284,7 +337,17 @@ int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_S
     return c5_shade_wide_usable() ? normalize_wide(v, out) : -1;
 }
 
+void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
+{
+    if (c5_shade_wide_usable())
+        grad_wide(r, b);
+    else
+        grad_lanes_scalar(r, b);
+}
+
 #else
+
+void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b) { grad_lanes_scalar(r, b); }
 
 int c5_shade_wide_usable(void) { return 0; }
 

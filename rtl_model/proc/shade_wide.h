@@ -21,13 +21,20 @@
 /* Shaded samples of one ray (one direction): inputs and, after c5_shade_wide, outputs. */
 typedef struct {
     int n;              /* lanes in use, 1..C5_SHADE_LANES */
-    int64_t grad[C5_SHADE_LANES][3]; /* c5_sample.grad */
+    /* The gradient block's inputs (c5_grad_wide): per axis and corner the lanes' central
+     * differences (c5_corners.d), and per axis their fractions (c5_corners.frac) */
+    int32_t diff[3][8][C5_SHADE_LANES];
+    int32_t frac[3][C5_SHADE_LANES];
+    int64_t grad[C5_SHADE_LANES][3]; /* c5_sample.grad: c5_grad_wide's, or given */
     int64_t gpos[C5_SHADE_LANES][3]; /* geom position (read for point lights only) */
     int64_t rgb[C5_SHADE_LANES][3];  /* the table colour, UQ1.15 */
     int64_t out[C5_SHADE_LANES][3];  /* shaded_rgb UQ4.12 */
     uint64_t sat[C5_SHADE_LANES];    /* each lane's saturations (c5_shade's count) */
 } c5_shade_lanes;
 
+/* grad of lanes 0..n-1 from diff and frac as c5_grad_blend gives it (gs: r->gs), on the
+ * wide units where the host has them. */
+void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b);
 /* out and sat of lanes 0..n-1 as c5_shade(r, lane, d) gives them; the lanes on the wide units
  * where the host has them and every lane is in range, else one by one. */
 void c5_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
