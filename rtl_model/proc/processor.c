@@ -373,9 +373,10 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
 }
 
 /* A run's samples taken but not yet composited, while they wait for their shaded samples to
- * fill the lanes of c5_shade_wide. What each sample does to the processor's state (the voxel cache,
- * the counters) waits with it, and is done in order when they are composited, up to the sample
- * that ends the ray: so the state is what sample-by-sample processing leaves. */
+ * fill the lanes of c5_grad_wide and c5_shade_wide. What each sample does to the processor's
+ * state (the voxel cache, the counters) waits with it, and is done in order when they are
+ * composited, up to the sample that ends the ray: so the state is what sample-by-sample
+ * processing leaves. */
 #define PENDING_MAX 32
 typedef struct {
     int n;                     /* samples */
@@ -515,7 +516,8 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
                 rgba[ch] = c5_narrow_clamp(rgba[ch], r->nsh[C5_W_RGBA], 0, 65535, &p->st.saturations);
         /* The gradient feeds only the shading of a sample with alpha > 0 (and the taps):
          * the processor computes it for every sample with gradients on (the cycles count
-         * it), the model skips the host work where no bit depends on it. */
+         * it), the model skips the host work where no bit depends on it. In lanes it is
+         * c5_grad_wide's, from the differences read below. */
         if (grad && (tp || rgba[3] > 0) && !in_lanes) {
             c5_gather_diffs(r, m, ray->pos, &k);
             c5_grad_blend_w(wt, k.d, r->gs, smp.grad);
