@@ -1,5 +1,5 @@
-/* Eight samples' shading on AVX2 and FMA (shade_wide.h). Only the functions marked with the
- * target use those units, so the rest of the build stays at the baseline and
+/* Eight samples' gradients and shading on AVX2 and FMA (shade_wide.h). Only the functions
+ * marked with the target use those units, so the rest of the build stays at the baseline and
  * c5_shade_wide_usable decides at run time. The round-probe build (C5_ROUND_PROBE) shades
  * sample by sample: its probes sit in c5_shade_w's steps. */
 #include "shade_wide.h"

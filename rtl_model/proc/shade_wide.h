@@ -1,14 +1,15 @@
-/* The shading block (sample_pipe.h, c5_shade_w at the shipped widths) for up to eight samples
- * at once, on the host's AVX2 and FMA units: the same integers as c5_shade, lane by lane.
+/* The gradient and shading blocks (sample_pipe.h: c5_grad_blend, and c5_shade_w at the
+ * shipped widths) for up to eight samples at once, on the host's AVX2 and FMA units: the same
+ * integers as c5_grad_blend and c5_shade, lane by lane.
  *
- * Why it is exact in doubles: every value the block normalises or multiplies there is an
- * integer below 2^53 (a normal's gradient below 2^17 a component, a half vector's below
- * 2^16, a point light's direction below 2^25, checked), so sums and products are exact;
- * each rounding of the block is done on an exact value (a dot product's half-to-even shift is
- * a multiplication by 2^-14 and a round to even; a quotient is rounded from the correctly
- * rounded double and checked on its exact remainder, which FMA forms; floor(sqrt) likewise).
- * What does not fit (the 128-bit products of the light term, the clamps and their counts)
- * is done per lane in the block's own integer steps. docs/board-model.md, "Host speed". */
+ * Why it is exact in doubles: every value the blocks blend, normalise or multiply is an
+ * integer below 2^53 (a gradient blend's partial sums within 255 2^45, a normal's gradient
+ * below 2^17 a component, a half vector's below 2^16, a point light's direction below 2^25,
+ * checked), so sums and products are exact; each rounding is done on an exact value (a
+ * half-to-even shift is a multiplication by a power of 2 and a round to even; a quotient is
+ * rounded from the correctly rounded double and checked on its exact remainder, which FMA
+ * forms; floor(sqrt) likewise), and the light terms' products, up to 2^64, are split into
+ * two exact halves. docs/board-model.md, "Host speed". */
 #ifndef C5_SHADE_WIDE_H
 #define C5_SHADE_WIDE_H
 
