@@ -167,15 +167,6 @@ TEST(shade_wide_is_c5_shade_on_every_small_gradient)
     CHECK(lanes == 3 * 13 * 13 * 13 || !c5_shade_wide_usable());
 }
 
-/* round(n / d) half to even, exact (d > 0) */
-static int64_t div_he(__int128 n, __int128 d)
-{
-    __int128 q = n / d, r = n % d;
-    if (r < 0)
-        q--, r += d;
-    return (int64_t)(q + (2 * r > d || (2 * r == d && (q & 1))));
-}
-
 /* A vector of components below 2^25 whose x quotient v_x 2^28 / len lies within 1..3 units of
  * 1 / (2 len) of a half (below half a double's spacing there once len passes 2^39): len = floor(|v| 2^14) is chosen first so that 2^29 v_x - m = (2k + 1)
  * len for a small m, then y and z so that |v|^2 2^28 falls in [len^2, (len + 1)^2). 0 if the
@@ -243,7 +234,7 @@ TEST(shade_wide_normalize_is_c5_geom_normalize_near_its_ties)
                 int64_t len = (int64_t)c5_isqrt((unsigned __int128)((__int128)t[0] * t[0] + (__int128)t[1] * t[1] +
                                                                      (__int128)t[2] * t[2]) << 28);
                 double e = (double)(t[0] * ((int64_t)1 << 28)) / (double)len;
-                corrected += (int64_t)nearbyint(e) != div_he((__int128)t[0] << 28, len);
+                corrected += (int64_t)nearbyint(e) != c5_div_he((__int128)t[0] << 28, len);
             }
         CHECK(c5_shade_wide_normalize(v, out) == 0);
         for (int i = 0; i < C5_SHADE_LANES; i++) {
