@@ -226,7 +226,7 @@ fuzz: $(LAYOUTS_H) $(REGS_H)
 REF_SO := $(BUILD)/libc5ref.so
 # REF_MODEL_SRC: the model sources the references call into and what they use (the link
 # fails on anything missing).
-REF_MODEL_SRC := rtl_model/proc/ray_queue.c rtl_model/dsp/cell_tree.c rtl_model/proc/processor.c rtl_model/proc/ray_log.c rtl_model/proc/packet.c rtl_model/proc/fixed.c rtl_model/mem/cells.c rtl_model/proc/geom.c rtl_model/proc/shade_wide.c \
+REF_MODEL_SRC := rtl_model/proc/ray_queue.c rtl_model/dsp/cell_tree.c rtl_model/proc/processor.c rtl_model/proc/ray_log.c rtl_model/proc/packet.c rtl_model/proc/fixed.c rtl_model/mem/cells.c rtl_model/proc/geom.c rtl_model/proc/shade_wide.c rtl_model/proc/value_wide.c \
   rtl_model/proc/hit_unit.c common/err.c common/supervol.c common/voxsrc.c common/volume.c common/voxel.c common/nrrd_precheck.c \
   common/generators.c common/tlp.c common/block_range.c common/cache_dir.c common/atomic_file.c common/worker_pool.c
 REF_SRC := $(wildcard fpga/ref/*.c) $(REF_MODEL_SRC)

@@ -253,11 +253,12 @@ TEST(shade_wide_normalize_is_c5_geom_normalize_near_its_ties)
 TEST(grad_wide_is_c5_grad_blend)
 {
     /* the gradient block in lanes against c5_grad_blend: random differences and fractions, the
-     * largest differences either way with the fractions at their ends, and all-zero lanes */
+     * largest differences either way with the fractions at their ends, and all-zero lanes;
+     * lanes of voxel rows among lanes of differences */
     static c5_frame_regs r;
     memset(&r, 0, sizeof r);
     uint64_t st = 5;
-    long lanes_checked = 0;
+    long lanes_checked = 0, row_lanes = 0;
     for (int round = 0; round < 3000; round++) {
         for (int a = 0; a < 3; a++)
             r.gs[a] = round % 7 == 0 ? C5_ONE15 : uniform_i(&st, 1, C5_ONE15);
@@ -273,6 +274,15 @@ TEST(grad_wide_is_c5_grad_blend)
                                       : kind == 3 ? (int32_t)uniform_i(&st, -2, 2)
                                                   : (int32_t)uniform_i(&st, -255, 255);
             }
+        /* in half the rounds some lanes give voxel rows instead (c5_gather_rows_to) */
+        if (round % 2)
+            for (int i = 0; i < b.n; i++)
+                if (c5_splitmix64(&st) & 1) {
+                    b.rows |= 1u << i;
+                    for (int k = 0; k < C5_SHADE_ROWS; k++)
+                        b.row[k][i] = kind == 1 ? (c5_splitmix64(&st) & 1 ? 0xff00ff00u : 0x00ff00ffu)
+                                                : (uint32_t)c5_splitmix64(&st);
+                }
         c5_grad_wide(&r, &b);
         for (int i = 0; i < b.n; i++) {
             int64_t frac[3], want[3];
@@ -282,6 +292,10 @@ TEST(grad_wide_is_c5_grad_blend)
                 for (int j = 0; j < 8; j++)
                     d[a][j] = b.diff[a][j][i];
             }
+            if (b.rows >> i & 1) {
+                c5_rows_diffs(&b.row[0][i], C5_SHADE_LANES, d);
+                row_lanes++;
+            }
             c5_grad_blend(frac, d, r.gs, want);
             CHECK_MSG(!memcmp(want, b.grad[i], sizeof want), "round %d lane %d: (%lld %lld %lld), c5_grad_blend (%lld %lld %lld)",
                       round, i, (long long)b.grad[i][0], (long long)b.grad[i][1], (long long)b.grad[i][2],
@@ -289,5 +303,5 @@ TEST(grad_wide_is_c5_grad_blend)
             lanes_checked++;
         }
     }
-    CHECK(lanes_checked > 3000 * 3);
+    CHECK(lanes_checked > 3000 * 3 && row_lanes > 1000);
 }

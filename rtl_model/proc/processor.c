@@ -7,6 +7,7 @@
 #include "ray_log.h"
 #include "sample_pipe.h"
 #include "shade_wide.h"
+#include "value_wide.h"
 
 void c5_proc_init(c5_proc *p, const c5_frame_regs *r, const c5_cells *cells, const c5_rdram *mem, c5_proc_io io)
 {
@@ -278,26 +279,6 @@ static inline __attribute__((always_inline)) void trav_step(const c5_trav_in *in
 
 void c5_trav_step(const c5_trav_in *in, c5_trav_out *o) { trav_step(in, o); }
 
-/* After a step that samples at in->pos: how many of the following steps trav_step is
- * known to decide "sample" as well. Until pos + n S leaves the box of its 8^3 block within
- * the cell (steps_to_exit, exact), every position stays in the grid, in the cell and in
- * the same non-empty block, so only the lifetime can end the run: the sample at pos leaves
- * lifetime - 1, and step k needs lifetime - k > 0. */
-static int64_t samples_ahead(const c5_trav_in *in)
-{
-    int lo[3], hi[3];
-    for (int a = 0; a < 3; a++) {
-        int b = (int)(in->pos[a] >> C5_POS_F) / C5_BLOCK;
-        lo[a] = b * C5_BLOCK > in->lo[a] ? b * C5_BLOCK : in->lo[a];
-        hi[a] = (b + 1) * C5_BLOCK < in->hi[a] ? (b + 1) * C5_BLOCK : in->hi[a];
-        hi[a] = hi[a] < in->dims[a] ? hi[a] : in->dims[a];
-    }
-    int64_t n = steps_to_exit(in->pos, in->S, lo, hi) - 1;
-    if (in->lifetime != C5_LIFE_NONE && n > (int64_t)in->lifetime - 1)
-        n = (int64_t)in->lifetime - 1;
-    return n;
-}
-
 /* The empty flag of the 8^3 block holding pos, 0 outside the grid. */
 static int block_empty_at(const c5_cells *cl, const int dims[3], const int64_t pos[3])
 {
@@ -307,6 +288,54 @@ static int block_empty_at(const c5_cells *cl, const int dims[3], const int64_t p
     int b[3] = {(int)(pos[0] >> C5_POS_F) / C5_BLOCK, (int)(pos[1] >> C5_POS_F) / C5_BLOCK,
                 (int)(pos[2] >> C5_POS_F) / C5_BLOCK};
     return cl->block_empty[((size_t)b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]];
+}
+
+/* Whether trav_step decides "sample" at pos with the lifetime left: in the grid, in the
+ * cell, in a block that is not empty. */
+static int samples_at(const c5_trav_in *in, const c5_cells *cl, const int64_t pos[3])
+{
+    for (int a = 0; a < 3; a++) {
+        if (pos[a] < 0 || pos[a] >= ((int64_t)in->dims[a] << C5_POS_F))
+            return 0;
+        int v = (int)(pos[a] >> C5_POS_F);
+        if (v < in->lo[a] || v >= in->hi[a])
+            return 0;
+    }
+    return !block_empty_at(cl, in->dims, pos);
+}
+
+/* The most samples_ahead looks ahead: a ray that ends early wastes no more block walks. */
+#define AHEAD_MAX 64
+
+/* After a step that samples at in->pos: how many of the following steps trav_step is
+ * known to decide "sample" as well. Until pos + n S leaves the box of its 8^3 block within
+ * the cell (steps_to_exit, exact), every position stays in the grid, in the cell and in
+ * the same non-empty block; the first position past the box starts the next block's run if
+ * trav_step samples there too (samples_at), and so on up to AHEAD_MAX. Only the lifetime
+ * cuts the runs: the sample at pos leaves lifetime - 1, and step k needs lifetime - k > 0. */
+static int64_t samples_ahead(const c5_trav_in *in, const c5_cells *cl)
+{
+    int64_t at[3] = {in->pos[0], in->pos[1], in->pos[2]}, n = 0;
+    int64_t life = in->lifetime == C5_LIFE_NONE ? INT64_MAX : (int64_t)in->lifetime;
+    for (;;) {
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; a++) {
+            int b = (int)(at[a] >> C5_POS_F) / C5_BLOCK;
+            lo[a] = b * C5_BLOCK > in->lo[a] ? b * C5_BLOCK : in->lo[a];
+            hi[a] = (b + 1) * C5_BLOCK < in->hi[a] ? (b + 1) * C5_BLOCK : in->hi[a];
+            hi[a] = hi[a] < in->dims[a] ? hi[a] : in->dims[a];
+        }
+        int64_t e = steps_to_exit(at, in->S, lo, hi);
+        n += e; /* the first step from in->pos outside the box */
+        if (n >= life || n > AHEAD_MAX)
+            break;
+        for (int a = 0; a < 3; a++)
+            at[a] = in->pos[a] + n * in->S[a];
+        if (!samples_at(in, cl, at))
+            break;
+    }
+    n -= 1;
+    return n < life - 1 ? n : life - 1;
 }
 
 /* The taps of one sample (only called with taps): the gather and blends, the table. */
@@ -397,6 +426,7 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
         c5_shade_wide(p->r, ray->dir, &q->lit);
     }
     q->n = q->lit.n = 0;
+    q->lit.rows = 0;
     for (int j = 0; j < lit; j++) {
         for (; i <= q->at[j]; i++)
             cache_access(p, q->tag[i]);
@@ -416,6 +446,54 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
         cache_access(p, q->tag[i]);
     p->st.samples += (uint64_t)n;
     p->st.cycles += (uint64_t)n * cycles;
+    return 0;
+}
+
+/* The fewest samples a run takes through c5_value_wide. */
+#define VALUE_LANES_MIN 4
+
+/* The n samples of c5_value_wide's lanes (at ray->pos + j S) made pending in order, as
+ * c5_proc_run's per-sample path does, and the ray moved past them: 1 if the ray ended. */
+static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lanes *vl, int n, const int64_t S[3],
+                       int want_gpos, uint64_t cycles)
+{
+    const c5_frame_regs *r = p->r;
+    int64_t at[3] = {ray->pos[0], ray->pos[1], ray->pos[2]};
+    uint32_t life = ray->lifetime;
+    for (int j = 0; j < n; j++) {
+        int64_t next[3] = {at[0] + S[0], at[1] + S[1], at[2] + S[2]};
+        if (life != C5_LIFE_NONE)
+            life--;
+        int i = q->n++;
+        q->tag[i] = c5_cache_tag_of(at);
+        if (vl->alpha[j] > 0) {
+            int lane = q->lit.n++;
+            int64_t rgba[4], gpos[3] = {0, 0, 0};
+            c5_classify_channels(r, vl->value[j], 0, 3, rgba);
+            if (want_gpos)
+                c5_geom_from_voxel(r, at, gpos);
+            if (c5_gather_rows_to(r, p->mem, at, &q->lit.row[0][lane], C5_SHADE_LANES))
+                q->lit.rows |= 1u << lane;
+            else
+                c5_gather_diffs_to(r, p->mem, at, &q->lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
+            for (int a = 0; a < 3; a++) {
+                q->lit.frac[a][lane] = vl->frac[a][j];
+                q->lit.gpos[lane][a] = gpos[a];
+                q->lit.rgb[lane][a] = rgba[a];
+                q->pos[lane][a] = next[a];
+            }
+            q->at[lane] = i;
+            q->alpha[lane] = vl->alpha[j];
+            q->lifetime[lane] = life;
+        }
+        for (int a = 0; a < 3; a++)
+            at[a] = next[a];
+        if ((q->lit.n == C5_SHADE_LANES || q->n == PENDING_MAX) && composite_pending(p, ray, q, cycles))
+            return 1;
+    }
+    for (int a = 0; a < 3; a++)
+        ray->pos[a] = at[a];
+    ray->lifetime = life;
     return 0;
 }
 
@@ -462,6 +540,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     pending q;
     int in_lanes = shades_in_lanes(r, tp, shade);
     q.n = q.lit.n = 0;
+    q.lit.rows = 0;
     for (;;) {
         c5_trav_out to;
         if (ahead > 0) {
@@ -479,7 +558,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             if (watched)
                 tp->traverse(tp->ctx, &ti, &to);
             else if (to.action == C5_TRAV_SAMPLE)
-                ahead = samples_ahead(&ti);
+                ahead = samples_ahead(&ti, cl);
         }
         if (to.action != C5_TRAV_SAMPLE && q.n && composite_pending(p, ray, &q, sample_cycles))
             return;
@@ -493,6 +572,16 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             p->st.leaps++;
             p->st.cycles += C5_CYC_LEAP;
             continue;
+        }
+        if (in_lanes && ahead + 1 >= VALUE_LANES_MIN) {
+            int n = ahead + 1 < C5_VALUE_LANES ? (int)ahead + 1 : C5_VALUE_LANES;
+            c5_value_lanes vl;
+            if (c5_value_wide(r, m, ray->pos, S, n, &vl) == 0) {
+                ahead -= n - 1;
+                if (pend_values(p, ray, &q, &vl, n, S, want_gpos, sample_cycles))
+                    return;
+                continue;
+            }
         }
         c5_corners k;
         c5_sample smp;
@@ -532,7 +621,10 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
                 int64_t gpos[3] = {0, 0, 0};
                 if (want_gpos)
                     c5_geom_from_voxel(r, ray->pos, gpos);
-                c5_gather_diffs_to(r, m, ray->pos, &q.lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
+                if (c5_gather_rows_to(r, m, ray->pos, &q.lit.row[0][lane], C5_SHADE_LANES))
+                    q.lit.rows |= 1u << lane;
+                else
+                    c5_gather_diffs_to(r, m, ray->pos, &q.lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
                 for (int a = 0; a < 3; a++) {
                     q.lit.frac[a][lane] = (int32_t)k.frac[a];
                     q.lit.gpos[lane][a] = gpos[a];

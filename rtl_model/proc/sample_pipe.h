@@ -8,6 +8,8 @@
 #ifndef C5_SAMPLE_PIPE_H
 #define C5_SAMPLE_PIPE_H
 
+#include <string.h>
+
 #include "cells.h"
 #include "fxops.h"
 #include "geom.h"
@@ -107,6 +109,59 @@ static inline void c5_gather_diffs_to(const c5_frame_regs *r, const c5_rdram *m,
                 d[2 * sa + j * sj] = v[o0 + c[0][kx] * sx + c[1][ky] * sy + hi[2][kz] * sz] -
                                      v[o0 + c[0][kx] * sx + c[1][ky] * sy + lo[2][kz] * sz];
             }
+}
+
+/* The rows of x = i - 1 .. i + 2 that hold every voxel of the central differences: (dy, dz)
+ * from corner 0, the x row of each corner (dy, dz in 0..1) first. */
+static const int8_t C5_ROW_DY[12] = {0, 1, 0, 1, -1, 2, -1, 2, 0, 1, 0, 1};
+static const int8_t C5_ROW_DZ[12] = {0, 0, 1, 1, 0, 0, 1, 1, -1, -1, 2, 2};
+
+/* The rows into row[k * stride] (k < 12, a voxel a byte, x = i - 1 lowest), where no index
+ * needs a clamp (1 <= i, i + 2 <= dims - 1 on every axis: the same voxels c5_gather_diffs_to
+ * reads, and those beside them in x, all in the cell's box): 1, else 0 and nothing read. */
+static inline int c5_gather_rows_to(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], uint32_t *row,
+                                    ptrdiff_t stride)
+{
+    int i3[3];
+    for (int a = 0; a < 3; a++) {
+        int i = (int)((pos[a] - (1 << (C5_POS_F - 1))) >> C5_POS_F);
+        int room = r->dims[a] - 3 > 0 ? r->dims[a] - 3 : 0;
+        if ((unsigned)(i - 1) >= (unsigned)room)
+            return 0;
+        i3[a] = i;
+    }
+    ptrdiff_t sy, sz, o0;
+    const uint8_t *v = c5_rdram_data(m, &o0, &sy, &sz);
+    const uint8_t *b = v + (o0 + (i3[0] - 1 - m->org[0]) + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz);
+    for (int k = 0; k < 12; k++) {
+        const uint8_t *q = b + C5_ROW_DY[k] * sy + C5_ROW_DZ[k] * sz;
+        uint32_t w;
+        memcpy(&w, q, 4); /* one load: the voxels in memory order */
+#if __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+        w = __builtin_bswap32(w);
+#endif
+        row[k * stride] = w;
+    }
+    return 1;
+}
+
+/* The row (C5_ROW_DY, C5_ROW_DZ) = (dy, dz), as C5_ROW_OF[dy + 1][dz + 1] (0 where there is none). */
+static const int8_t C5_ROW_OF[4][4] = {{0, 4, 6, 0}, {8, 0, 2, 10}, {9, 1, 3, 11}, {0, 5, 7, 0}};
+static inline int c5_row_at(int dy, int dz) { return C5_ROW_OF[dy + 1][dz + 1]; }
+
+/* The central differences (c5_corners.d) from the rows of c5_gather_rows_to (row[k * stride]). */
+static inline void c5_rows_diffs(const uint32_t *row, ptrdiff_t stride, int32_t d[3][8])
+{
+#define C5_ROW_BYTE(dy, dz, x) ((int32_t)(row[c5_row_at(dy, dz) * stride] >> (8 * (x)) & 255))
+    for (int kz = 0; kz < 2; kz++)
+        for (int ky = 0; ky < 2; ky++)
+            for (int kx = 0; kx < 2; kx++) {
+                int j = kx + 2 * ky + 4 * kz;
+                d[0][j] = C5_ROW_BYTE(ky, kz, kx + 2) - C5_ROW_BYTE(ky, kz, kx);
+                d[1][j] = C5_ROW_BYTE(ky + 1, kz, kx + 1) - C5_ROW_BYTE(ky - 1, kz, kx + 1);
+                d[2][j] = C5_ROW_BYTE(ky, kz + 1, kx + 1) - C5_ROW_BYTE(ky, kz - 1, kx + 1);
+            }
+#undef C5_ROW_BYTE
 }
 
 static inline void c5_gather_diffs(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], c5_corners *k)

@@ -1,16 +1,9 @@
-/* Eight samples' gradients and shading on AVX2 and FMA (shade_wide.h). Only the functions
- * marked with the target use those units, so the rest of the build stays at the baseline and
- * c5_shade_wide_usable decides at run time. The round-probe build (C5_ROUND_PROBE) shades
- * sample by sample: its probes sit in c5_shade_w's steps. */
+/* Eight samples' gradients and shading on AVX2 and FMA (shade_wide.h; the lanes' arithmetic:
+ * wide_lanes.h). */
 #include "shade_wide.h"
 
 #include "sample_pipe.h"
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(C5_ROUND_PROBE)
-#define C5_SHADE_WIDE 1
-#else
-#define C5_SHADE_WIDE 0
-#endif
+#include "wide_lanes.h"
 
 static void shade_lanes_scalar(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
@@ -27,88 +20,26 @@ static void grad_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
     for (int i = 0; i < b->n; i++) {
         int64_t frac[3];
         int32_t d[3][8];
+        if (b->rows >> i & 1)
+            c5_rows_diffs(&b->row[0][i], C5_SHADE_LANES, d);
         for (int a = 0; a < 3; a++) {
             frac[a] = b->frac[a][i];
-            for (int j = 0; j < 8; j++)
-                d[a][j] = b->diff[a][j][i];
+            if (!(b->rows >> i & 1))
+                for (int j = 0; j < 8; j++)
+                    d[a][j] = b->diff[a][j][i];
         }
         c5_grad_blend(frac, d, r->gs, b->grad[i]);
     }
 }
 
-#if C5_SHADE_WIDE
+#if C5_WIDE
 
-#include <immintrin.h>
+#include "wide_lanes.h"
 
 int c5_shade_wide_usable(void)
 {
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-}
-
-#define WIDE __attribute__((target("avx2,fma")))
-
-/* Eight lanes as two registers: every step is written once and done on both. */
-typedef struct {
-    __m256d h[2];
-} v8;
-
-#define V8_1(name, expr)                                                                                       \
-    WIDE static inline v8 name(v8 a)                                                                           \
-    {                                                                                                          \
-        v8 o;                                                                                                  \
-        for (int k = 0; k < 2; k++) {                                                                          \
-            __m256d x = a.h[k];                                                                                \
-            o.h[k] = (expr);                                                                                   \
-        }                                                                                                      \
-        return o;                                                                                              \
-    }
-#define V8_2(name, expr)                                                                                       \
-    WIDE static inline v8 name(v8 a, v8 b)                                                                     \
-    {                                                                                                          \
-        v8 o;                                                                                                  \
-        for (int k = 0; k < 2; k++) {                                                                          \
-            __m256d x = a.h[k], y = b.h[k];                                                                    \
-            o.h[k] = (expr);                                                                                   \
-        }                                                                                                      \
-        return o;                                                                                              \
-    }
-V8_2(add, _mm256_add_pd(x, y))
-V8_2(sub, _mm256_sub_pd(x, y))
-V8_2(mul, _mm256_mul_pd(x, y))
-V8_2(dvd, _mm256_div_pd(x, y))
-V8_2(and, _mm256_and_pd(x, y))
-V8_2(gt, _mm256_cmp_pd(x, y, _CMP_GT_OQ))
-V8_2(lt, _mm256_cmp_pd(x, y, _CMP_LT_OQ))
-V8_2(ne, _mm256_cmp_pd(x, y, _CMP_NEQ_OQ))
-V8_2(eq, _mm256_cmp_pd(x, y, _CMP_EQ_OQ))
-V8_1(root, _mm256_sqrt_pd(x))
-V8_1(floor8, _mm256_floor_pd(x))
-V8_1(rne, _mm256_round_pd(x, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC))
-V8_1(neg, _mm256_sub_pd(_mm256_setzero_pd(), x))
-V8_1(mag, _mm256_andnot_pd(_mm256_set1_pd(-0.0), x))
-
-WIDE static inline v8 set1(double v) { return (v8){{_mm256_set1_pd(v), _mm256_set1_pd(v)}}; }
-/* where m, b; else a */
-WIDE static inline v8 blend(v8 a, v8 b, v8 m)
-{
-    return (v8){{_mm256_blendv_pd(a.h[0], b.h[0], m.h[0]), _mm256_blendv_pd(a.h[1], b.h[1], m.h[1])}};
-}
-/* a b - c and c - a b, each rounded once */
-WIDE static inline v8 fmsub(v8 a, v8 b, v8 c)
-{
-    return (v8){{_mm256_fmsub_pd(a.h[0], b.h[0], c.h[0]), _mm256_fmsub_pd(a.h[1], b.h[1], c.h[1])}};
-}
-WIDE static inline v8 fnmadd(v8 a, v8 b, v8 c)
-{
-    return (v8){{_mm256_fnmadd_pd(a.h[0], b.h[0], c.h[0]), _mm256_fnmadd_pd(a.h[1], b.h[1], c.h[1])}};
-}
-
-/* Component c of lanes 0..7 of an int64_t [8][3] (exact: every value is below 2^53). */
-WIDE static inline v8 lanes(const int64_t a[8][3], int c)
-{
-    return (v8){{_mm256_set_pd((double)a[3][c], (double)a[2][c], (double)a[1][c], (double)a[0][c]),
-                 _mm256_set_pd((double)a[7][c], (double)a[6][c], (double)a[5][c], (double)a[4][c])}};
 }
 
 /* c5_geom_dot14_dirs: the exact sum (below 2^31), times 2^-14 (exact), rounded to even. */
@@ -287,17 +218,40 @@ WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_
     return 0;
 }
 
-/* Eight lanes of an int32_t [C5_SHADE_LANES] row (exact). */
-WIDE static inline v8 lanes32(const int32_t *row)
-{
-    __m256i x = _mm256_loadu_si256((const __m256i *)row);
-    return (v8){{_mm256_cvtepi32_pd(_mm256_castsi256_si128(x)), _mm256_cvtepi32_pd(_mm256_extracti128_si256(x, 1))}};
-}
 
 /* c5_grad_blend: per axis sum_j w_j d_j with w_j the product of the corner's three
  * fractions, taken as z (y (x d)): the same integer as the blend's in any order, and every
  * partial sum within 255 2^45 < 2^53, so exact; then the two half-to-even shifts as
  * multiplications by powers of 2 and rounds to even. */
+
+/* The lanes' differences, corner j of axis a in d[a][j]: from the rows in the lanes that have
+ * them (the subtractions of c5_rows_diffs), from diff in the others. */
+WIDE static inline __attribute__((always_inline)) void diff_lanes(const c5_shade_lanes *b, __m256i d[3][8])
+{
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < 8; j++)
+            d[a][j] = _mm256_loadu_si256((const __m256i *)b->diff[a][j]);
+    if (!b->rows)
+        return;
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128), byte = _mm256_set1_epi32(255);
+    __m256i use = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)b->rows), bit), bit);
+    __m256i row[C5_SHADE_ROWS];
+    for (int k = 0; k < C5_SHADE_ROWS; k++)
+        row[k] = _mm256_loadu_si256((const __m256i *)b->row[k]);
+#define BYTE(dy, dz, x) _mm256_and_si256(_mm256_srli_epi32(row[c5_row_at(dy, dz)], 8 * (x)), byte)
+#pragma GCC unroll 8
+    for (int j = 0; j < 8; j++) {
+        int kx = j & 1, ky = j >> 1 & 1, kz = j >> 2;
+        __m256i dx = _mm256_sub_epi32(BYTE(ky, kz, kx + 2), BYTE(ky, kz, kx));
+        __m256i dy = _mm256_sub_epi32(BYTE(ky + 1, kz, kx + 1), BYTE(ky - 1, kz, kx + 1));
+        __m256i dz = _mm256_sub_epi32(BYTE(ky, kz + 1, kx + 1), BYTE(ky, kz - 1, kx + 1));
+        d[0][j] = _mm256_blendv_epi8(d[0][j], dx, use);
+        d[1][j] = _mm256_blendv_epi8(d[1][j], dy, use);
+        d[2][j] = _mm256_blendv_epi8(d[2][j], dz, use);
+    }
+#undef BYTE
+}
+
 WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
 {
     const v8 one = set1(1 << 15);
@@ -306,13 +260,15 @@ WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
         w[a][1] = lanes32(b->frac[a]);
         w[a][0] = sub(one, w[a][1]);
     }
+    __m256i d[3][8];
+    diff_lanes(b, d);
     for (int a = 0; a < 3; a++) {
         v8 yb[2];
         for (int cz = 0; cz < 2; cz++) {
             v8 xa[2];
             for (int cy = 0; cy < 2; cy++) {
                 int j = 2 * cy + 4 * cz;
-                xa[cy] = add(mul(w[0][0], lanes32(b->diff[a][j])), mul(w[0][1], lanes32(b->diff[a][j + 1])));
+                xa[cy] = add(mul(w[0][0], lanes_i(d[a][j])), mul(w[0][1], lanes_i(d[a][j + 1])));
             }
             yb[cz] = add(mul(w[1][0], xa[0]), mul(w[1][1], xa[1]));
         }
@@ -362,6 +318,7 @@ int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_S
     (void)v, (void)out;
     return -1;
 }
+
 
 #endif
 

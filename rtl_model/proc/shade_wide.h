@@ -18,6 +18,7 @@
 #include "regs.h"
 
 #define C5_SHADE_LANES 8
+#define C5_SHADE_ROWS 12
 
 /* Shaded samples of one ray (one direction): inputs and, after c5_shade_wide, outputs. */
 typedef struct {
@@ -26,6 +27,11 @@ typedef struct {
      * differences (c5_corners.d), and per axis their fractions (c5_corners.frac) */
     int32_t diff[3][8][C5_SHADE_LANES];
     int32_t frac[3][C5_SHADE_LANES];
+    /* Or, in the lanes whose bit is set in rows, the voxels those differences are taken
+     * from (c5_gather_rows_to): the twelve rows of four (x = i - 1 .. i + 2) at C5_ROW_DY,
+     * C5_ROW_DZ from the sample's corner 0, a byte each, x = i - 1 lowest */
+    uint32_t row[C5_SHADE_ROWS][C5_SHADE_LANES];
+    unsigned rows;
     int64_t grad[C5_SHADE_LANES][3]; /* c5_sample.grad: c5_grad_wide's, or given */
     int64_t gpos[C5_SHADE_LANES][3]; /* geom position (read for point lights only) */
     int64_t rgb[C5_SHADE_LANES][3];  /* the table colour, UQ1.15 */

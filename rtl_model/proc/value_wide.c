@@ -1,0 +1,98 @@
+/* The interpolation block and the opacity of eight samples at once (value_wide.h). */
+#include "value_wide.h"
+
+#include "sample_pipe.h"
+#include "shade_wide.h"
+#include "wide_lanes.h"
+
+#if C5_WIDE
+
+/* The blend and the opacity (value_wide.h says why they are exact). */
+WIDE static int value_wide(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], const int64_t S[3],
+                           int n, c5_value_lanes *o)
+{
+    ptrdiff_t sy, sz, o0;
+    const uint8_t *v = c5_rdram_data(m, &o0, &sy, &sz);
+    /* The first and last sample bound every lane's corner indices (each is monotone along the
+     * ray): none needs a clamp, x has one voxel more either side for the four-byte reads
+     * below, and the largest offset read fits in 32 bits. */
+    int64_t top = o0 + 2;
+    for (int a = 0; a < 3; a++) {
+        int64_t i0 = (pos[a] - (1 << (C5_POS_F - 1))) >> C5_POS_F;
+        int64_t i1 = (pos[a] + (n - 1) * S[a] - (1 << (C5_POS_F - 1))) >> C5_POS_F;
+        int64_t lo = i0 < i1 ? i0 : i1, hi = i0 < i1 ? i1 : i0;
+        if (a == 0 ? lo < 1 || hi > r->dims[0] - 3 : lo < 0 || hi > r->dims[a] - 2)
+            return -1;
+        top += (hi + 1 - m->org[a]) * (a == 0 ? 1 : a == 1 ? sy : sz);
+    }
+    if (top >= INT32_MAX)
+        return -1;
+    /* Positions below 2^28 (C5_MODEL_MAX_GRID voxels of 2^15): 32-bit lanes; the lanes past n
+     * repeat the last sample. */
+    __m256i j = _mm256_min_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(n - 1));
+    __m256i off = _mm256_set1_epi32((int)(o0 - 1));
+    int32_t fr[3][8];
+    for (int a = 0; a < 3; a++) {
+        __m256i x = _mm256_add_epi32(_mm256_set1_epi32((int32_t)(pos[a] - (1 << (C5_POS_F - 1)))),
+                                     _mm256_mullo_epi32(j, _mm256_set1_epi32((int32_t)S[a])));
+        _mm256_storeu_si256((__m256i *)fr[a], _mm256_and_si256(x, _mm256_set1_epi32((1 << C5_POS_F) - 1)));
+        __m256i i = _mm256_sub_epi32(_mm256_srai_epi32(x, C5_POS_F), _mm256_set1_epi32(m->org[a]));
+        off = _mm256_add_epi32(off, a == 0 ? i : _mm256_mullo_epi32(i, _mm256_set1_epi32((int32_t)(a == 1 ? sy : sz))));
+    }
+    /* Per lane the four voxels x = i - 1 .. i + 2 of each corner row (y, z): the corners are
+     * its bytes 1 and 2. */
+    const int *base = (const int *)(const void *)v;
+    __m256i row[4];
+    for (int k = 0; k < 4; k++)
+        row[k] = _mm256_i32gather_epi32(base, _mm256_add_epi32(off, _mm256_set1_epi32((int)((k & 1) * sy + (k >> 1) * sz))), 1);
+    __m256i c[8];
+    for (int k = 0; k < 8; k++)
+        c[k] = _mm256_and_si256(_mm256_srli_epi32(row[k >> 1], 8 + 8 * (k & 1)), _mm256_set1_epi32(255));
+    const v8 one = set1(1 << C5_POS_F);
+    v8 w1[3], w0[3];
+    for (int a = 0; a < 3; a++) {
+        w1[a] = lanes32(fr[a]);
+        w0[a] = sub(one, w1[a]);
+    }
+    v8 xy[4] = {mul(w0[0], w0[1]), mul(w1[0], w0[1]), mul(w0[0], w1[1]), mul(w1[0], w1[1])};
+    v8 sum = set1(0);
+    for (int k = 0; k < 8; k++)
+        sum = add(sum, mul(mul(xy[k & 3], k < 4 ? w0[2] : w1[2]), lanes_i(c[k])));
+    v8 val = rne(mul(sum, set1(0x1p-37)));
+    __m256i value = _mm256_set_m128i(_mm256_cvtpd_epi32(val.h[1]), _mm256_cvtpd_epi32(val.h[0]));
+    __m256i i = _mm256_srai_epi32(value, 8), f = _mm256_and_si256(value, _mm256_set1_epi32(255));
+    __m256i over = _mm256_cmpgt_epi32(i, _mm256_set1_epi32(254));
+    i = _mm256_blendv_epi8(i, _mm256_set1_epi32(254), over);
+    f = _mm256_blendv_epi8(f, _mm256_set1_epi32(256), over);
+    const int *alpha0 = &r->tf[0][3];
+    __m256i idx = _mm256_slli_epi32(i, 2);
+    __m256i t0 = _mm256_i32gather_epi32(alpha0, idx, 4);
+    __m256i t1 = _mm256_i32gather_epi32(alpha0 + 4, idx, 4);
+    __m256i x = _mm256_add_epi32(_mm256_slli_epi32(t0, 8), _mm256_mullo_epi32(_mm256_sub_epi32(t1, t0), f));
+    __m256i q = _mm256_srai_epi32(x, 8), rem = _mm256_and_si256(x, _mm256_set1_epi32(255));
+    __m256i up = _mm256_add_epi32(rem, _mm256_add_epi32(_mm256_set1_epi32(127), _mm256_and_si256(q, _mm256_set1_epi32(1))));
+    __m256i alpha = _mm256_add_epi32(q, _mm256_srai_epi32(up, 8));
+    _mm256_storeu_si256((__m256i *)o->value, value);
+    _mm256_storeu_si256((__m256i *)o->alpha, alpha);
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < 8; j++)
+            o->frac[a][j] = fr[a][j];
+    return 0;
+}
+
+int c5_value_wide(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], const int64_t S[3], int n,
+                  c5_value_lanes *o)
+{
+    return c5_shade_wide_usable() && n >= 1 && n <= C5_SHADE_LANES ? value_wide(r, m, pos, S, n, o) : -1;
+}
+
+#else
+
+int c5_value_wide(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], const int64_t S[3], int n,
+                  c5_value_lanes *o)
+{
+    (void)r, (void)m, (void)pos, (void)S, (void)n, (void)o;
+    return -1;
+}
+
+#endif
