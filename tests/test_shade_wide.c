@@ -305,3 +305,33 @@ TEST(grad_wide_is_c5_grad_blend)
     }
     CHECK(lanes_checked > 3000 * 3 && row_lanes > 1000);
 }
+
+TEST(gpos_wide_is_c5_geom_from_voxel)
+{
+    /* geom positions in lanes against c5_geom_from_voxel: voxel positions anywhere below 2^28
+     * (either sign), scales up to the largest, and lanes past the wide range */
+    static c5_frame_regs r;
+    memset(&r, 0, sizeof r);
+    uint64_t st = 8;
+    long lanes_checked = 0;
+    for (int round = 0; round < 4000; round++) {
+        for (int a = 0; a < 3; a++)
+            r.gscale[a] = round % 5 == 0 ? (1 << 24) - 1 : uniform_i(&st, 1, (1 << 24) - 1);
+        c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, C5_SHADE_LANES)};
+        for (int i = 0; i < b.n; i++)
+            for (int a = 0; a < 3; a++) {
+                int64_t m = round % 50 == 0 ? (int64_t)1 << 30 : round % 3 == 0 ? 1 << 16 : (1 << 28) - 1;
+                b.vpos[i][a] = uniform_i(&st, -m, m);
+            }
+        c5_gpos_wide(&r, &b);
+        for (int i = 0; i < b.n; i++) {
+            int64_t want[3];
+            c5_geom_from_voxel(&r, b.vpos[i], want);
+            CHECK_MSG(!memcmp(want, b.gpos[i], sizeof want), "round %d lane %d: (%lld %lld %lld), scalar (%lld %lld %lld)",
+                      round, i, (long long)b.gpos[i][0], (long long)b.gpos[i][1], (long long)b.gpos[i][2],
+                      (long long)want[0], (long long)want[1], (long long)want[2]);
+            lanes_checked++;
+        }
+    }
+    CHECK(lanes_checked > 4000 * 3);
+}

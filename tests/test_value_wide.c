@@ -1,4 +1,4 @@
-/* The eight-lane interpolation and opacity (rtl_model/proc/value_wide.h) and the voxel rows
+/* The eight-lane interpolation and classification (rtl_model/proc/value_wide.h) and the voxel rows
  * of the gradient block (c5_gather_rows_to) against the scalar blocks, lane by lane, in a
  * cell copied to the RDRAM (random voxels, ghosts included) and in a grid read in place. */
 #include <string.h>
@@ -46,9 +46,10 @@ static int near_face(const c5_frame_regs *r, const int64_t pos[3])
 }
 
 /* Random runs in every cell of the RDRAM: c5_value_wide's lanes are the scalar blocks' where
- * it takes the run, and it refuses only runs that come near a face. Counts into taken and
- * refused. */
-static void check_runs(c5_frame_regs *r, const c5_rdram *m, uint64_t *st, int rounds, long *taken, long *refused)
+ * it takes the run (the colour where the opacity is not 0), and it refuses only runs that
+ * come near a face. Counts into taken, refused and lit (lanes). */
+static void check_runs(c5_frame_regs *r, const c5_rdram *m, uint64_t *st, int rounds, long *taken, long *refused,
+                       long *lit)
 {
     for (int round = 0; round < rounds; round++) {
         int64_t pos[3], S[3];
@@ -82,14 +83,22 @@ static void check_runs(c5_frame_regs *r, const c5_rdram *m, uint64_t *st, int ro
             continue;
         }
         CHECK_MSG(!near, "round %d: a run near a face taken", round);
+        CHECK_MSG(!(got.lit >> n), "round %d: lanes past the run lit", round);
         for (int j = 0; j < n; j++) {
             int64_t p[3] = {pos[0] + j * S[0], pos[1] + j * S[1], pos[2] + j * S[2]}, rgba[4];
             c5_corners k;
             c5_gather_values(r, m, p, &k);
             int64_t value = c5_interp_blend(k.frac, k.v);
-            c5_classify_channels(r, value, 3, 4, rgba);
+            c5_classify_channels(r, value, 0, 4, rgba);
             CHECK_MSG(got.value[j] == value && got.alpha[j] == rgba[3], "round %d lane %d: value %d alpha %d, scalar %lld %lld",
                       round, j, got.value[j], got.alpha[j], (long long)value, (long long)rgba[3]);
+            CHECK_MSG((got.lit >> j & 1) == (rgba[3] > 0), "round %d lane %d: lit", round, j);
+            if (rgba[3] > 0) {
+                for (int c = 0; c < 3; c++)
+                    CHECK_MSG(got.rgb[c][j] == rgba[c], "round %d lane %d: channel %d %d, scalar %lld", round, j, c,
+                              got.rgb[c][j], (long long)rgba[c]);
+                (*lit)++;
+            }
             for (int a = 0; a < 3; a++)
                 CHECK_MSG(got.frac[a][j] == k.frac[a], "round %d lane %d: frac %d", round, j, a);
         }
@@ -97,7 +106,7 @@ static void check_runs(c5_frame_regs *r, const c5_rdram *m, uint64_t *st, int ro
     }
 }
 
-TEST(value_wide_is_the_scalar_interp_and_opacity)
+TEST(value_wide_is_the_scalar_interp_and_classify)
 {
     if (!c5_shade_wide_usable()) {
         c5_value_lanes o;
@@ -117,7 +126,7 @@ TEST(value_wide_is_the_scalar_interp_and_opacity)
     c5_cells cl;
     CHECK(c5_cells_init(&cl, &sv, o.cells, nz, &err) == 0);
     uint64_t st = 11;
-    long taken = 0, refused = 0, viewed = 0;
+    long taken = 0, refused = 0, viewed = 0, lit = 0;
     for (int cell = 0; cell < cl.count; cell++) {
         /* a copy with random voxels, from 0 to 255 and at both ends, ghosts included */
         c5_rdram m = {.cell = -1};
@@ -129,7 +138,7 @@ TEST(value_wide_is_the_scalar_interp_and_opacity)
         }
         for (int t = 0; t < 4; t++) {
             random_table(&st, &r);
-            check_runs(&r, &m, &st, 3000, &taken, &refused);
+            check_runs(&r, &m, &st, 3000, &taken, &refused, &lit);
         }
         c5_rdram_free(&m);
         /* the grid read in place (its own strides) */
@@ -137,11 +146,11 @@ TEST(value_wide_is_the_scalar_interp_and_opacity)
         CHECK(c5_rdram_view(&v, &cl, &sv, cell, &err) == 0);
         viewed += v.view != NULL;
         random_table(&st, &r);
-        check_runs(&r, &v, &st, 3000, &taken, &refused);
+        check_runs(&r, &v, &st, 3000, &taken, &refused, &lit);
         c5_rdram_free(&v);
     }
-    CHECK_MSG(taken > 10000 && refused > 500 && viewed == cl.count, "runs taken %ld, refused %ld, cells viewed %ld", taken,
-              refused, viewed);
+    CHECK_MSG(taken > 10000 && refused > 500 && lit > 10000 && viewed == cl.count,
+              "runs taken %ld, refused %ld, lit lanes %ld, cells viewed %ld", taken, refused, lit, viewed);
     c5_cells_free(&cl);
     c5_supervol_free(&sv);
 }

@@ -409,6 +409,7 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
 #define PENDING_MAX 32
 typedef struct {
     int n;                     /* samples */
+    int gpos;                  /* the shading reads the lanes' geom positions (a point light) */
     int64_t tag[PENDING_MAX];  /* each one's cache tag */
     c5_shade_lanes lit;        /* the shaded ones' inputs, then their colours */
     int at[C5_SHADE_LANES];    /* a shaded one's place among the samples */
@@ -422,6 +423,8 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
 {
     int n = q->n, lit = q->lit.n, i = 0;
     if (lit) {
+        if (q->gpos)
+            c5_gpos_wide(p->r, &q->lit);
         c5_grad_wide(p->r, &q->lit);
         c5_shade_wide(p->r, ray->dir, &q->lit);
     }
@@ -455,7 +458,7 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
 /* The n samples of c5_value_wide's lanes (at ray->pos + j S) made pending in order, as
  * c5_proc_run's per-sample path does, and the ray moved past them: 1 if the ray ended. */
 static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lanes *vl, int n, const int64_t S[3],
-                       int want_gpos, uint64_t cycles)
+                       uint64_t cycles)
 {
     const c5_frame_regs *r = p->r;
     int64_t at[3] = {ray->pos[0], ray->pos[1], ray->pos[2]};
@@ -466,20 +469,16 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
             life--;
         int i = q->n++;
         q->tag[i] = c5_cache_tag_of(at);
-        if (vl->alpha[j] > 0) {
+        if (vl->lit >> j & 1) {
             int lane = q->lit.n++;
-            int64_t rgba[4], gpos[3] = {0, 0, 0};
-            c5_classify_channels(r, vl->value[j], 0, 3, rgba);
-            if (want_gpos)
-                c5_geom_from_voxel(r, at, gpos);
             if (c5_gather_rows_to(r, p->mem, at, &q->lit.row[0][lane], C5_SHADE_LANES))
                 q->lit.rows |= 1u << lane;
             else
                 c5_gather_diffs_to(r, p->mem, at, &q->lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
             for (int a = 0; a < 3; a++) {
                 q->lit.frac[a][lane] = vl->frac[a][j];
-                q->lit.gpos[lane][a] = gpos[a];
-                q->lit.rgb[lane][a] = rgba[a];
+                q->lit.vpos[lane][a] = at[a];
+                q->lit.rgb[lane][a] = vl->rgb[a][j];
                 q->pos[lane][a] = next[a];
             }
             q->at[lane] = i;
@@ -541,6 +540,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     int in_lanes = shades_in_lanes(r, tp, shade);
     q.n = q.lit.n = 0;
     q.lit.rows = 0;
+    q.gpos = want_gpos;
     for (;;) {
         c5_trav_out to;
         if (ahead > 0) {
@@ -578,7 +578,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             c5_value_lanes vl;
             if (c5_value_wide(r, m, ray->pos, S, n, &vl) == 0) {
                 ahead -= n - 1;
-                if (pend_values(p, ray, &q, &vl, n, S, want_gpos, sample_cycles))
+                if (pend_values(p, ray, &q, &vl, n, S, sample_cycles))
                     return;
                 continue;
             }
@@ -618,16 +618,13 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             q.tag[i] = c5_cache_tag_of(ray->pos);
             if (rgba[3] > 0) {
                 int lane = q.lit.n++;
-                int64_t gpos[3] = {0, 0, 0};
-                if (want_gpos)
-                    c5_geom_from_voxel(r, ray->pos, gpos);
                 if (c5_gather_rows_to(r, m, ray->pos, &q.lit.row[0][lane], C5_SHADE_LANES))
                     q.lit.rows |= 1u << lane;
                 else
                     c5_gather_diffs_to(r, m, ray->pos, &q.lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
                 for (int a = 0; a < 3; a++) {
                     q.lit.frac[a][lane] = (int32_t)k.frac[a];
-                    q.lit.gpos[lane][a] = gpos[a];
+                    q.lit.vpos[lane][a] = ray->pos[a];
                     q.lit.rgb[lane][a] = rgba[a];
                     q.pos[lane][a] = to.pos[a];
                 }

@@ -2,6 +2,9 @@
  * wide_lanes.h). */
 #include "shade_wide.h"
 
+#include <stdatomic.h>
+
+#include "geom.h"
 #include "sample_pipe.h"
 #include "wide_lanes.h"
 
@@ -13,6 +16,12 @@ static void shade_lanes_scalar(const c5_frame_regs *r, const int64_t d[3], c5_sh
         b->sat[i] = 0;
         c5_shade_w(r, &smp, rgba, b->gpos[i], d, b->out[i], &b->sat[i], 0);
     }
+}
+
+static void gpos_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
+{
+    for (int i = 0; i < b->n; i++)
+        c5_geom_from_voxel(r, b->vpos[i], b->gpos[i]);
 }
 
 static void grad_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
@@ -38,8 +47,15 @@ static void grad_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
 
 int c5_shade_wide_usable(void)
 {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    /* asked once: every lane block checks it before its first wide instruction */
+    static _Atomic int usable = -1;
+    int u = atomic_load_explicit(&usable, memory_order_relaxed);
+    if (u < 0) {
+        __builtin_cpu_init();
+        u = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+        atomic_store_explicit(&usable, u, memory_order_relaxed);
+    }
+    return u;
 }
 
 /* c5_geom_dot14_dirs: the exact sum (below 2^31), times 2^-14 (exact), rounded to even. */
@@ -282,6 +298,36 @@ WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
     }
 }
 
+/* c5_geom_from_voxel: below 2^28 times gscale below 2^24 (UQ8.16), the product is exact, and
+ * the half-to-even shift by 16 a multiplication by 2^-16 and a round to even. */
+WIDE static int gpos_wide(const c5_frame_regs *r, c5_shade_lanes *b)
+{
+    int64_t vpos[8][3];
+    for (int i = 0; i < 8; i++)
+        for (int a = 0; a < 3; a++) {
+            vpos[i][a] = b->vpos[i < b->n ? i : 0][a];
+            if (vpos[i][a] >= (int64_t)1 << 28 || vpos[i][a] <= -((int64_t)1 << 28))
+                return -1;
+        }
+    for (int a = 0; a < 3; a++) {
+        if (r->gscale[a] >= 1 << 24)
+            return -1;
+        v8 g = rne(mul(mul(lanes(vpos, a), set1((double)r->gscale[a])), set1(0x1p-16)));
+        double o[8];
+        _mm256_storeu_pd(o, g.h[0]);
+        _mm256_storeu_pd(o + 4, g.h[1]);
+        for (int i = 0; i < b->n; i++)
+            b->gpos[i][a] = (int64_t)o[i];
+    }
+    return 0;
+}
+
+void c5_gpos_wide(const c5_frame_regs *r, c5_shade_lanes *b)
+{
+    if (!c5_shade_wide_usable() || gpos_wide(r, b) != 0)
+        gpos_lanes_scalar(r, b);
+}
+
 /* The checks before any instruction of the wide units runs. */
 int c5_shade_wide_only(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
@@ -304,6 +350,8 @@ void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
 #else
 
 void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b) { grad_lanes_scalar(r, b); }
+
+void c5_gpos_wide(const c5_frame_regs *r, c5_shade_lanes *b) { gpos_lanes_scalar(r, b); }
 
 int c5_shade_wide_usable(void) { return 0; }
 

@@ -7,7 +7,17 @@
 
 #if C5_WIDE
 
-/* The blend and the opacity (value_wide.h says why they are exact). */
+/* One table channel (entries at ch0[4 i]) at entry idx / 4, fraction f. */
+WIDE static inline __m256i classify_lanes(const int32_t *ch0, __m256i idx, __m256i f)
+{
+    __m256i t0 = _mm256_i32gather_epi32(ch0, idx, 4), t1 = _mm256_i32gather_epi32(ch0 + 4, idx, 4);
+    __m256i x = _mm256_add_epi32(_mm256_slli_epi32(t0, 8), _mm256_mullo_epi32(_mm256_sub_epi32(t1, t0), f));
+    __m256i q = _mm256_srai_epi32(x, 8), rem = _mm256_and_si256(x, _mm256_set1_epi32(255));
+    __m256i up = _mm256_add_epi32(rem, _mm256_add_epi32(_mm256_set1_epi32(127), _mm256_and_si256(q, _mm256_set1_epi32(1))));
+    return _mm256_add_epi32(q, _mm256_srai_epi32(up, 8));
+}
+
+/* The blend and the classification (value_wide.h says why they are exact). */
 WIDE static int value_wide(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], const int64_t S[3],
                            int n, c5_value_lanes *o)
 {
@@ -64,19 +74,21 @@ WIDE static int value_wide(const c5_frame_regs *r, const c5_rdram *m, const int6
     __m256i over = _mm256_cmpgt_epi32(i, _mm256_set1_epi32(254));
     i = _mm256_blendv_epi8(i, _mm256_set1_epi32(254), over);
     f = _mm256_blendv_epi8(f, _mm256_set1_epi32(256), over);
-    const int *alpha0 = &r->tf[0][3];
+    /* Each channel as c5_classify_channels: linear between entries i and i + 1, rounded half
+     * to even by 8 bits (every intermediate below 2^24); the colour where any lane has an
+     * opacity, the only lanes that read it. */
     __m256i idx = _mm256_slli_epi32(i, 2);
-    __m256i t0 = _mm256_i32gather_epi32(alpha0, idx, 4);
-    __m256i t1 = _mm256_i32gather_epi32(alpha0 + 4, idx, 4);
-    __m256i x = _mm256_add_epi32(_mm256_slli_epi32(t0, 8), _mm256_mullo_epi32(_mm256_sub_epi32(t1, t0), f));
-    __m256i q = _mm256_srai_epi32(x, 8), rem = _mm256_and_si256(x, _mm256_set1_epi32(255));
-    __m256i up = _mm256_add_epi32(rem, _mm256_add_epi32(_mm256_set1_epi32(127), _mm256_and_si256(q, _mm256_set1_epi32(1))));
-    __m256i alpha = _mm256_add_epi32(q, _mm256_srai_epi32(up, 8));
+    __m256i alpha = classify_lanes(&r->tf[0][3], idx, f);
     _mm256_storeu_si256((__m256i *)o->value, value);
     _mm256_storeu_si256((__m256i *)o->alpha, alpha);
-    for (int a = 0; a < 3; a++)
-        for (int j = 0; j < 8; j++)
-            o->frac[a][j] = fr[a][j];
+    _mm256_storeu_si256((__m256i *)o->frac[0], _mm256_loadu_si256((const __m256i *)fr[0]));
+    _mm256_storeu_si256((__m256i *)o->frac[1], _mm256_loadu_si256((const __m256i *)fr[1]));
+    _mm256_storeu_si256((__m256i *)o->frac[2], _mm256_loadu_si256((const __m256i *)fr[2]));
+    o->lit = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(alpha, _mm256_setzero_si256()))) &
+             ((1u << n) - 1);
+    if (o->lit)
+        for (int ch = 0; ch < 3; ch++)
+            _mm256_storeu_si256((__m256i *)o->rgb[ch], classify_lanes(&r->tf[0][ch], idx, f));
     return 0;
 }
 
