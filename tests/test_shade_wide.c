@@ -67,9 +67,15 @@ static int same_as_c5_shade(const c5_frame_regs *r, const int64_t d[3], const c5
 {
     for (int i = 0; i < b->n; i++) {
         c5_sample smp = {.value = 0, .grad = {b->grad[i][0], b->grad[i][1], b->grad[i][2]}};
-        int64_t rgba[4] = {b->rgb[i][0], b->rgb[i][1], b->rgb[i][2], 0}, out[3];
+        int64_t rgba[4] = {b->rgb[0][i], b->rgb[1][i], b->rgb[2][i], 0}, out[3], g[3];
         uint64_t sat = 0;
-        c5_shade(r, &smp, rgba, b->gpos[i], d, out, &sat);
+        if (b->vpos_given) {
+            int64_t v[3] = {b->vpos[0][i], b->vpos[1][i], b->vpos[2][i]};
+            c5_geom_from_voxel(r, v, g);
+        } else {
+            memcpy(g, b->gpos[i], sizeof g);
+        }
+        c5_shade(r, &smp, rgba, g, d, out, &sat);
         if (memcmp(out, b->out[i], sizeof out) || sat != b->sat[i]) {
             snprintf(why, n, "lane %d, grad (%lld %lld %lld): (%lld %lld %lld) sat %llu, c5_shade (%lld %lld %lld) sat %llu",
                      i, (long long)b->grad[i][0], (long long)b->grad[i][1], (long long)b->grad[i][2],
@@ -98,7 +104,7 @@ TEST(shade_wide_is_c5_shade_on_random_samples)
                 random_grad(&st, b.grad[i]);
                 for (int a = 0; a < 3; a++) {
                     b.gpos[i][a] = uniform_i(&st, -(1 << 22), 1 << 22);
-                    b.rgb[i][a] = uniform_i(&st, 0, 32768);
+                    b.rgb[a][i] = (int32_t)uniform_i(&st, 0, 32768);
                 }
             }
             c5_shade_lanes w = b;
@@ -150,7 +156,7 @@ TEST(shade_wide_is_c5_shade_on_every_small_gradient)
                     for (int a = 0; a < 3; a++) {
                         b.grad[i][a] = g[a];
                         b.gpos[i][a] = (int64_t)(x * 7 + y * 3 + z) * 4096;
-                        b.rgb[i][a] = 20000 + 1000 * a;
+                        b.rgb[a][i] = 20000 + 1000 * a;
                     }
                     if (b.n == C5_SHADE_LANES || (x == 6 && y == 6 && z == 6)) {
                         c5_shade_lanes w = b;
@@ -306,32 +312,53 @@ TEST(grad_wide_is_c5_grad_blend)
     CHECK(lanes_checked > 3000 * 3 && row_lanes > 1000);
 }
 
-TEST(gpos_wide_is_c5_geom_from_voxel)
+TEST(grad_shade_wide_is_the_blocks_in_turn)
 {
-    /* geom positions in lanes against c5_geom_from_voxel: voxel positions anywhere below 2^28
-     * (either sign), scales up to the largest, and lanes past the wide range */
+    /* the gradient and shading in one pass (the processor's) against c5_grad_blend, then
+     * c5_shade at the geom position c5_geom_from_voxel makes of the voxel position: random
+     * differences (some lanes as voxel rows), positions anywhere below 2^28 and beyond it now
+     * and then (the lanes' own path), scales up to the largest */
     static c5_frame_regs r;
-    memset(&r, 0, sizeof r);
     uint64_t st = 8;
-    long lanes_checked = 0;
-    for (int round = 0; round < 4000; round++) {
-        for (int a = 0; a < 3; a++)
-            r.gscale[a] = round % 5 == 0 ? (1 << 24) - 1 : uniform_i(&st, 1, (1 << 24) - 1);
-        c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, C5_SHADE_LANES)};
-        for (int i = 0; i < b.n; i++)
-            for (int a = 0; a < 3; a++) {
-                int64_t m = round % 50 == 0 ? (int64_t)1 << 30 : round % 3 == 0 ? 1 << 16 : (1 << 28) - 1;
-                b.vpos[i][a] = uniform_i(&st, -m, m);
-            }
-        c5_gpos_wide(&r, &b);
-        for (int i = 0; i < b.n; i++) {
-            int64_t want[3];
-            c5_geom_from_voxel(&r, b.vpos[i], want);
-            CHECK_MSG(!memcmp(want, b.gpos[i], sizeof want), "round %d lane %d: (%lld %lld %lld), scalar (%lld %lld %lld)",
-                      round, i, (long long)b.gpos[i][0], (long long)b.gpos[i][1], (long long)b.gpos[i][2],
-                      (long long)want[0], (long long)want[1], (long long)want[2]);
-            lanes_checked++;
+    long lanes_checked = 0, wide = 0;
+    char why[400];
+    for (int round = 0; round < 3000; round++) {
+        random_regs(&st, &r);
+        /* geom positions mostly near the lights (a spacing near 1), now and then the largest
+         * scale */
+        for (int a = 0; a < 3; a++) {
+            r.gs[a] = uniform_i(&st, 1, C5_ONE15);
+            r.gscale[a] = round % 5 == 0 ? (1 << 24) - 1 : uniform_i(&st, 1 << 15, 1 << 17);
         }
+        int64_t d[3];
+        unit_dir(&st, d);
+        c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, C5_SHADE_LANES), .vpos_given = 1};
+        for (int i = 0; i < b.n; i++) {
+            for (int a = 0; a < 3; a++) {
+                b.frac[a][i] = (int32_t)uniform_i(&st, 0, C5_ONE15 - 1);
+                for (int j = 0; j < 8; j++)
+                    b.diff[a][j][i] = (int32_t)uniform_i(&st, -255, 255);
+                int64_t m = round % 50 == 0 ? INT32_MAX : round % 5 == 1 ? (1 << 28) - 1 : 1 << 22;
+                b.vpos[a][i] = (int32_t)uniform_i(&st, round % 3 ? 0 : -m, m);
+                b.rgb[a][i] = (int32_t)uniform_i(&st, 0, 32768);
+            }
+            if (c5_splitmix64(&st) & 1) {
+                b.rows |= 1u << i;
+                for (int k = 0; k < C5_SHADE_ROWS; k++)
+                    b.row[k][i] = (uint32_t)c5_splitmix64(&st);
+            }
+        }
+        c5_shade_lanes w = b;
+        c5_grad_wide(&r, &w);
+        if (c5_shade_wide_only(&r, d, &w) == 0) { /* the geom positions made in the lanes */
+            CHECK_MSG(same_as_c5_shade(&r, d, &w, why, sizeof why), "round %d, wide: %s", round, why);
+            wide++;
+        }
+        c5_grad_shade_wide(&r, d, &b);
+        memcpy(b.grad, w.grad, sizeof b.grad); /* grad: written only on the lane-by-lane path */
+        CHECK_MSG(same_as_c5_shade(&r, d, &b, why, sizeof why), "round %d: %s", round, why);
+        lanes_checked += b.n;
     }
-    CHECK(lanes_checked > 4000 * 3);
+    CHECK_MSG(lanes_checked > 3000 * 3 && (wide > 1000 || !c5_shade_wide_usable()), "lanes %ld, rounds on the wide path %ld",
+              lanes_checked, wide);
 }

@@ -409,7 +409,6 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
 #define PENDING_MAX 32
 typedef struct {
     int n;                     /* samples */
-    int gpos;                  /* the shading reads the lanes' geom positions (a point light) */
     int64_t tag[PENDING_MAX];  /* each one's cache tag */
     c5_shade_lanes lit;        /* the shaded ones' inputs, then their colours */
     int at[C5_SHADE_LANES];    /* a shaded one's place among the samples */
@@ -422,12 +421,8 @@ typedef struct {
 static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycles)
 {
     int n = q->n, lit = q->lit.n, i = 0;
-    if (lit) {
-        if (q->gpos)
-            c5_gpos_wide(p->r, &q->lit);
-        c5_grad_wide(p->r, &q->lit);
-        c5_shade_wide(p->r, ray->dir, &q->lit);
-    }
+    if (lit)
+        c5_grad_shade_wide(p->r, ray->dir, &q->lit);
     q->n = q->lit.n = 0;
     q->lit.rows = 0;
     for (int j = 0; j < lit; j++) {
@@ -477,8 +472,8 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
                 c5_gather_diffs_to(r, p->mem, at, &q->lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
             for (int a = 0; a < 3; a++) {
                 q->lit.frac[a][lane] = vl->frac[a][j];
-                q->lit.vpos[lane][a] = at[a];
-                q->lit.rgb[lane][a] = vl->rgb[a][j];
+                q->lit.vpos[a][lane] = (int32_t)at[a];
+                q->lit.rgb[a][lane] = vl->rgb[a][j];
                 q->pos[lane][a] = next[a];
             }
             q->at[lane] = i;
@@ -540,7 +535,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     int in_lanes = shades_in_lanes(r, tp, shade);
     q.n = q.lit.n = 0;
     q.lit.rows = 0;
-    q.gpos = want_gpos;
+    q.lit.vpos_given = 1;
     for (;;) {
         c5_trav_out to;
         if (ahead > 0) {
@@ -624,8 +619,8 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
                     c5_gather_diffs_to(r, m, ray->pos, &q.lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
                 for (int a = 0; a < 3; a++) {
                     q.lit.frac[a][lane] = (int32_t)k.frac[a];
-                    q.lit.vpos[lane][a] = ray->pos[a];
-                    q.lit.rgb[lane][a] = rgba[a];
+                    q.lit.vpos[a][lane] = (int32_t)ray->pos[a];
+                    q.lit.rgb[a][lane] = (int32_t)rgba[a];
                     q.pos[lane][a] = to.pos[a];
                 }
                 q.at[lane] = i;

@@ -3,25 +3,32 @@
 #include "shade_wide.h"
 
 #include <stdatomic.h>
+#include <string.h>
 
 #include "geom.h"
 #include "sample_pipe.h"
 #include "wide_lanes.h"
 
+/* The geom position of lane i (given, or made of its voxel position). */
+static void lane_gpos(const c5_frame_regs *r, const c5_shade_lanes *b, int i, int64_t g[3])
+{
+    if (!b->vpos_given) {
+        memcpy(g, b->gpos[i], sizeof b->gpos[i]);
+        return;
+    }
+    int64_t v[3] = {b->vpos[0][i], b->vpos[1][i], b->vpos[2][i]};
+    c5_geom_from_voxel(r, v, g);
+}
+
 static void shade_lanes_scalar(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
     for (int i = 0; i < b->n; i++) {
         c5_sample smp = {.value = 0, .grad = {b->grad[i][0], b->grad[i][1], b->grad[i][2]}};
-        int64_t rgba[4] = {b->rgb[i][0], b->rgb[i][1], b->rgb[i][2], 0};
+        int64_t rgba[4] = {b->rgb[0][i], b->rgb[1][i], b->rgb[2][i], 0}, g[3];
+        lane_gpos(r, b, i, g);
         b->sat[i] = 0;
-        c5_shade_w(r, &smp, rgba, b->gpos[i], d, b->out[i], &b->sat[i], 0);
+        c5_shade_w(r, &smp, rgba, g, d, b->out[i], &b->sat[i], 0);
     }
-}
-
-static void gpos_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
-{
-    for (int i = 0; i < b->n; i++)
-        c5_geom_from_voxel(r, b->vpos[i], b->gpos[i]);
 }
 
 static void grad_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
@@ -165,17 +172,48 @@ WIDE static int normalize_wide(const int64_t v[C5_SHADE_LANES][3], int64_t out[C
     return 0;
 }
 
-WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+/* The lanes of an int32_t [3][8] field with lanes n..7 made lane 0's (they are computed
+ * and dropped: copies keep them within every range lane 0 is in). */
+WIDE static inline void lanes3(int32_t f[3][C5_SHADE_LANES], int n, v8 out[3])
 {
-    int64_t grad[8][3], gpos[8][3], rgb[8][3];
-    for (int i = 0; i < 8; i++) /* unused lanes repeat lane 0 */
+    for (int a = 0; a < 3; a++) {
+        for (int i = n; i < C5_SHADE_LANES; i++)
+            f[a][i] = f[a][0];
+        out[a] = lanes32(f[a]);
+    }
+}
+
+/* The shading of the lanes' gradients g (lanes n..7: any gradient in range). */
+WIDE static int shade_core(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b, const v8 g[3])
+{
+    v8 gp[3], rgb[3];
+    int point = 0;
+    for (int li = 0; li < r->n_lights; li++)
+        point |= r->lights[li].kind == C5_LIGHT_POINT;
+    if (point && b->vpos_given) {
+        /* c5_geom_from_voxel: below 2^28 times gscale below 2^24 (UQ8.16), the product is exact,
+         * and the half-to-even shift by 16 a multiplication by 2^-16 and a round to even */
+        v8 vp[3], ok = set1(-1.0);
+        lanes3(b->vpos, b->n, vp);
         for (int a = 0; a < 3; a++) {
-            grad[i][a] = b->grad[i < b->n ? i : 0][a];
-            gpos[i][a] = b->gpos[i < b->n ? i : 0][a];
-            rgb[i][a] = b->rgb[i < b->n ? i : 0][a];
+            if (r->gscale[a] >= 1 << 24)
+                return -1;
+            ok = and(ok, lt(mag(vp[a]), set1(0x1p28)));
+            gp[a] = rne(mul(mul(vp[a], set1((double)r->gscale[a])), set1(0x1p-16)));
         }
+        if ((_mm256_movemask_pd(ok.h[0]) & _mm256_movemask_pd(ok.h[1])) != 15)
+            return -1;
+    } else if (point) {
+        int64_t gpos[8][3];
+        for (int i = 0; i < 8; i++) /* unused lanes repeat lane 0 */
+            for (int a = 0; a < 3; a++)
+                gpos[i][a] = b->gpos[i < b->n ? i : 0][a];
+        for (int a = 0; a < 3; a++)
+            gp[a] = lanes(gpos, a);
+    }
+    lanes3(b->rgb, b->n, rgb);
     const v8 zero = set1(0);
-    v8 g[3] = {lanes(grad, 0), lanes(grad, 1), lanes(grad, 2)}, mg[3], n[3], v[3], nz;
+    v8 mg[3], n[3], v[3], nz;
     if (!in_range(g))
         return -1;
     v8 m2 = add(add(mul(g[0], g[0]), mul(g[1], g[1])), mul(g[2], g[2]));
@@ -195,7 +233,7 @@ WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_
         if (l->kind == C5_LIGHT_POINT) {
             v8 to[3];
             for (int a = 0; a < 3; a++)
-                to[a] = sub(set1((double)l->pos[a]), lanes(gpos, a));
+                to[a] = sub(set1((double)l->pos[a]), gp[a]);
             if (!in_range(to))
                 return -1;
             normalize(to, L, &lz);
@@ -219,7 +257,7 @@ WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_
     v8 ks = clamp16(faded(mul(set1((double)r->ks), spec), fade, 27 + 15), &sat);
     v8 out[3];
     for (int c = 0; c < 3; c++)
-        out[c] = clamp16(add(rne(mul(mul(lanes(rgb, c), k), set1(0x1p-15))), ks), &sat);
+        out[c] = clamp16(add(rne(mul(mul(rgb[c], k), set1(0x1p-15))), ks), &sat);
     double o[3][8], sats[8];
     for (int h = 0; h < 2; h++) {
         for (int c = 0; c < 3; c++)
@@ -232,6 +270,16 @@ WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_
         b->sat[i] = (uint64_t)sats[i];
     }
     return 0;
+}
+
+WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+{
+    int64_t grad[8][3];
+    for (int i = 0; i < 8; i++) /* unused lanes repeat lane 0 */
+        for (int a = 0; a < 3; a++)
+            grad[i][a] = b->grad[i < b->n ? i : 0][a];
+    v8 g[3] = {lanes(grad, 0), lanes(grad, 1), lanes(grad, 2)};
+    return shade_core(r, d, b, g);
 }
 
 
@@ -268,7 +316,8 @@ WIDE static inline __attribute__((always_inline)) void diff_lanes(const c5_shade
 #undef BYTE
 }
 
-WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
+/* The gradients of lanes 0..n-1 (lanes n..7: 0). */
+WIDE static void grad_lanes(const c5_frame_regs *r, c5_shade_lanes *b, v8 g[3])
 {
     const v8 one = set1(1 << 15);
     v8 w[3][2];
@@ -278,6 +327,9 @@ WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
     }
     __m256i d[3][8];
     diff_lanes(b, d);
+    __m256i used = _mm256_cmpgt_epi32(_mm256_set1_epi32(b->n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    v8 keep = {{_mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(used))),
+                _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(used, 1)))}};
     for (int a = 0; a < 3; a++) {
         v8 yb[2];
         for (int cz = 0; cz < 2; cz++) {
@@ -289,43 +341,47 @@ WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
             yb[cz] = add(mul(w[1][0], xa[0]), mul(w[1][1], xa[1]));
         }
         v8 blend = rne(mul(add(mul(w[2][0], yb[0]), mul(w[2][1], yb[1])), set1(0x1p-37)));
-        v8 g = rne(mul(mul(blend, set1((double)r->gs[a])), set1(0x1p-15)));
+        g[a] = and(rne(mul(mul(blend, set1((double)r->gs[a])), set1(0x1p-15))), keep);
+    }
+}
+
+/* grad of lanes 0..n-1 from the lanes */
+WIDE static void store_grad(c5_shade_lanes *b, const v8 g[3])
+{
+    for (int a = 0; a < 3; a++) {
         double o[8];
-        _mm256_storeu_pd(o, g.h[0]);
-        _mm256_storeu_pd(o + 4, g.h[1]);
+        _mm256_storeu_pd(o, g[a].h[0]);
+        _mm256_storeu_pd(o + 4, g[a].h[1]);
         for (int i = 0; i < b->n; i++)
             b->grad[i][a] = (int64_t)o[i];
     }
 }
 
-/* c5_geom_from_voxel: below 2^28 times gscale below 2^24 (UQ8.16), the product is exact, and
- * the half-to-even shift by 16 a multiplication by 2^-16 and a round to even. */
-WIDE static int gpos_wide(const c5_frame_regs *r, c5_shade_lanes *b)
+WIDE static void grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
 {
-    int64_t vpos[8][3];
-    for (int i = 0; i < 8; i++)
-        for (int a = 0; a < 3; a++) {
-            vpos[i][a] = b->vpos[i < b->n ? i : 0][a];
-            if (vpos[i][a] >= (int64_t)1 << 28 || vpos[i][a] <= -((int64_t)1 << 28))
-                return -1;
-        }
-    for (int a = 0; a < 3; a++) {
-        if (r->gscale[a] >= 1 << 24)
-            return -1;
-        v8 g = rne(mul(mul(lanes(vpos, a), set1((double)r->gscale[a])), set1(0x1p-16)));
-        double o[8];
-        _mm256_storeu_pd(o, g.h[0]);
-        _mm256_storeu_pd(o + 4, g.h[1]);
-        for (int i = 0; i < b->n; i++)
-            b->gpos[i][a] = (int64_t)o[i];
-    }
-    return 0;
+    v8 g[3];
+    grad_lanes(r, b, g);
+    store_grad(b, g);
 }
 
-void c5_gpos_wide(const c5_frame_regs *r, c5_shade_lanes *b)
+WIDE static void grad_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
-    if (!c5_shade_wide_usable() || gpos_wide(r, b) != 0)
-        gpos_lanes_scalar(r, b);
+    v8 g[3];
+    grad_lanes(r, b, g);
+    if (shade_core(r, d, b, g) != 0) {
+        store_grad(b, g);
+        shade_lanes_scalar(r, d, b);
+    }
+}
+
+void c5_grad_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+{
+    if (c5_shade_wide_usable() && b->n >= 1 && b->n <= C5_SHADE_LANES) {
+        grad_shade_wide(r, d, b);
+        return;
+    }
+    grad_lanes_scalar(r, b);
+    shade_lanes_scalar(r, d, b);
 }
 
 /* The checks before any instruction of the wide units runs. */
@@ -351,7 +407,11 @@ void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b)
 
 void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b) { grad_lanes_scalar(r, b); }
 
-void c5_gpos_wide(const c5_frame_regs *r, c5_shade_lanes *b) { gpos_lanes_scalar(r, b); }
+void c5_grad_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
+{
+    grad_lanes_scalar(r, b);
+    shade_lanes_scalar(r, d, b);
+}
 
 int c5_shade_wide_usable(void) { return 0; }
 
@@ -366,7 +426,6 @@ int c5_shade_wide_normalize(const int64_t v[C5_SHADE_LANES][3], int64_t out[C5_S
     (void)v, (void)out;
     return -1;
 }
-
 
 #endif
 

@@ -33,9 +33,12 @@ typedef struct {
     uint32_t row[C5_SHADE_ROWS][C5_SHADE_LANES];
     unsigned rows;
     int64_t grad[C5_SHADE_LANES][3]; /* c5_sample.grad: c5_grad_wide's, or given */
-    int64_t gpos[C5_SHADE_LANES][3]; /* geom position (read for point lights only) */
-    int64_t vpos[C5_SHADE_LANES][3]; /* or the voxel position it is made of (c5_gpos_wide) */
-    int64_t rgb[C5_SHADE_LANES][3];  /* the table colour, UQ1.15 */
+    /* The geom position (read for point lights only): gpos, or where vpos_given, made of the
+     * voxel position vpos as c5_geom_from_voxel makes it */
+    int64_t gpos[C5_SHADE_LANES][3];
+    int32_t vpos[3][C5_SHADE_LANES];
+    int vpos_given;
+    int32_t rgb[3][C5_SHADE_LANES];  /* the table colour, UQ1.15 */
     int64_t out[C5_SHADE_LANES][3];  /* shaded_rgb UQ4.12 */
     uint64_t sat[C5_SHADE_LANES];    /* each lane's saturations (c5_shade's count) */
 } c5_shade_lanes;
@@ -43,12 +46,13 @@ typedef struct {
 /* grad of lanes 0..n-1 from diff and frac as c5_grad_blend gives it (gs: r->gs), on the
  * wide units where the host has them. */
 void c5_grad_wide(const c5_frame_regs *r, c5_shade_lanes *b);
-/* gpos of lanes 0..n-1 from vpos as c5_geom_from_voxel gives it, on the wide units where
- * the host has them and every position lies within 2^28 (a grid of 8,192 voxels). */
-void c5_gpos_wide(const c5_frame_regs *r, c5_shade_lanes *b);
 /* out and sat of lanes 0..n-1 as c5_shade(r, lane, d) gives them; the lanes on the wide units
- * where the host has them and every lane is in range, else one by one. */
+ * where the host has them and every lane is in range (a point light's direction below 2^25,
+ * a voxel position below 2^28), else one by one. */
 void c5_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
+/* c5_grad_wide, then c5_shade_wide, with the gradients kept in the lanes between them (grad
+ * is written only where the shading goes lane by lane). */
+void c5_grad_shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b);
 /* Whether c5_shade_wide runs on the wide units on this host (0 in builds without them). */
 int c5_shade_wide_usable(void);
 /* The wide path alone (tests): 0, or -1 where it does not run (no AVX2 and FMA on the host,
