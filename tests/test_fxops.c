@@ -1,9 +1,11 @@
 /* The datapath's inline primitives (rtl_model/proc/fxops.h) against the fixed-point layer they
  * specialise: the same bits for random and extreme operands of the model's formats. */
 #include <stdint.h>
+#include <string.h>
 
 #include "fixed.h"
 #include "fxops.h"
+#include "geom.h"
 #include "harness.h"
 #include "rng.h"
 
@@ -129,4 +131,41 @@ TEST(fxops_clamp_counts_every_saturation)
     CHECK_INT(c5_clamp64(4, 0, 4, &sat), 4);
     CHECK_INT(c5_clamp64(0, 0, 4, &sat), 0);
     CHECK_INT(sat, 2);
+}
+
+TEST(geom_hit_plane_is_the_division_and_the_range)
+{
+    /* a plane's hit against t = round(num 2^14 / den) kept in (tmin, tmax): the behind-the-
+     * eye shortcut without the division changes no answer, for tmin either side of 0 */
+    uint64_t st = 21;
+    long hits = 0, behind = 0;
+    for (int i = 0; i < 200000; i++) {
+        c5_surface_regs s = {.kind = C5_SURF_PLANE};
+        int64_t O[3], d[3], v[3];
+        for (int a = 0; a < 3; a++) {
+            s.p[a] = (int64_t)(c5_splitmix64(&st) % (1u << 24)) - (1 << 23);
+            O[a] = (int64_t)(c5_splitmix64(&st) % (1u << 24)) - (1 << 23);
+            v[a] = (int64_t)(c5_splitmix64(&st) % (1u << 20)) - (1 << 19);
+        }
+        if (i % 7 == 0)
+            memcpy(O, s.p, sizeof O); /* the eye on the plane: num 0 */
+        c5_geom_normalize(v, s.n);
+        for (int a = 0; a < 3; a++)
+            v[a] = (int64_t)(c5_splitmix64(&st) % (1u << 20)) - (1 << 19);
+        c5_geom_normalize(v, d);
+        int64_t tmin = i % 3 == 0 ? -(int64_t)(c5_splitmix64(&st) % 4096) : (int64_t)(c5_splitmix64(&st) % 4);
+        __int128 den = 0, num = 0;
+        for (int a = 0; a < 3; a++) {
+            den += (__int128)d[a] * s.n[a];
+            num += (__int128)(s.p[a] - O[a]) * s.n[a];
+        }
+        int64_t want_t = den ? c5_div_he(c5_shl128(num, 14), den) : 0, t = 0;
+        int want = den != 0 && want_t > tmin && want_t < C5_T_INF;
+        int got = c5_geom_hit(&s, O, d, tmin, C5_T_INF, &t);
+        CHECK_MSG(got == want && (!got || t == want_t), "case %d: hit %d t %lld, by division %d t %lld", i, got,
+                  (long long)t, want, (long long)want_t);
+        hits += want;
+        behind += den && want_t <= 0;
+    }
+    CHECK(hits > 50000 && behind > 50000);
 }

@@ -9,14 +9,19 @@ static __int128 dot(const int64_t a[3], const int64_t b[3])
     return (__int128)a[0] * b[0] + (__int128)a[1] * b[1] + (__int128)a[2] * b[2];
 }
 
-/* Parameter t (15 fraction bits) of the hit with the plane through p with normal n. */
-static int plane_t(const int64_t p[3], const int64_t n[3], const int64_t O[3], const int64_t d[3], int64_t *t)
+/* Parameter t (15 fraction bits) of the hit with the plane through p with normal n, where it
+ * may exceed tmin: 0 for a parallel line and, without the division, where num / den <= 0 and
+ * tmin >= 0 (the rounded t is then at most 0). */
+static int plane_t(const int64_t p[3], const int64_t n[3], const int64_t O[3], const int64_t d[3], int64_t tmin,
+                   int64_t *t)
 {
     __int128 den = dot(d, n); /* 28 fraction bits */
     if (den == 0)
         return 0;             /* exactly parallel: never hits */
     int64_t po[3] = {p[0] - O[0], p[1] - O[1], p[2] - O[2]};
     __int128 num = dot(po, n); /* 29 fraction bits */
+    if (tmin >= 0 && (num == 0 || (num < 0) != (den < 0)))
+        return 0;
     *t = c5_div_he(c5_shl128(num, 14), den);
     return 1;
 }
@@ -26,7 +31,7 @@ int c5_geom_hit(const c5_surface_regs *s, const int64_t O[3], const int64_t d[3]
 {
     if (s->kind != C5_SURF_SPHERE) {
         int64_t th;
-        if (!plane_t(s->p, s->n, O, d, &th) || th <= tmin || th >= tmax)
+        if (!plane_t(s->p, s->n, O, d, tmin, &th) || th <= tmin || th >= tmax)
             return 0;
         if (s->kind == C5_SURF_RECT) {
             int64_t H[3], rel[3];
