@@ -138,7 +138,7 @@ TEST(geom_hit_plane_is_the_division_and_the_range)
     /* a plane's hit against t = round(num 2^14 / den) kept in (tmin, tmax): the behind-the-
      * eye shortcut without the division changes no answer, for tmin either side of 0 */
     uint64_t st = 21;
-    long hits = 0, behind = 0;
+    long hits = 0, behind = 0, near_behind = 0;
     for (int i = 0; i < 200000; i++) {
         c5_surface_regs s = {.kind = C5_SURF_PLANE};
         int64_t O[3], d[3], v[3];
@@ -149,6 +149,9 @@ TEST(geom_hit_plane_is_the_division_and_the_range)
         }
         if (i % 7 == 0)
             memcpy(O, s.p, sizeof O); /* the eye on the plane: num 0 */
+        else if (i % 3 == 0)      /* near it: t within a few thousand LSBs either side */
+            for (int a = 0; a < 3; a++)
+                O[a] = s.p[a] + (int64_t)(c5_splitmix64(&st) % 4096) - 2048;
         c5_geom_normalize(v, s.n);
         for (int a = 0; a < 3; a++)
             v[a] = (int64_t)(c5_splitmix64(&st) % (1u << 20)) - (1 << 19);
@@ -166,6 +169,8 @@ TEST(geom_hit_plane_is_the_division_and_the_range)
                   (long long)t, want, (long long)want_t);
         hits += want;
         behind += den && want_t <= 0;
+        near_behind += den && want_t <= 0 && want_t > tmin;
     }
-    CHECK(hits > 50000 && behind > 50000);
+    CHECK_MSG(hits > 50000 && behind > 50000 && near_behind > 1000, "hits %ld, behind %ld, behind within tmin < 0: %ld",
+              hits, behind, near_behind);
 }
