@@ -173,13 +173,13 @@ WIDE static int normalize_wide(const int64_t v[C5_SHADE_LANES][3], int64_t out[C
 }
 
 /* The lanes of an int32_t [3][8] field with lanes n..7 made lane 0's (they are computed
- * and dropped: copies keep them within every range lane 0 is in). */
-WIDE static inline void lanes3(int32_t f[3][C5_SHADE_LANES], int n, v8 out[3])
+ * and dropped: copies keep them within every range lane 0 is in), in registers. */
+WIDE static inline void lanes3(const int32_t f[3][C5_SHADE_LANES], int n, v8 out[3])
 {
+    __m256i used = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
     for (int a = 0; a < 3; a++) {
-        for (int i = n; i < C5_SHADE_LANES; i++)
-            f[a][i] = f[a][0];
-        out[a] = lanes32(f[a]);
+        __m256i x = _mm256_loadu_si256((const __m256i *)f[a]);
+        out[a] = lanes_i(_mm256_blendv_epi8(_mm256_permutevar8x32_epi32(x, _mm256_setzero_si256()), x, used));
     }
 }
 
