@@ -5,6 +5,7 @@
 
 #include "cells.h"
 #include "harness.h"
+#include "processor.h"
 #include "rng.h"
 #include "sample_pipe.h"
 #include "shade_wide.h"
@@ -101,6 +102,7 @@ static void check_runs(c5_frame_regs *r, const c5_rdram *m, uint64_t *st, int ro
             }
             for (int a = 0; a < 3; a++)
                 CHECK_MSG(got.frac[a][j] == k.frac[a], "round %d lane %d: frac %d", round, j, a);
+            CHECK_MSG(got.tag[j] == c5_cache_tag_of(p), "round %d lane %d: tag", round, j);
         }
         (*taken)++;
     }

@@ -463,7 +463,7 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
         if (life != C5_LIFE_NONE)
             life--;
         int i = q->n++;
-        q->tag[i] = c5_cache_tag_of(at);
+        q->tag[i] = vl->tag[j];
         if (vl->lit >> j & 1) {
             int lane = q->lit.n++;
             if (c5_gather_rows_to(r, p->mem, at, &q->lit.row[0][lane], C5_SHADE_LANES))

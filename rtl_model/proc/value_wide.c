@@ -40,11 +40,12 @@ WIDE static int value_wide(const c5_frame_regs *r, const c5_rdram *m, const int6
     /* Positions below 2^28 (C5_MODEL_MAX_GRID voxels of 2^15): 32-bit lanes; the lanes past n
      * repeat the last sample. */
     __m256i j = _mm256_min_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(n - 1));
-    __m256i off = _mm256_set1_epi32((int)(o0 - 1));
+    __m256i off = _mm256_set1_epi32((int)(o0 - 1)), t[3];
     int32_t fr[3][8];
     for (int a = 0; a < 3; a++) {
-        __m256i x = _mm256_add_epi32(_mm256_set1_epi32((int32_t)(pos[a] - (1 << (C5_POS_F - 1)))),
-                                     _mm256_mullo_epi32(j, _mm256_set1_epi32((int32_t)S[a])));
+        __m256i p = _mm256_add_epi32(_mm256_set1_epi32((int32_t)pos[a]), _mm256_mullo_epi32(j, _mm256_set1_epi32((int32_t)S[a])));
+        t[a] = _mm256_srli_epi32(p, C5_POS_F + 2); /* c5_cache_tag_of's fields: 4^3 voxels */
+        __m256i x = _mm256_sub_epi32(p, _mm256_set1_epi32(1 << (C5_POS_F - 1)));
         _mm256_storeu_si256((__m256i *)fr[a], _mm256_and_si256(x, _mm256_set1_epi32((1 << C5_POS_F) - 1)));
         __m256i i = _mm256_sub_epi32(_mm256_srai_epi32(x, C5_POS_F), _mm256_set1_epi32(m->org[a]));
         off = _mm256_add_epi32(off, a == 0 ? i : _mm256_mullo_epi32(i, _mm256_set1_epi32((int32_t)(a == 1 ? sy : sz))));
@@ -84,6 +85,13 @@ WIDE static int value_wide(const c5_frame_regs *r, const c5_rdram *m, const int6
     _mm256_storeu_si256((__m256i *)o->frac[0], _mm256_loadu_si256((const __m256i *)fr[0]));
     _mm256_storeu_si256((__m256i *)o->frac[1], _mm256_loadu_si256((const __m256i *)fr[1]));
     _mm256_storeu_si256((__m256i *)o->frac[2], _mm256_loadu_si256((const __m256i *)fr[2]));
+    __m256i yx = _mm256_or_si256(_mm256_slli_epi32(t[1], 16), t[0]);
+    for (int h = 0; h < 2; h++) {
+        __m128i lo = h ? _mm256_extracti128_si256(yx, 1) : _mm256_castsi256_si128(yx);
+        __m128i z = h ? _mm256_extracti128_si256(t[2], 1) : _mm256_castsi256_si128(t[2]);
+        __m256i tag = _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(z), 32), _mm256_cvtepu32_epi64(lo));
+        _mm256_storeu_si256((__m256i *)(o->tag + 4 * h), tag);
+    }
     o->lit = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(alpha, _mm256_setzero_si256()))) &
              ((1u << n) - 1);
     if (o->lit)

@@ -23,9 +23,10 @@ typedef struct {
     int32_t frac[3][C5_VALUE_LANES]; /* c5_corners.frac */
     unsigned lit;                    /* bit j: sample j < n has alpha > 0 */
     int32_t rgb[3][C5_VALUE_LANES];  /* tf colour UQ1.15, where lit has a bit */
+    int64_t tag[C5_VALUE_LANES];     /* the voxel cache's tag (c5_cache_tag_of) */
 } c5_value_lanes;
 
-/* value, alpha, frac, lit and rgb of the n (1..8) samples at pos + j S, j < n, at the shipped
+/* value, alpha, frac, lit, rgb and tag of the n (1..8) samples at pos + j S, j < n, at the shipped
  * widths, as c5_gather_values, c5_interp_blend_w and c5_classify_channels give them (m: the RDRAM
  * holding their corners): 0, or -1 with nothing written where the host lacks the wide units
  * or a sample lies within a voxel or two of the grid's faces (no corner may need a clamp,
