@@ -108,6 +108,32 @@ static void check_runs(c5_frame_regs *r, const c5_rdram *m, uint64_t *st, int ro
     }
 }
 
+/* The test grid split into cells[0] x cells[1] x cells[2], its registers and its cells. */
+static void test_grid(int c0, int c1, int c2, c5_supervol *sv, c5_frame_regs *r, c5_cells *cl)
+{
+    c5_scene s;
+    c5_err err;
+    CHECK(c5_scene_parse(scene_json, NULL, "t", &s, &err) == 0 && c5_supervol_build(&s, sv, &err) == 0);
+    c5_board_opts o = {.cells = {c0, c1, c2}};
+    CHECK(c5_regs_build(&s, sv, &o, r, &err) == 0);
+    uint8_t nz[256];
+    memset(nz, 1, sizeof nz);
+    CHECK(c5_cells_init(cl, sv, o.cells, nz, &err) == 0);
+}
+
+/* The cell copied to m with random voxels in place of its own, ghosts included; with ends,
+ * 0 and 255 an eighth of the time each. */
+static void random_cell(const c5_cells *cl, const c5_supervol *sv, int cell, c5_rdram *m, uint64_t *st, int ends)
+{
+    c5_err err;
+    CHECK(c5_rdram_load(m, cl, sv, cell, &err) == 0);
+    size_t bytes = (size_t)m->ext[0] * m->ext[1] * m->ext[2];
+    for (size_t i = 0; i < bytes; i++) {
+        uint64_t x = c5_splitmix64(st);
+        m->v[i] = ends && x % 8 == 0 ? 255 : ends && x % 8 == 1 ? 0 : (uint8_t)(x >> 8);
+    }
+}
+
 TEST(value_wide_is_the_scalar_interp_and_classify)
 {
     if (!c5_shade_wide_usable()) {
@@ -116,28 +142,16 @@ TEST(value_wide_is_the_scalar_interp_and_classify)
         CHECK(c5_value_wide(NULL, NULL, pos, S, 1, &o) == -1); /* refused before it reads anything */
         return;
     }
-    c5_scene s;
     c5_supervol sv;
-    c5_err err;
-    CHECK(c5_scene_parse(scene_json, NULL, "t", &s, &err) == 0 && c5_supervol_build(&s, &sv, &err) == 0);
-    c5_board_opts o = {.cells = {2, 2, 1}};
     static c5_frame_regs r;
-    CHECK(c5_regs_build(&s, &sv, &o, &r, &err) == 0);
-    uint8_t nz[256];
-    memset(nz, 1, sizeof nz);
     c5_cells cl;
-    CHECK(c5_cells_init(&cl, &sv, o.cells, nz, &err) == 0);
+    c5_err err;
+    test_grid(2, 2, 1, &sv, &r, &cl);
     uint64_t st = 11;
     long taken = 0, refused = 0, viewed = 0, lit = 0;
     for (int cell = 0; cell < cl.count; cell++) {
-        /* a copy with random voxels, from 0 to 255 and at both ends, ghosts included */
         c5_rdram m = {.cell = -1};
-        CHECK(c5_rdram_load(&m, &cl, &sv, cell, &err) == 0);
-        size_t bytes = (size_t)m.ext[0] * m.ext[1] * m.ext[2];
-        for (size_t i = 0; i < bytes; i++) {
-            uint64_t x = c5_splitmix64(&st);
-            m.v[i] = x % 8 == 0 ? 255 : x % 8 == 1 ? 0 : (uint8_t)(x >> 8);
-        }
+        random_cell(&cl, &sv, cell, &m, &st, 1);
         for (int t = 0; t < 4; t++) {
             random_table(&st, &r);
             check_runs(&r, &m, &st, 3000, &taken, &refused, &lit);
@@ -161,25 +175,15 @@ TEST(gradient_rows_give_the_central_differences)
 {
     /* c5_gather_rows_to with c5_rows_diffs against c5_gather_diffs_to at every sample of a
      * copied cell with random voxels: the same differences, and no rows where a clamp is due */
-    c5_scene s;
     c5_supervol sv;
-    c5_err err;
-    CHECK(c5_scene_parse(scene_json, NULL, "t", &s, &err) == 0 && c5_supervol_build(&s, &sv, &err) == 0);
-    c5_board_opts o = {.cells = {1, 2, 1}};
     static c5_frame_regs r;
-    CHECK(c5_regs_build(&s, &sv, &o, &r, &err) == 0);
-    uint8_t nz[256];
-    memset(nz, 1, sizeof nz);
     c5_cells cl;
-    CHECK(c5_cells_init(&cl, &sv, o.cells, nz, &err) == 0);
+    test_grid(1, 2, 1, &sv, &r, &cl);
     uint64_t st = 12;
     long rows = 0, clamped = 0;
     for (int cell = 0; cell < cl.count; cell++) {
         c5_rdram m = {.cell = -1};
-        CHECK(c5_rdram_load(&m, &cl, &sv, cell, &err) == 0);
-        size_t bytes = (size_t)m.ext[0] * m.ext[1] * m.ext[2];
-        for (size_t i = 0; i < bytes; i++)
-            m.v[i] = (uint8_t)c5_splitmix64(&st);
+        random_cell(&cl, &sv, cell, &m, &st, 0);
         for (int i = 0; i < 20000; i++) {
             int64_t pos[3];
             int inner = 1;
