@@ -325,8 +325,7 @@ static int64_t samples_ahead(const c5_trav_in *in, const c5_cells *cl)
             hi[a] = (b + 1) * C5_BLOCK < in->hi[a] ? (b + 1) * C5_BLOCK : in->hi[a];
             hi[a] = hi[a] < in->dims[a] ? hi[a] : in->dims[a];
         }
-        int64_t e = steps_to_exit(at, in->S, lo, hi);
-        n += e; /* the first step from in->pos outside the box */
+        n += steps_to_exit(at, in->S, lo, hi); /* the first step from in->pos outside the box */
         if (n >= life || n > AHEAD_MAX)
             break;
         for (int a = 0; a < 3; a++)
@@ -447,6 +446,30 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
     return 0;
 }
 
+/* Pending sample i (at pos; the ray at next with life left after it) with alpha > 0 into the
+ * next lane of the shading: the voxels of its gradient (rows, or differences where a clamp
+ * is due), its fractions and table colour (axis or channel a at [a * stride]) and position. */
+static inline __attribute__((always_inline)) void pend_lit(pending *q, const c5_frame_regs *r, const c5_rdram *m,
+                                                           int i, const int64_t pos[3], const int32_t *frac,
+                                                           const int32_t *rgb, ptrdiff_t stride, int64_t alpha,
+                                                           const int64_t next[3], uint32_t life)
+{
+    int lane = q->lit.n++;
+    if (c5_gather_rows_to(r, m, pos, &q->lit.row[0][lane], C5_SHADE_LANES))
+        q->lit.rows |= 1u << lane;
+    else
+        c5_gather_diffs_to(r, m, pos, &q->lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
+    for (int a = 0; a < 3; a++) {
+        q->lit.frac[a][lane] = frac[a * stride];
+        q->lit.vpos[a][lane] = (int32_t)pos[a];
+        q->lit.rgb[a][lane] = rgb[a * stride];
+        q->pos[lane][a] = next[a];
+    }
+    q->at[lane] = i;
+    q->alpha[lane] = alpha;
+    q->lifetime[lane] = life;
+}
+
 /* The fewest samples a run takes through c5_value_wide. */
 #define VALUE_LANES_MIN 4
 
@@ -464,22 +487,8 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
             life--;
         int i = q->n++;
         q->tag[i] = vl->tag[j];
-        if (vl->lit >> j & 1) {
-            int lane = q->lit.n++;
-            if (c5_gather_rows_to(r, p->mem, at, &q->lit.row[0][lane], C5_SHADE_LANES))
-                q->lit.rows |= 1u << lane;
-            else
-                c5_gather_diffs_to(r, p->mem, at, &q->lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
-            for (int a = 0; a < 3; a++) {
-                q->lit.frac[a][lane] = vl->frac[a][j];
-                q->lit.vpos[a][lane] = (int32_t)at[a];
-                q->lit.rgb[a][lane] = vl->rgb[a][j];
-                q->pos[lane][a] = next[a];
-            }
-            q->at[lane] = i;
-            q->alpha[lane] = vl->alpha[j];
-            q->lifetime[lane] = life;
-        }
+        if (vl->lit >> j & 1)
+            pend_lit(q, r, p->mem, i, at, &vl->frac[0][j], &vl->rgb[0][j], C5_VALUE_LANES, vl->alpha[j], next, life);
         for (int a = 0; a < 3; a++)
             at[a] = next[a];
         if ((q->lit.n == C5_SHADE_LANES || q->n == PENDING_MAX) && composite_pending(p, ray, q, cycles))
@@ -612,20 +621,9 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             int i = q.n++;
             q.tag[i] = c5_cache_tag_of(ray->pos);
             if (rgba[3] > 0) {
-                int lane = q.lit.n++;
-                if (c5_gather_rows_to(r, m, ray->pos, &q.lit.row[0][lane], C5_SHADE_LANES))
-                    q.lit.rows |= 1u << lane;
-                else
-                    c5_gather_diffs_to(r, m, ray->pos, &q.lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
-                for (int a = 0; a < 3; a++) {
-                    q.lit.frac[a][lane] = (int32_t)k.frac[a];
-                    q.lit.vpos[a][lane] = (int32_t)ray->pos[a];
-                    q.lit.rgb[a][lane] = (int32_t)rgba[a];
-                    q.pos[lane][a] = to.pos[a];
-                }
-                q.at[lane] = i;
-                q.alpha[lane] = rgba[3];
-                q.lifetime[lane] = to.lifetime;
+                int32_t frac[3] = {(int32_t)k.frac[0], (int32_t)k.frac[1], (int32_t)k.frac[2]};
+                int32_t rgb[3] = {(int32_t)rgba[0], (int32_t)rgba[1], (int32_t)rgba[2]};
+                pend_lit(&q, r, m, i, ray->pos, frac, rgb, 1, rgba[3], to.pos, to.lifetime);
             }
             for (int a = 0; a < 3; a++)
                 ray->pos[a] = to.pos[a];
