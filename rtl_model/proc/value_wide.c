@@ -1,4 +1,4 @@
-/* The interpolation block and the opacity of eight samples at once (value_wide.h). */
+/* The interpolation and classification blocks of eight samples at once (value_wide.h). */
 #include "value_wide.h"
 
 #include "sample_pipe.h"
@@ -41,7 +41,7 @@ WIDE static int value_wide(const c5_frame_regs *r, const c5_rdram *m, const int6
      * repeat the last sample. */
     __m256i j = _mm256_min_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(n - 1));
     __m256i off = _mm256_set1_epi32((int)(o0 - 1)), t[3];
-    int32_t fr[3][8];
+    int32_t fr[3][8]; /* the fractions; o is written only at the end, after every refusal */
     for (int a = 0; a < 3; a++) {
         __m256i p = _mm256_add_epi32(_mm256_set1_epi32((int32_t)pos[a]), _mm256_mullo_epi32(j, _mm256_set1_epi32((int32_t)S[a])));
         t[a] = _mm256_srli_epi32(p, C5_POS_F + 2); /* c5_cache_tag_of's fields: 4^3 voxels */
@@ -103,7 +103,7 @@ WIDE static int value_wide(const c5_frame_regs *r, const c5_rdram *m, const int6
 int c5_value_wide(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], const int64_t S[3], int n,
                   c5_value_lanes *o)
 {
-    return c5_shade_wide_usable() && n >= 1 && n <= C5_SHADE_LANES ? value_wide(r, m, pos, S, n, o) : -1;
+    return c5_shade_wide_usable() && n >= 1 && n <= C5_VALUE_LANES ? value_wide(r, m, pos, S, n, o) : -1;
 }
 
 #else
