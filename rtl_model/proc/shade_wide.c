@@ -50,8 +50,6 @@ static void grad_lanes_scalar(const c5_frame_regs *r, c5_shade_lanes *b)
 
 #if C5_WIDE
 
-#include "wide_lanes.h"
-
 int c5_shade_wide_usable(void)
 {
     /* asked once: every lane block checks it before its first wide instruction */
@@ -176,7 +174,7 @@ WIDE static int normalize_wide(const int64_t v[C5_SHADE_LANES][3], int64_t out[C
  * and dropped: copies keep them within every range lane 0 is in), in registers. */
 WIDE static inline void lanes3(const int32_t f[3][C5_SHADE_LANES], int n, v8 out[3])
 {
-    __m256i used = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    __m256i used = lanes_below(n);
     for (int a = 0; a < 3; a++) {
         __m256i x = _mm256_loadu_si256((const __m256i *)f[a]);
         out[a] = lanes_i(_mm256_blendv_epi8(_mm256_permutevar8x32_epi32(x, _mm256_setzero_si256()), x, used));
@@ -282,12 +280,6 @@ WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_
     return shade_core(r, d, b, g);
 }
 
-
-/* c5_grad_blend: per axis sum_j w_j d_j with w_j the product of the corner's three
- * fractions, taken as z (y (x d)): the same integer as the blend's in any order, and every
- * partial sum within 255 2^45 < 2^53, so exact; then the two half-to-even shifts as
- * multiplications by powers of 2 and rounds to even. */
-
 /* The lanes' differences, corner j of axis a in d[a][j]: from the rows in the lanes that have
  * them (the subtractions of c5_rows_diffs), from diff in the others. */
 WIDE static inline __attribute__((always_inline)) void diff_lanes(const c5_shade_lanes *b, __m256i d[3][8])
@@ -316,7 +308,10 @@ WIDE static inline __attribute__((always_inline)) void diff_lanes(const c5_shade
 #undef BYTE
 }
 
-/* The gradients of lanes 0..n-1 (lanes n..7: 0). */
+/* c5_grad_blend of lanes 0..n-1 (lanes n..7: 0): per axis sum_j w_j d_j with w_j the product
+ * of the corner's three fractions, taken as z (y (x d)): the same integer as the blend's in
+ * any order, and every partial sum within 255 2^45 < 2^53, so exact; then the two
+ * half-to-even shifts as multiplications by powers of 2 and rounds to even. */
 WIDE static void grad_lanes(const c5_frame_regs *r, c5_shade_lanes *b, v8 g[3])
 {
     const v8 one = set1(1 << 15);
@@ -327,7 +322,7 @@ WIDE static void grad_lanes(const c5_frame_regs *r, c5_shade_lanes *b, v8 g[3])
     }
     __m256i d[3][8];
     diff_lanes(b, d);
-    __m256i used = _mm256_cmpgt_epi32(_mm256_set1_epi32(b->n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    __m256i used = lanes_below(b->n);
     v8 keep = {{_mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(used))),
                 _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(used, 1)))}};
     for (int a = 0; a < 3; a++) {

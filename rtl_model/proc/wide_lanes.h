@@ -88,6 +88,12 @@ WIDE static inline v8 lanes_i(__m256i x)
     return (v8){{_mm256_cvtepi32_pd(_mm256_castsi256_si128(x)), _mm256_cvtepi32_pd(_mm256_extracti128_si256(x, 1))}};
 }
 
+/* All ones in 32-bit lanes 0..n-1, zero in the others. */
+WIDE static inline __m256i lanes_below(int n)
+{
+    return _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
+
 /* Eight lanes of an int32_t [8] row (exact). */
 WIDE static inline v8 lanes32(const int32_t *row) { return lanes_i(_mm256_loadu_si256((const __m256i *)row)); }
 
