@@ -28,10 +28,13 @@ static void unit_dir(uint64_t *st, int64_t out[3])
 }
 
 /* Registers: ka, kd, ks, 1..3 lights of either kind (point lights near, or now and then
- * beyond the wide path's range), and a specular table of power p. */
+ * beyond the wide path's range), and a specular table of power p. Voxel coordinates are
+ * geom coordinates (gscale 1.0): a lane's vpos is its geom position. */
 static void random_regs(uint64_t *st, c5_frame_regs *r)
 {
     memset(r, 0, sizeof *r);
+    for (int a = 0; a < 3; a++)
+        r->gscale[a] = 1 << 16;
     r->ka = uniform_i(st, 0, 65535);
     r->kd = uniform_i(st, 0, 65535);
     r->ks = uniform_i(st, 0, 65535);
@@ -69,12 +72,8 @@ static int same_as_c5_shade(const c5_frame_regs *r, const int64_t d[3], const c5
         c5_sample smp = {.value = 0, .grad = {b->grad[i][0], b->grad[i][1], b->grad[i][2]}};
         int64_t rgba[4] = {b->rgb[0][i], b->rgb[1][i], b->rgb[2][i], 0}, out[3], g[3];
         uint64_t sat = 0;
-        if (b->vpos_given) {
-            int64_t v[3] = {b->vpos[0][i], b->vpos[1][i], b->vpos[2][i]};
-            c5_geom_from_voxel(r, v, g);
-        } else {
-            memcpy(g, b->gpos[i], sizeof g);
-        }
+        int64_t v[3] = {b->vpos[0][i], b->vpos[1][i], b->vpos[2][i]};
+        c5_geom_from_voxel(r, v, g);
         c5_shade(r, &smp, rgba, g, d, out, &sat);
         if (memcmp(out, b->out[i], sizeof out) || sat != b->sat[i]) {
             snprintf(why, n, "lane %d, grad (%lld %lld %lld): (%lld %lld %lld) sat %llu, c5_shade (%lld %lld %lld) sat %llu",
@@ -103,7 +102,7 @@ TEST(shade_wide_is_c5_shade_on_random_samples)
             for (int i = 0; i < b.n; i++) {
                 random_grad(&st, b.grad[i]);
                 for (int a = 0; a < 3; a++) {
-                    b.gpos[i][a] = uniform_i(&st, -(1 << 22), 1 << 22);
+                    b.vpos[a][i] = (int32_t)uniform_i(&st, -(1 << 22), 1 << 22);
                     b.rgb[a][i] = (int32_t)uniform_i(&st, 0, 32768);
                 }
             }
@@ -155,7 +154,7 @@ TEST(shade_wide_is_c5_shade_on_every_small_gradient)
                     int64_t g[3] = {x, y, z};
                     for (int a = 0; a < 3; a++) {
                         b.grad[i][a] = g[a];
-                        b.gpos[i][a] = (int64_t)(x * 7 + y * 3 + z) * 4096;
+                        b.vpos[a][i] = (x * 7 + y * 3 + z) * 4096;
                         b.rgb[a][i] = 20000 + 1000 * a;
                     }
                     if (b.n == C5_SHADE_LANES || (x == 6 && y == 6 && z == 6)) {
@@ -332,7 +331,7 @@ TEST(grad_shade_wide_is_the_blocks_in_turn)
         }
         int64_t d[3];
         unit_dir(&st, d);
-        c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, C5_SHADE_LANES), .vpos_given = 1};
+        c5_shade_lanes b = {.n = (int)uniform_i(&st, 1, C5_SHADE_LANES)};
         for (int i = 0; i < b.n; i++) {
             for (int a = 0; a < 3; a++) {
                 b.frac[a][i] = (int32_t)uniform_i(&st, 0, C5_ONE15 - 1);

@@ -544,7 +544,6 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     int in_lanes = shades_in_lanes(r, tp, shade);
     q.n = q.lit.n = 0;
     q.lit.rows = 0;
-    q.lit.vpos_given = 1;
     for (;;) {
         c5_trav_out to;
         if (ahead > 0) {

@@ -3,29 +3,18 @@
 #include "shade_wide.h"
 
 #include <stdatomic.h>
-#include <string.h>
 
 #include "geom.h"
 #include "sample_pipe.h"
 #include "wide_lanes.h"
-
-/* The geom position of lane i (given, or made of its voxel position). */
-static void lane_gpos(const c5_frame_regs *r, const c5_shade_lanes *b, int i, int64_t g[3])
-{
-    if (!b->vpos_given) {
-        memcpy(g, b->gpos[i], sizeof b->gpos[i]);
-        return;
-    }
-    int64_t v[3] = {b->vpos[0][i], b->vpos[1][i], b->vpos[2][i]};
-    c5_geom_from_voxel(r, v, g);
-}
 
 static void shade_lanes_scalar(const c5_frame_regs *r, const int64_t d[3], c5_shade_lanes *b)
 {
     for (int i = 0; i < b->n; i++) {
         c5_sample smp = {.value = 0, .grad = {b->grad[i][0], b->grad[i][1], b->grad[i][2]}};
         int64_t rgba[4] = {b->rgb[0][i], b->rgb[1][i], b->rgb[2][i], 0}, g[3];
-        lane_gpos(r, b, i, g);
+        int64_t v[3] = {b->vpos[0][i], b->vpos[1][i], b->vpos[2][i]};
+        c5_geom_from_voxel(r, v, g);
         b->sat[i] = 0;
         c5_shade_w(r, &smp, rgba, g, d, b->out[i], &b->sat[i], 0);
     }
@@ -188,7 +177,7 @@ WIDE static int shade_core(const c5_frame_regs *r, const int64_t d[3], c5_shade_
     int point = 0;
     for (int li = 0; li < r->n_lights; li++)
         point |= r->lights[li].kind == C5_LIGHT_POINT;
-    if (point && b->vpos_given) {
+    if (point) {
         /* c5_geom_from_voxel: below 2^28 times gscale below 2^24 (UQ8.16), the product is exact,
          * and the half-to-even shift by 16 a multiplication by 2^-16 and a round to even */
         v8 vp[3], ok = set1(-1.0);
@@ -201,13 +190,6 @@ WIDE static int shade_core(const c5_frame_regs *r, const int64_t d[3], c5_shade_
         }
         if ((_mm256_movemask_pd(ok.h[0]) & _mm256_movemask_pd(ok.h[1])) != 15)
             return -1;
-    } else if (point) {
-        int64_t gpos[8][3];
-        for (int i = 0; i < 8; i++) /* unused lanes repeat lane 0 */
-            for (int a = 0; a < 3; a++)
-                gpos[i][a] = b->gpos[i < b->n ? i : 0][a];
-        for (int a = 0; a < 3; a++)
-            gp[a] = lanes(gpos, a);
     }
     lanes3(b->rgb, b->n, rgb);
     const v8 zero = set1(0);

@@ -33,11 +33,9 @@ typedef struct {
     uint32_t row[C5_SHADE_ROWS][C5_SHADE_LANES];
     unsigned rows;
     int64_t grad[C5_SHADE_LANES][3]; /* c5_sample.grad: c5_grad_wide's, or given */
-    /* The geom position (read for point lights only): gpos, or where vpos_given, made of the
-     * voxel position vpos as c5_geom_from_voxel makes it */
-    int64_t gpos[C5_SHADE_LANES][3];
+    /* The voxel position (read for point lights only: their direction is from its geom
+     * position, as c5_geom_from_voxel makes it) */
     int32_t vpos[3][C5_SHADE_LANES];
-    int vpos_given;
     int32_t rgb[3][C5_SHADE_LANES];  /* the table colour, UQ1.15 */
     int64_t out[C5_SHADE_LANES][3];  /* shaded_rgb UQ4.12 */
     uint64_t sat[C5_SHADE_LANES];    /* each lane's saturations (c5_shade's count) */
