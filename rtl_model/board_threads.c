@@ -163,6 +163,14 @@ static void run_item(struct c5_bd_threads *t, helper *h, size_t j)
 #define LEAD 32
 #define AHEAD 4096
 
+/* Item k taken for a helper, if no one has it yet. */
+static int claim(struct c5_bd_threads *t, long k)
+{
+    uint32_t s = TODO;
+    return atomic_compare_exchange_strong_explicit(&t->it[k].state, &s, CLAIMED, memory_order_acq_rel,
+                                                   memory_order_acquire);
+}
+
 /* The helper's share of a visit: the next item not taken, LEAD to AHEAD beyond the board's
  * thread, until none is left; then any the board's thread has not reached. */
 static void run_visit(struct c5_bd_threads *t, helper *h)
@@ -182,21 +190,15 @@ static void run_visit(struct c5_bd_threads *t, helper *h)
         if (!atomic_compare_exchange_weak_explicit(&t->next, &cur, j + 1, memory_order_relaxed, memory_order_relaxed))
             continue; /* another helper moved it: cur is where it is now */
         cur = j + 1;
-        uint32_t s = TODO;
-        if (atomic_compare_exchange_strong_explicit(&t->it[j].state, &s, CLAIMED, memory_order_acq_rel,
-                                                    memory_order_acquire))
+        if (claim(t, j))
             run_item(t, h, (size_t)j);
     }
     /* None is left beyond LEAD of the board's thread, which reaches the rest in the sorter's
      * order, whatever their place: the helper takes those not yet taken, from the last one
      * down, rather than sit idle while the board's thread runs the visit's end alone. */
-    for (long k = (long)t->n - 1; k >= 0; k--) {
-        uint32_t s = TODO;
-        if (atomic_load_explicit(&t->it[k].state, memory_order_relaxed) == TODO &&
-            atomic_compare_exchange_strong_explicit(&t->it[k].state, &s, CLAIMED, memory_order_acq_rel,
-                                                    memory_order_acquire))
+    for (long k = (long)t->n - 1; k >= 0; k--)
+        if (atomic_load_explicit(&t->it[k].state, memory_order_relaxed) == TODO && claim(t, k))
             run_item(t, h, (size_t)k);
-    }
 }
 
 /* The pool's job at a visit: each helper's share. */
