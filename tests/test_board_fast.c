@@ -119,17 +119,28 @@ TEST(board_fast_paths_same_bits_every_builtin_scene)
         CHECK_MSG(c5_scene_parse(bs->json, NULL, "test", &s, &err) == 0 && c5_supervol_build(&s, &sv, &err) == 0,
                   "%s: %s", bs->name, err.msg);
         s.render.width = s.render.height = 64;
-        for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+        /* the variants, then the first with a point light at the camera's target casting
+         * shadows (its shadow rays end at the light, in the volume: their lifetimes count),
+         * then without lights (rays that sample and do not shade) */
+        size_t n_variants = sizeof variants / sizeof variants[0];
+        for (size_t v = 0; v < n_variants + 2; v++) {
+            c5_scene sv_scene = s;
+            if (v == n_variants)
+                sv_scene.lights[0] = (c5_light){.kind = C5_LIGHT_POINT, .position = s.camera.target, .intensity = 1,
+                                                .shadows = 1};
+            if (v == n_variants + 1)
+                sv_scene.n_lights = 0;
             c5_image img[3];
             c5_board_stats st[3];
             seen sn[3];
             int n = 0;
-            while (n < 3 && render(&s, &sv, variants[v], n, &img[n], &st[n], &sn[n]) == 0)
+            while (n < 3 && render(&sv_scene, &sv, variants[v < n_variants ? v : 0], n, &img[n], &st[n], &sn[n]) == 0)
                 n++;
             int ok = n == 3;
             char what[3][96];
             for (int i = 1; ok && i < 3; i++) {
-                snprintf(what[i], sizeof what[i], "%s variant %zu, taps %d against none", bs->name, v, i);
+                snprintf(what[i], sizeof what[i], "%s variant %zu%s, taps %d against none", bs->name,
+                         v < n_variants ? v : 0, v < n_variants ? "" : v == n_variants ? " shadowed" : " unlit", i);
                 ok = c5t_board_stats_equal(what[i], &st[0], &st[i]) == 0;
                 if (ok && !c5t_same_image(&img[0], &img[i])) {
                     c5t_failf(__FILE__, __LINE__, "%s: images differ", what[i]);

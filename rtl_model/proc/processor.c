@@ -404,15 +404,17 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
  * fill the lanes of c5_grad_wide and c5_shade_wide. What each sample does to the processor's
  * state (the voxel cache, the counters) waits with it, and is done in order when they are
  * composited, up to the sample that ends the ray: so the state is what sample-by-sample
- * processing leaves. */
+ * processing leaves. (A ray that ends is delivered and not read again: its position and
+ * lifetime stay where the run left them.) */
 #define PENDING_MAX 32
 typedef struct {
     int n;                     /* samples */
-    int64_t tag[PENDING_MAX];  /* each one's cache tag */
+    int64_t tag[PENDING_MAX + C5_VALUE_LANES]; /* each one's cache tag (and room for pend_values' copies) */
     c5_shade_lanes lit;        /* the shaded ones' inputs, then their colours */
     int at[C5_SHADE_LANES];    /* a shaded one's place among the samples */
-    int64_t alpha[C5_SHADE_LANES], pos[C5_SHADE_LANES][3]; /* its opacity, the ray's position after it */
-    uint32_t lifetime[C5_SHADE_LANES];
+    int64_t alpha[C5_SHADE_LANES]; /* its opacity */
+    c5_rows_src rows;          /* the cell's rows, set up at the run's first shaded sample */
+    int rows_ready;
 } pending;
 
 /* The pending samples composited in order: 1 if one of them ended the ray (delivered). The
@@ -429,9 +431,6 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
             cache_access(p, q->tag[i]);
         p->st.saturations += q->lit.sat[j];
         if (c5_composite(p->r, ray, q->alpha[j], q->lit.out[j], &p->st.saturations)) {
-            for (int a = 0; a < 3; a++)
-                ray->pos[a] = q->pos[j][a];
-            ray->lifetime = q->lifetime[j];
             p->st.samples += (uint64_t)i;
             p->st.cycles += (uint64_t)i * cycles;
             p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
@@ -446,16 +445,18 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
     return 0;
 }
 
-/* Pending sample i (at pos; the ray at next with life left after it) with alpha > 0 into the
- * next lane of the shading: the voxels of its gradient (rows, or differences where a clamp
+/* Pending sample i (at pos) with alpha > 0 into the next lane of the shading: the voxels of its gradient (rows, or differences where a clamp
  * is due), its fractions and table colour (axis or channel a at [a * stride]) and position. */
 static inline __attribute__((always_inline)) void pend_lit(pending *q, const c5_frame_regs *r, const c5_rdram *m,
                                                            int i, const int64_t pos[3], const int32_t *frac,
-                                                           const int32_t *rgb, ptrdiff_t stride, int64_t alpha,
-                                                           const int64_t next[3], uint32_t life)
+                                                           const int32_t *rgb, ptrdiff_t stride, int64_t alpha)
 {
     int lane = q->lit.n++;
-    if (c5_gather_rows_to(r, m, pos, &q->lit.row[0][lane], C5_SHADE_LANES))
+    if (!q->rows_ready) {
+        c5_rows_src_init(r, m, &q->rows);
+        q->rows_ready = 1;
+    }
+    if (c5_gather_rows_at(&q->rows, pos, &q->lit.row[0][lane], C5_SHADE_LANES))
         q->lit.rows |= 1u << lane;
     else
         c5_gather_diffs_to(r, m, pos, &q->lit.diff[0][0][lane], 8 * C5_SHADE_LANES, C5_SHADE_LANES);
@@ -463,48 +464,90 @@ static inline __attribute__((always_inline)) void pend_lit(pending *q, const c5_
         q->lit.frac[a][lane] = frac[a * stride];
         q->lit.vpos[a][lane] = (int32_t)pos[a];
         q->lit.rgb[a][lane] = rgb[a * stride];
-        q->pos[lane][a] = next[a];
     }
     q->at[lane] = i;
     q->alpha[lane] = alpha;
-    q->lifetime[lane] = life;
 }
 
 /* The fewest samples a run takes through c5_value_wide. */
 #define VALUE_LANES_MIN 4
 
 /* The n samples of c5_value_wide's lanes (at ray->pos + j S) made pending in order, as
- * c5_proc_run's per-sample path does, and the ray moved past them: 1 if the ray ended. */
+ * c5_proc_run's per-sample path does, and the ray moved past them: 1 if the ray ended. A
+ * stretch at a time up to the sample that fills the shading's lanes or the pending samples
+ * (then they are composited); only the shaded samples need their own positions. */
 static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lanes *vl, int n, const int64_t S[3],
                        uint64_t cycles)
 {
     const c5_frame_regs *r = p->r;
-    int64_t at[3] = {ray->pos[0], ray->pos[1], ray->pos[2]};
     uint32_t life = ray->lifetime;
-    for (int j = 0; j < n; j++) {
-        int64_t next[3] = {at[0] + S[0], at[1] + S[1], at[2] + S[2]};
-        if (life != C5_LIFE_NONE)
-            life--;
-        int i = q->n++;
-        q->tag[i] = vl->tag[j];
-        if (vl->lit >> j & 1)
-            pend_lit(q, r, p->mem, i, at, &vl->frac[0][j], &vl->rgb[0][j], C5_VALUE_LANES, vl->alpha[j], next, life);
-        for (int a = 0; a < 3; a++)
-            at[a] = next[a];
+    for (int j0 = 0; j0 < n;) {
+        int take = n - j0 < PENDING_MAX - q->n ? n - j0 : PENDING_MAX - q->n;
+        unsigned lit = vl->lit >> j0 & ((1u << take) - 1);
+        int room = C5_SHADE_LANES - q->lit.n;
+        for (unsigned x = lit; x; x &= x - 1)
+            if (--room == 0) { /* the sample that fills the lanes ends the stretch */
+                take = __builtin_ctz(x) + 1;
+                lit &= (1u << take) - 1;
+                break;
+            }
+        memcpy(&q->tag[q->n], &vl->tag[j0], sizeof vl->tag); /* all eight: q->tag has room */
+        for (; lit; lit &= lit - 1) {
+            int b = __builtin_ctz(lit), j = j0 + b;
+            int64_t at[3] = {ray->pos[0] + j * S[0], ray->pos[1] + j * S[1], ray->pos[2] + j * S[2]};
+            pend_lit(q, r, p->mem, q->n + b, at, &vl->frac[0][j], &vl->rgb[0][j], C5_VALUE_LANES, vl->alpha[j]);
+        }
+        q->n += take;
+        j0 += take;
         if ((q->lit.n == C5_SHADE_LANES || q->n == PENDING_MAX) && composite_pending(p, ray, q, cycles))
             return 1;
     }
     for (int a = 0; a < 3; a++)
-        ray->pos[a] = at[a];
-    ray->lifetime = life;
+        ray->pos[a] += n * S[a];
+    if (life != C5_LIFE_NONE)
+        ray->lifetime = life - (uint32_t)n;
     return 0;
 }
 
-/* Whether c5_proc_run shades its samples in lanes (c5_shade_wide): a shaded run without
- * taps, at the shipped widths, on a host with the wide units. */
-static int shades_in_lanes(const c5_frame_regs *r, const c5_taps *tp, int shade)
+/* The n samples of c5_value_wide's lanes (at ray->pos + j S) of a run that does not shade (a
+ * shadow ray, or no light), composited one by one as c5_proc_run's per-sample path does, and
+ * the ray moved past them: 1 if the ray ended. */
+static int plain_values(c5_proc *p, c5_bray *ray, const c5_value_lanes *vl, int n, const int64_t S[3],
+                        uint64_t cycles, int shadow)
 {
-    if (!shade || tp || !c5_shade_wide_usable())
+    int j = 0, done = 0;
+    for (; j < n && !done; j++) {
+        cache_access(p, vl->tag[j]);
+        p->st.samples++;
+        p->st.cycles += cycles;
+        if (vl->alpha[j] > 0) {
+            int64_t c[3];
+            for (int ch = 0; ch < 3; ch++)
+                c[ch] = c5_rshift_he(vl->rgb[ch][j], 15 - C5_RGB_F); /* UQ1.15 -> shaded_rgb UQ4.12 */
+            done = c5_composite(p->r, ray, vl->alpha[j], shadow ? NULL : c, &p->st.saturations);
+        }
+    }
+    for (int a = 0; a < 3; a++)
+        ray->pos[a] += j * S[a];
+    if (ray->lifetime != C5_LIFE_NONE)
+        ray->lifetime -= (uint32_t)j;
+    if (done) {
+        if (shadow) {
+            p->st.ends[C5_END_BLOCKED]++;
+        } else {
+            p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
+            p->st.ends[C5_END_OPACITY]++;
+        }
+    }
+    return done;
+}
+
+/* Whether c5_proc_run takes its samples' values in lanes (c5_value_wide), and shades them in
+ * lanes (c5_shade_wide) where it shades: a run without taps, at the shipped widths, on a host
+ * with the wide units. */
+static int values_in_lanes(const c5_frame_regs *r, const c5_taps *tp)
+{
+    if (tp || !c5_shade_wide_usable())
         return 0;
     for (int w = 0; w < C5_W_COUNT; w++)
         if (r->nsh[w])
@@ -541,9 +584,10 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     int64_t ahead = 0;
     const uint64_t sample_cycles = grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
     pending q;
-    int in_lanes = shades_in_lanes(r, tp, shade);
+    int lanes = values_in_lanes(r, tp), in_lanes = lanes && shade;
     q.n = q.lit.n = 0;
     q.lit.rows = 0;
+    q.rows_ready = 0;
     for (;;) {
         c5_trav_out to;
         if (ahead > 0) {
@@ -576,12 +620,13 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             p->st.cycles += C5_CYC_LEAP;
             continue;
         }
-        if (in_lanes && ahead + 1 >= VALUE_LANES_MIN) {
+        if (lanes && ahead + 1 >= VALUE_LANES_MIN) {
             int n = ahead + 1 < C5_VALUE_LANES ? (int)ahead + 1 : C5_VALUE_LANES;
             c5_value_lanes vl;
             if (c5_value_wide(r, m, ray->pos, S, n, &vl) == 0) {
                 ahead -= n - 1;
-                if (pend_values(p, ray, &q, &vl, n, S, sample_cycles))
+                if (in_lanes ? pend_values(p, ray, &q, &vl, n, S, sample_cycles)
+                             : plain_values(p, ray, &vl, n, S, sample_cycles, shadow))
                     return;
                 continue;
             }
@@ -622,7 +667,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             if (rgba[3] > 0) {
                 int32_t frac[3] = {(int32_t)k.frac[0], (int32_t)k.frac[1], (int32_t)k.frac[2]};
                 int32_t rgb[3] = {(int32_t)rgba[0], (int32_t)rgba[1], (int32_t)rgba[2]};
-                pend_lit(&q, r, m, i, ray->pos, frac, rgb, 1, rgba[3], to.pos, to.lifetime);
+                pend_lit(&q, r, m, i, ray->pos, frac, rgb, 1, rgba[3]);
             }
             for (int a = 0; a < 3; a++)
                 ray->pos[a] = to.pos[a];

@@ -116,33 +116,59 @@ static inline void c5_gather_diffs_to(const c5_frame_regs *r, const c5_rdram *m,
 static const int8_t C5_ROW_DY[12] = {0, 1, 0, 1, -1, 2, -1, 2, 0, 1, 0, 1};
 static const int8_t C5_ROW_DZ[12] = {0, 0, 1, 1, 0, 0, 1, 1, -1, -1, 2, 2};
 
+/* What the row reads of one cell's visit need, fixed during it (c5_rows_src_init): the
+ * twelve rows' offsets from corner 0 and each axis' room, worked out once a run instead of
+ * at every shaded sample. */
+typedef struct {
+    const uint8_t *v;   /* the RDRAM's bytes (c5_rdram_data) */
+    ptrdiff_t at0;      /* v's offset of voxel (1, 0, 0) of the grid, x = i - 1 of i = 0 (may be < 0) */
+    ptrdiff_t sy, sz;
+    ptrdiff_t off[12];  /* row k from row 0: C5_ROW_DY[k] sy + C5_ROW_DZ[k] sz */
+    unsigned room[3];   /* 1 <= i <= dims - 3, as (unsigned)(i - 1) < room */
+} c5_rows_src;
+
+static inline void c5_rows_src_init(const c5_frame_regs *r, const c5_rdram *m, c5_rows_src *s)
+{
+    ptrdiff_t o0;
+    s->v = c5_rdram_data(m, &o0, &s->sy, &s->sz);
+    s->at0 = o0 - 1 - m->org[0] - m->org[1] * s->sy - m->org[2] * s->sz;
+    for (int k = 0; k < 12; k++)
+        s->off[k] = C5_ROW_DY[k] * s->sy + C5_ROW_DZ[k] * s->sz;
+    for (int a = 0; a < 3; a++)
+        s->room[a] = r->dims[a] - 3 > 0 ? (unsigned)(r->dims[a] - 3) : 0;
+}
+
 /* The rows into row[k * stride] (k < 12, a voxel a byte, x = i - 1 lowest), where no index
  * needs a clamp (1 <= i, i + 2 <= dims - 1 on every axis: the same voxels c5_gather_diffs_to
  * reads, and those beside them in x, all in the cell's box): 1, else 0 and nothing read. */
-static inline int c5_gather_rows_to(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], uint32_t *row,
-                                    ptrdiff_t stride)
+static inline int c5_gather_rows_at(const c5_rows_src *s, const int64_t pos[3], uint32_t *row, ptrdiff_t stride)
 {
     int i3[3];
     for (int a = 0; a < 3; a++) {
         int i = (int)((pos[a] - (1 << (C5_POS_F - 1))) >> C5_POS_F);
-        int room = r->dims[a] - 3 > 0 ? r->dims[a] - 3 : 0;
-        if ((unsigned)(i - 1) >= (unsigned)room)
+        if ((unsigned)(i - 1) >= s->room[a])
             return 0;
         i3[a] = i;
     }
-    ptrdiff_t sy, sz, o0;
-    const uint8_t *v = c5_rdram_data(m, &o0, &sy, &sz);
-    const uint8_t *b = v + (o0 + (i3[0] - 1 - m->org[0]) + (i3[1] - m->org[1]) * sy + (i3[2] - m->org[2]) * sz);
+    const uint8_t *b = s->v + (s->at0 + i3[0] + i3[1] * s->sy + i3[2] * s->sz);
     for (int k = 0; k < 12; k++) {
-        const uint8_t *q = b + C5_ROW_DY[k] * sy + C5_ROW_DZ[k] * sz;
         uint32_t w;
-        memcpy(&w, q, 4); /* one load: the voxels in memory order */
+        memcpy(&w, b + s->off[k], 4); /* one load: the voxels in memory order */
 #if __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
         w = __builtin_bswap32(w);
 #endif
         row[k * stride] = w;
     }
     return 1;
+}
+
+/* c5_gather_rows_at with the visit's constants worked out for this one sample. */
+static inline int c5_gather_rows_to(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], uint32_t *row,
+                                    ptrdiff_t stride)
+{
+    c5_rows_src s;
+    c5_rows_src_init(r, m, &s);
+    return c5_gather_rows_at(&s, pos, row, stride);
 }
 
 /* The row (C5_ROW_DY, C5_ROW_DZ) = (dy, dz), as C5_ROW_OF[dy + 1][dz + 1] (0 where there is none). */
