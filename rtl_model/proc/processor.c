@@ -113,14 +113,22 @@ static void route(c5_proc *p, c5_bray *ray, const int64_t S[3])
 static int grid_range(const c5_frame_regs *r, const int64_t O[3], const int64_t d[3], int64_t *tin, int64_t *tout)
 {
     int64_t t0 = INT64_MIN, t1 = INT64_MAX;
+    /* |O|, |gdims - O| < 2^47 and |d| < 2^47: every numerator below 2^61, in 64 bits */
+    int small = c5_geom_small3(O, 46) && c5_geom_small3(d, 47) && c5_geom_small3(r->gdims, 45);
     for (int a = 0; a < 3; a++) {
         if (d[a] == 0) {
             if (O[a] < 0 || O[a] >= r->gdims[a])
                 return 0;
             continue;
         }
-        int64_t ta = c5_div_he(c5_shl128(-O[a], 14), d[a]);
-        int64_t tb = c5_div_he(c5_shl128(r->gdims[a] - O[a], 14), d[a]);
+        int64_t ta, tb;
+        if (small) { /* the same quotients: c5_div_he takes these steps for |n|, |d| < 2^62 */
+            ta = c5_div_he64(-O[a] * (1 << 14), d[a]);
+            tb = c5_div_he64((r->gdims[a] - O[a]) * (1 << 14), d[a]);
+        } else {
+            ta = c5_div_he(c5_shl128(-O[a], 14), d[a]);
+            tb = c5_div_he(c5_shl128(r->gdims[a] - O[a], 14), d[a]);
+        }
         if (ta > tb) {
             int64_t x = ta;
             ta = tb;
@@ -288,6 +296,41 @@ static int block_empty_at(const c5_cells *cl, const int dims[3], const int64_t p
     int b[3] = {(int)(pos[0] >> C5_POS_F) / C5_BLOCK, (int)(pos[1] >> C5_POS_F) / C5_BLOCK,
                 (int)(pos[2] >> C5_POS_F) / C5_BLOCK};
     return cl->block_empty[((size_t)b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]];
+}
+
+/* trav_step with block_empty_at's flag, for a cell whose box lies in the grid (0 <= lo,
+ * hi <= dims): a position in the box is then in the grid, and the flag is read at the voxel
+ * found. The same decision in one pass, for the runs no traverse tap watches. */
+static inline __attribute__((always_inline)) void trav_in_box(const c5_trav_in *in, const c5_cells *cl,
+                                                              c5_trav_out *o)
+{
+    for (int a = 0; a < 3; a++)
+        o->pos[a] = in->pos[a];
+    o->lifetime = in->lifetime;
+    o->leaped = 0;
+    o->action = C5_TRAV_LEAVE;
+    if (in->lifetime == 0)
+        return;
+    int64_t v[3];
+    for (int a = 0; a < 3; a++) {
+        v[a] = in->pos[a] >> C5_POS_F;
+        if ((uint64_t)(v[a] - in->lo[a]) >= (uint64_t)(in->hi[a] - in->lo[a]))
+            return; /* outside the cell */
+    }
+    size_t b[3] = {(size_t)v[0] / C5_BLOCK, (size_t)v[1] / C5_BLOCK, (size_t)v[2] / C5_BLOCK};
+    if (!cl->block_empty[(b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]]) {
+        o->action = C5_TRAV_SAMPLE;
+        advance(o->pos, &o->lifetime, in->S, 1);
+        return;
+    }
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        int e = (int)b[a] * C5_BLOCK;
+        lo[a] = e > in->lo[a] ? e : in->lo[a];
+        hi[a] = e + C5_BLOCK < in->hi[a] ? e + C5_BLOCK : in->hi[a];
+    }
+    o->action = C5_TRAV_LEAP;
+    o->leaped = advance(o->pos, &o->lifetime, in->S, steps_to_exit(in->pos, in->S, lo, hi));
 }
 
 /* Whether trav_step decides "sample" at pos with the lifetime left: in the grid, in the
@@ -581,6 +624,10 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
     /* Steps known to sample (samples_ahead): without a traverse tap they skip trav_step's
      * checks and take its result, one step S and one lifetime less. */
     int watched = tp && tp->traverse;
+    /* A traverse tap is shown trav_step's own inputs and outputs. */
+    int box_in_grid = !watched;
+    for (int a = 0; a < 3; a++)
+        box_in_grid &= m->lo[a] >= 0 && m->hi[a] <= r->dims[a];
     int64_t ahead = 0;
     const uint64_t sample_cycles = grad ? C5_CYC_SAMPLE_GRAD : C5_CYC_SAMPLE;
     pending q;
@@ -600,8 +647,12 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             for (int a = 0; a < 3; a++)
                 ti.pos[a] = ray->pos[a];
             ti.lifetime = ray->lifetime;
-            ti.block_empty = block_empty_at(cl, r->dims, ray->pos);
-            trav_step(&ti, &to);
+            if (box_in_grid) {
+                trav_in_box(&ti, cl, &to);
+            } else {
+                ti.block_empty = block_empty_at(cl, r->dims, ray->pos);
+                trav_step(&ti, &to);
+            }
             if (watched)
                 tp->traverse(tp->ctx, &ti, &to);
             else if (to.action == C5_TRAV_SAMPLE)
