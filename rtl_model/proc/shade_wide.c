@@ -266,9 +266,11 @@ WIDE static int shade_wide(const c5_frame_regs *r, const int64_t d[3], c5_shade_
  * them (the subtractions of c5_rows_diffs), from diff in the others. */
 WIDE static inline __attribute__((always_inline)) void diff_lanes(const c5_shade_lanes *b, __m256i d[3][8])
 {
+    /* every lane in use has its rows (the usual case): diff is not read */
+    int all = b->rows == (1u << b->n) - 1;
     for (int a = 0; a < 3; a++)
         for (int j = 0; j < 8; j++)
-            d[a][j] = _mm256_loadu_si256((const __m256i *)b->diff[a][j]);
+            d[a][j] = all ? _mm256_setzero_si256() : _mm256_loadu_si256((const __m256i *)b->diff[a][j]);
     if (!b->rows)
         return;
     const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128), byte = _mm256_set1_epi32(255);
