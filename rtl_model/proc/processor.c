@@ -452,7 +452,7 @@ static int narrow_composited(const c5_frame_regs *r, c5_bray *ray, uint64_t *sat
 #define PENDING_MAX 32
 typedef struct {
     int n;                     /* samples */
-    int64_t tag[PENDING_MAX + C5_VALUE_LANES]; /* each one's cache tag (and room for pend_values' copies) */
+    int64_t tag[PENDING_MAX];  /* each one's cache tag */
     c5_shade_lanes lit;        /* the shaded ones' inputs, then their colours */
     int at[C5_SHADE_LANES];    /* a shaded one's place among the samples */
     int64_t alpha[C5_SHADE_LANES]; /* its opacity */
@@ -534,7 +534,8 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
                 lit &= (1u << take) - 1;
                 break;
             }
-        memcpy(&q->tag[q->n], &vl->tag[j0], sizeof vl->tag); /* all eight: q->tag has room */
+        for (int b = 0; b < take; b++)
+            q->tag[q->n + b] = vl->tag[j0 + b];
         for (; lit; lit &= lit - 1) {
             int b = __builtin_ctz(lit), j = j0 + b;
             int64_t at[3] = {ray->pos[0] + j * S[0], ray->pos[1] + j * S[1], ray->pos[2] + j * S[2]};
