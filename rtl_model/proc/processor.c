@@ -251,38 +251,52 @@ static void cache_access(c5_proc *p, int64_t tag)
     }
 }
 
-/* The body of c5_trav_step, inline in c5_proc_run's per-sample loop (an out-of-line
- * call with its two structs was ~5 % of the model's instructions). */
-static inline __attribute__((always_inline)) void trav_step(const c5_trav_in *in, c5_trav_out *o)
+/* trav_step's start: the ray where it stands, leaving (the outcome unless it samples or leaps). */
+static inline __attribute__((always_inline)) void trav_begin(const c5_trav_in *in, c5_trav_out *o)
 {
     for (int a = 0; a < 3; a++)
         o->pos[a] = in->pos[a];
     o->lifetime = in->lifetime;
     o->leaped = 0;
     o->action = C5_TRAV_LEAVE;
+}
+
+/* trav_step's end in the cell: a sample, or in the empty 8^3 block b (block coordinates) a
+ * leap to the exit of the block's box within the cell. */
+static inline __attribute__((always_inline)) void trav_end(const c5_trav_in *in, int empty, const int b[3],
+                                                           c5_trav_out *o)
+{
+    if (!empty) {
+        o->action = C5_TRAV_SAMPLE;
+        advance(o->pos, &o->lifetime, in->S, 1);
+        return;
+    }
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        lo[a] = b[a] * C5_BLOCK > in->lo[a] ? b[a] * C5_BLOCK : in->lo[a];
+        hi[a] = (b[a] + 1) * C5_BLOCK < in->hi[a] ? (b[a] + 1) * C5_BLOCK : in->hi[a];
+    }
+    o->action = C5_TRAV_LEAP;
+    o->leaped = advance(o->pos, &o->lifetime, in->S, steps_to_exit(in->pos, in->S, lo, hi));
+}
+
+/* The body of c5_trav_step, inline in c5_proc_run's per-sample loop (an out-of-line
+ * call with its two structs was ~5 % of the model's instructions). */
+static inline __attribute__((always_inline)) void trav_step(const c5_trav_in *in, c5_trav_out *o)
+{
+    trav_begin(in, o);
     if (in->lifetime == 0)
         return;
-    int v[3];
+    int b[3];
     for (int a = 0; a < 3; a++) {
         if (in->pos[a] < 0 || in->pos[a] >= ((int64_t)in->dims[a] << C5_POS_F))
             return; /* outside the grid */
-        v[a] = (int)(in->pos[a] >> C5_POS_F);
-        if (v[a] < in->lo[a] || v[a] >= in->hi[a])
+        int v = (int)(in->pos[a] >> C5_POS_F);
+        if (v < in->lo[a] || v >= in->hi[a])
             return; /* outside the cell */
+        b[a] = v / C5_BLOCK;
     }
-    if (in->block_empty) {
-        int lo[3], hi[3];
-        for (int a = 0; a < 3; a++) {
-            int b = v[a] / C5_BLOCK;
-            lo[a] = b * C5_BLOCK > in->lo[a] ? b * C5_BLOCK : in->lo[a];
-            hi[a] = (b + 1) * C5_BLOCK < in->hi[a] ? (b + 1) * C5_BLOCK : in->hi[a];
-        }
-        o->action = C5_TRAV_LEAP;
-        o->leaped = advance(o->pos, &o->lifetime, in->S, steps_to_exit(in->pos, in->S, lo, hi));
-        return;
-    }
-    o->action = C5_TRAV_SAMPLE;
-    advance(o->pos, &o->lifetime, in->S, 1);
+    trav_end(in, in->block_empty, b, o);
 }
 
 void c5_trav_step(const c5_trav_in *in, c5_trav_out *o) { trav_step(in, o); }
@@ -304,33 +318,17 @@ static int block_empty_at(const c5_cells *cl, const int dims[3], const int64_t p
 static inline __attribute__((always_inline)) void trav_in_box(const c5_trav_in *in, const c5_cells *cl,
                                                               c5_trav_out *o)
 {
-    for (int a = 0; a < 3; a++)
-        o->pos[a] = in->pos[a];
-    o->lifetime = in->lifetime;
-    o->leaped = 0;
-    o->action = C5_TRAV_LEAVE;
+    trav_begin(in, o);
     if (in->lifetime == 0)
         return;
-    int64_t v[3];
+    int b[3];
     for (int a = 0; a < 3; a++) {
-        v[a] = in->pos[a] >> C5_POS_F;
-        if ((uint64_t)(v[a] - in->lo[a]) >= (uint64_t)(in->hi[a] - in->lo[a]))
+        int64_t v = in->pos[a] >> C5_POS_F;
+        if ((uint64_t)(v - in->lo[a]) >= (uint64_t)(in->hi[a] - in->lo[a]))
             return; /* outside the cell */
+        b[a] = (int)v / C5_BLOCK;
     }
-    size_t b[3] = {(size_t)v[0] / C5_BLOCK, (size_t)v[1] / C5_BLOCK, (size_t)v[2] / C5_BLOCK};
-    if (!cl->block_empty[(b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]]) {
-        o->action = C5_TRAV_SAMPLE;
-        advance(o->pos, &o->lifetime, in->S, 1);
-        return;
-    }
-    int lo[3], hi[3];
-    for (int a = 0; a < 3; a++) {
-        int e = (int)b[a] * C5_BLOCK;
-        lo[a] = e > in->lo[a] ? e : in->lo[a];
-        hi[a] = e + C5_BLOCK < in->hi[a] ? e + C5_BLOCK : in->hi[a];
-    }
-    o->action = C5_TRAV_LEAP;
-    o->leaped = advance(o->pos, &o->lifetime, in->S, steps_to_exit(in->pos, in->S, lo, hi));
+    trav_end(in, cl->block_empty[((size_t)b[2] * cl->bdims[1] + b[1]) * cl->bdims[0] + b[0]], b, o);
 }
 
 /* Whether trav_step decides "sample" at pos with the lifetime left: in the grid, in the
@@ -553,6 +551,17 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
     return 0;
 }
 
+/* A ray whose opacity reached the limit: a shadow ray is blocked, another delivered. */
+static void opaque_end(c5_proc *p, const c5_bray *ray, int shadow)
+{
+    if (shadow) {
+        p->st.ends[C5_END_BLOCKED]++;
+    } else {
+        p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
+        p->st.ends[C5_END_OPACITY]++;
+    }
+}
+
 /* The n samples of c5_value_wide's lanes (at ray->pos + j S) of a run that does not shade (a
  * shadow ray, or no light), composited one by one as c5_proc_run's per-sample path does, and
  * the ray moved past them: 1 if the ray ended. */
@@ -575,14 +584,8 @@ static int plain_values(c5_proc *p, c5_bray *ray, const c5_value_lanes *vl, int 
         ray->pos[a] += j * S[a];
     if (ray->lifetime != C5_LIFE_NONE)
         ray->lifetime -= (uint32_t)j;
-    if (done) {
-        if (shadow) {
-            p->st.ends[C5_END_BLOCKED]++;
-        } else {
-            p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
-            p->st.ends[C5_END_OPACITY]++;
-        }
-    }
+    if (done)
+        opaque_end(p, ray, shadow);
     return done;
 }
 
@@ -754,12 +757,7 @@ void c5_proc_run(c5_proc *p, c5_bray *ray)
             ray->pos[a] = to.pos[a];
         ray->lifetime = to.lifetime;
         if (done) {
-            if (shadow) {
-                p->st.ends[C5_END_BLOCKED]++;
-            } else {
-                p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
-                p->st.ends[C5_END_OPACITY]++;
-            }
+            opaque_end(p, ray, shadow);
             return;
         }
     }
