@@ -486,8 +486,9 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
     return 0;
 }
 
-/* Pending sample i (at pos) with alpha > 0 into the next lane of the shading: the voxels of its gradient (rows, or differences where a clamp
- * is due), its fractions and table colour (axis or channel a at [a * stride]) and position. */
+/* Pending sample i (at pos) with alpha > 0 into the next lane of the shading: the voxels of
+ * its gradient (rows, or differences where a clamp is due), its fractions and table colour
+ * (axis or channel a at [a * stride]) and position. */
 static inline __attribute__((always_inline)) void pend_lit(pending *q, const c5_frame_regs *r, const c5_rdram *m,
                                                            int i, const int64_t pos[3], const int32_t *frac,
                                                            const int32_t *rgb, ptrdiff_t stride, int64_t alpha)
@@ -521,7 +522,6 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
                        uint64_t cycles)
 {
     const c5_frame_regs *r = p->r;
-    uint32_t life = ray->lifetime;
     for (int j0 = 0; j0 < n;) {
         int take = n - j0 < PENDING_MAX - q->n ? n - j0 : PENDING_MAX - q->n;
         unsigned lit = vl->lit >> j0 & ((1u << take) - 1);
@@ -546,8 +546,8 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
     }
     for (int a = 0; a < 3; a++)
         ray->pos[a] += n * S[a];
-    if (life != C5_LIFE_NONE)
-        ray->lifetime = life - (uint32_t)n;
+    if (ray->lifetime != C5_LIFE_NONE)
+        ray->lifetime -= (uint32_t)n;
     return 0;
 }
 
