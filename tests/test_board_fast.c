@@ -124,17 +124,17 @@ TEST(board_fast_paths_same_bits_every_builtin_scene)
          * then without lights (rays that sample and do not shade) */
         size_t n_variants = sizeof variants / sizeof variants[0];
         for (size_t v = 0; v < n_variants + 2; v++) {
-            c5_scene sv_scene = s;
+            c5_scene sc = s;
             if (v == n_variants)
-                sv_scene.lights[0] = (c5_light){.kind = C5_LIGHT_POINT, .position = s.camera.target, .intensity = 1,
+                sc.lights[0] = (c5_light){.kind = C5_LIGHT_POINT, .position = s.camera.target, .intensity = 1,
                                                 .shadows = 1};
             if (v == n_variants + 1)
-                sv_scene.n_lights = 0;
+                sc.n_lights = 0;
             c5_image img[3];
             c5_board_stats st[3];
             seen sn[3];
             int n = 0;
-            while (n < 3 && render(&sv_scene, &sv, variants[v < n_variants ? v : 0], n, &img[n], &st[n], &sn[n]) == 0)
+            while (n < 3 && render(&sc, &sv, variants[v < n_variants ? v : 0], n, &img[n], &st[n], &sn[n]) == 0)
                 n++;
             int ok = n == 3;
             char what[3][96];

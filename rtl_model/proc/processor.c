@@ -575,7 +575,7 @@ static int plain_values(c5_proc *p, c5_bray *ray, const c5_value_lanes *vl, int 
         p->st.cycles += cycles;
         if (vl->alpha[j] > 0) {
             int64_t c[3];
-            for (int ch = 0; ch < 3; ch++)
+            for (int ch = 0; !shadow && ch < 3; ch++)
                 c[ch] = c5_rshift_he(vl->rgb[ch][j], 15 - C5_RGB_F); /* UQ1.15 -> shaded_rgb UQ4.12 */
             done = c5_composite(p->r, ray, vl->alpha[j], shadow ? NULL : c, &p->st.saturations);
         }

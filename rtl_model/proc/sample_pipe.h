@@ -121,7 +121,7 @@ static const int8_t C5_ROW_DZ[12] = {0, 0, 1, 1, 0, 0, 1, 1, -1, -1, 2, 2};
  * at every shaded sample. */
 typedef struct {
     const uint8_t *v;   /* the RDRAM's bytes (c5_rdram_data) */
-    ptrdiff_t at0;      /* v's offset of voxel (1, 0, 0) of the grid, x = i - 1 of i = 0 (may be < 0) */
+    ptrdiff_t at0;      /* v's offset of grid voxel (-1, 0, 0), where row 0 of i = (0, 0, 0) starts (may be < 0) */
     ptrdiff_t sy, sz;
     ptrdiff_t off[12];  /* row k from row 0: C5_ROW_DY[k] sy + C5_ROW_DZ[k] sz */
     unsigned room[3];   /* 1 <= i <= dims - 3, as (unsigned)(i - 1) < room */
