@@ -279,7 +279,7 @@ TEST(grad_wide_is_c5_grad_blend)
                                       : kind == 3 ? (int32_t)uniform_i(&st, -2, 2)
                                                   : (int32_t)uniform_i(&st, -255, 255);
             }
-        /* in half the rounds some lanes give voxel rows instead (c5_gather_rows_to) */
+        /* in half the rounds some lanes give voxel rows instead (c5_gather_rows_at) */
         if (round % 2)
             for (int i = 0; i < b.n; i++)
                 if (c5_splitmix64(&st) & 1) {

@@ -1,5 +1,5 @@
 /* The eight-lane interpolation and classification (rtl_model/proc/value_wide.h) and the voxel rows
- * of the gradient block (c5_gather_rows_to) against the scalar blocks, lane by lane, in a
+ * of the gradient block (c5_gather_rows_at) against the scalar blocks, lane by lane, in a
  * cell copied to the RDRAM (random voxels, ghosts included) and in a grid read in place. */
 #include <string.h>
 
@@ -173,7 +173,7 @@ TEST(value_wide_is_the_scalar_interp_and_classify)
 
 TEST(gradient_rows_give_the_central_differences)
 {
-    /* c5_gather_rows_to with c5_rows_diffs against c5_gather_diffs_to at every sample of a
+    /* c5_gather_rows_at with c5_rows_diffs against c5_gather_diffs_to at every sample of a
      * copied cell with random voxels: the same differences, and no rows where a clamp is due */
     c5_supervol sv;
     static c5_frame_regs r;
@@ -184,6 +184,8 @@ TEST(gradient_rows_give_the_central_differences)
     for (int cell = 0; cell < cl.count; cell++) {
         c5_rdram m = {.cell = -1};
         random_cell(&cl, &sv, cell, &m, &st, 0);
+        c5_rows_src src;
+        c5_rows_src_init(&r, &m, &src);
         for (int i = 0; i < 20000; i++) {
             int64_t pos[3];
             int inner = 1;
@@ -197,7 +199,7 @@ TEST(gradient_rows_give_the_central_differences)
             c5_gather_diffs(&r, &m, pos, &k);
             uint32_t row[C5_SHADE_ROWS];
             int32_t d[3][8];
-            if (!c5_gather_rows_to(&r, &m, pos, row, 1)) {
+            if (!c5_gather_rows_at(&src, pos, row, 1)) {
                 CHECK_MSG(!inner, "sample %d: no rows where no clamp is due", i);
                 clamped++;
                 continue;

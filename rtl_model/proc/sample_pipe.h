@@ -162,20 +162,11 @@ static inline int c5_gather_rows_at(const c5_rows_src *s, const int64_t pos[3], 
     return 1;
 }
 
-/* c5_gather_rows_at with the visit's constants worked out for this one sample. */
-static inline int c5_gather_rows_to(const c5_frame_regs *r, const c5_rdram *m, const int64_t pos[3], uint32_t *row,
-                                    ptrdiff_t stride)
-{
-    c5_rows_src s;
-    c5_rows_src_init(r, m, &s);
-    return c5_gather_rows_at(&s, pos, row, stride);
-}
-
 /* The row (C5_ROW_DY, C5_ROW_DZ) = (dy, dz), as C5_ROW_OF[dy + 1][dz + 1] (0 where there is none). */
 static const int8_t C5_ROW_OF[4][4] = {{0, 4, 6, 0}, {8, 0, 2, 10}, {9, 1, 3, 11}, {0, 5, 7, 0}};
 static inline int c5_row_at(int dy, int dz) { return C5_ROW_OF[dy + 1][dz + 1]; }
 
-/* The central differences (c5_corners.d) from the rows of c5_gather_rows_to (row[k * stride]). */
+/* The central differences (c5_corners.d) from the rows of c5_gather_rows_at (row[k * stride]). */
 static inline void c5_rows_diffs(const uint32_t *row, ptrdiff_t stride, int32_t d[3][8])
 {
 #define C5_ROW_BYTE(dy, dz, x) ((int32_t)(row[c5_row_at(dy, dz) * stride] >> (8 * (x)) & 255))

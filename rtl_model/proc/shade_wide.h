@@ -28,7 +28,7 @@ typedef struct {
     int32_t diff[3][8][C5_SHADE_LANES];
     int32_t frac[3][C5_SHADE_LANES];
     /* Or, in the lanes whose bit is set in rows, the voxels those differences are taken
-     * from (c5_gather_rows_to): the twelve rows of four (x = i - 1 .. i + 2) at C5_ROW_DY,
+     * from (c5_gather_rows_at): the twelve rows of four (x = i - 1 .. i + 2) at C5_ROW_DY,
      * C5_ROW_DZ from the sample's corner 0, a byte each, x = i - 1 lowest */
     uint32_t row[C5_SHADE_ROWS][C5_SHADE_LANES];
     unsigned rows;
