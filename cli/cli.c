@@ -205,6 +205,7 @@ json_t *c5_cli_board_json(const c5_board_stats *st)
         {"tree_demand_slots6", st->tree_demand_slots6}, {"lower_bound_demand", st->tree_demand_sum_maxgen},
         {"tree_reads", st->tree_reads},   {"tree_writes", st->tree_writes},
         {"host_helper_runs", st->helper_runs},
+        {"host_helper_wakes", st->helper_wakes},
     };
     for (size_t i = 0; i < sizeof n / sizeof n[0]; i++)
         json_object_set_new(o, n[i].key, json_integer((json_int_t)n[i].v));

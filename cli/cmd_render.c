@@ -166,6 +166,7 @@ static void add_board(c5_board_stats *sum, const c5_board_stats *f)
     sum->cells = f->cells;
     sum->wall_s += f->wall_s;
     sum->helper_runs += f->helper_runs;
+    sum->helper_wakes += f->helper_wakes;
 }
 
 /* The part of the board's statistics that cref also reports, so both models print the same

@@ -2,6 +2,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "worker_pool.h"
@@ -12,6 +13,9 @@ struct c5_pool {
     pthread_mutex_t mu;
     pthread_cond_t go, done;
     unsigned long job;          /* incremented for every job; a helper runs each once */
+    atomic_ulong posted;        /* job, for the helpers that spin (read without mu) */
+    long spin_ns;               /* how long a helper spins for the next job before it sleeps */
+    int sleeping;               /* helpers in pthread_cond_wait on go */
     int busy;                   /* helpers still in the current job */
     int quit;
     size_t n, chunk;
@@ -37,6 +41,35 @@ static void take_share(c5_pool *p, int worker)
     }
 }
 
+static long now_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (long)t.tv_sec * 1000000000L + t.tv_nsec;
+}
+
+static inline void cpu_relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+/* Until a job after `seen` is posted, or for ns at most (the clock read every 64 pauses). */
+static void spin_for_job(c5_pool *p, unsigned long seen, long ns)
+{
+    long until = now_ns() + ns;
+    for (;;) {
+        for (int k = 0; k < 64; k++) {
+            if (atomic_load_explicit(&p->posted, memory_order_relaxed) != seen)
+                return;
+            cpu_relax();
+        }
+        if (now_ns() >= until)
+            return;
+    }
+}
+
 static void *helper(void *arg)
 {
     helper_arg *h = arg;
@@ -46,8 +79,17 @@ static void *helper(void *arg)
     unsigned long seen = 0;
     pthread_mutex_lock(&p->mu);
     for (;;) {
-        while (!p->quit && p->job == seen)
+        if (p->spin_ns > 0 && !p->quit && p->job == seen) {
+            long ns = p->spin_ns;
+            pthread_mutex_unlock(&p->mu);
+            spin_for_job(p, seen, ns);
+            pthread_mutex_lock(&p->mu);
+        }
+        while (!p->quit && p->job == seen) {
+            p->sleeping++;
             pthread_cond_wait(&p->go, &p->mu);
+            p->sleeping--;
+        }
         if (p->quit)
             break;
         seen = p->job;
@@ -67,6 +109,7 @@ c5_pool *c5_pool_new(int threads)
     if (!p)
         return NULL;
     p->threads = 1;
+    atomic_init(&p->posted, 0);
     pthread_mutex_init(&p->mu, NULL);
     pthread_cond_init(&p->go, NULL);
     pthread_cond_init(&p->done, NULL);
@@ -91,6 +134,7 @@ void c5_pool_free(c5_pool *p)
         return;
     pthread_mutex_lock(&p->mu);
     p->quit = 1;
+    atomic_store_explicit(&p->posted, p->job + 1, memory_order_relaxed); /* ends a spin */
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
     for (int w = 1; w < p->threads; w++)
@@ -104,7 +148,14 @@ void c5_pool_free(c5_pool *p)
 
 int c5_pool_threads(const c5_pool *p) { return p ? p->threads : 1; }
 
-void c5_pool_start(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx)
+void c5_pool_set_spin(c5_pool *p, long ns)
+{
+    pthread_mutex_lock(&p->mu);
+    p->spin_ns = ns > 0 ? ns : 0;
+    pthread_mutex_unlock(&p->mu);
+}
+
+int c5_pool_start(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx)
 {
     pthread_mutex_lock(&p->mu);
     p->n = n;
@@ -114,8 +165,11 @@ void c5_pool_start(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, siz
     atomic_store(&p->next, 0);
     p->busy = p->threads - 1;
     p->job++;
+    atomic_store_explicit(&p->posted, p->job, memory_order_relaxed);
+    int woke = p->sleeping > 0;
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
+    return woke;
 }
 
 void c5_pool_wait(c5_pool *p)
@@ -137,7 +191,7 @@ void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_
             fn(ctx, i, 0);
         return;
     }
-    c5_pool_start(p, n, chunk, fn, ctx);
+    (void)c5_pool_start(p, n, chunk, fn, ctx);
     take_share(p, 0);
     c5_pool_wait(p);
 }

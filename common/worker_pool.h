@@ -22,10 +22,18 @@ int c5_pool_threads(const c5_pool *p);
 /* fn for every i in [0, n), handed out `chunk` consecutive indices at a time. */
 void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
 /* The same job on the workers other than the caller (a pool of at least 2), which goes on
- * with its own work: c5_pool_start returns at once, c5_pool_wait when every call has
- * returned. One job at a time. */
-void c5_pool_start(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
+ * with its own work: c5_pool_start returns at once (1 if it had to wake a helper that slept,
+ * 0 if they were all spinning or busy: see c5_pool_set_spin), c5_pool_wait when every call
+ * has returned. One job at a time. */
+int c5_pool_start(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_t i, int worker), void *ctx);
 void c5_pool_wait(c5_pool *p);
+/* After each job a helper spins for up to ns nanoseconds, watching for the next, before it
+ * sleeps (0, the default: it sleeps at once). Waking a sleeping thread takes tens of
+ * microseconds on a virtual machine; a caller that posts short jobs in quick succession
+ * (c5_pool_start, c5_pool_wait, a little work of its own, again) spends that at every job
+ * unless its helpers spin. Only for pools with no more threads than CPUs: a spinning helper
+ * holds its CPU. */
+void c5_pool_set_spin(c5_pool *p, long ns);
 /* The default thread count: C5_THREADS when set (1..256), else the online CPUs. */
 int c5_pool_cpus(void);
 /* C5_THREADS checked: 0, or -1 with "C5_THREADS: ..." when set but not a count 1..256. */

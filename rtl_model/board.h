@@ -267,6 +267,8 @@ typedef struct c5_board_stats {
     double wall_s;           /* host time of the model */
     uint64_t helper_runs;    /* ray runs the host's helper threads did and the board's thread
                               * replayed (opts.threads): host work, no part of the board's */
+    uint64_t helper_wakes;   /* visits at whose start the helpers slept and were woken (not
+                              * found spinning): host work too */
     /* With opts.link: packets sent to and received from other boards, the exchanges taken
      * part in, the processor cycles of the replicated eye-ray set-up that finds which board
      * owns each pixel (in cycles_process). */

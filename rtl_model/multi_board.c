@@ -337,8 +337,8 @@ void c5_board_stats_add(c5_board_stats *a, const c5_board_stats *b)
     ADD(fetches); ADD(fetch_bytes); ADD(bus_packets); ADD(spills); ADD(queue_pops); ADD(cache_hits);
     ADD(cache_misses); ADD(saturations); ADD(sched_loads); ADD(sched_skipped); ADD(sched_fallback);
     ADD(sched_switches); ADD(shadow_ops); ADD(node_count_ops); ADD(tree_tags); ADD(tree_reads); ADD(tree_writes);
-    ADD(tree_wall_s); ADD(wall_s); ADD(helper_runs); ADD(link_sent); ADD(link_received); ADD(link_rounds); ADD(cycles_eye_owner);
-    ADD(cycles_idle); ADD(resident_loads);
+    ADD(tree_wall_s); ADD(wall_s); ADD(helper_runs); ADD(helper_wakes); ADD(link_sent); ADD(link_received);
+    ADD(link_rounds); ADD(cycles_eye_owner); ADD(cycles_idle); ADD(resident_loads);
     MAX(queue_max); MAX(last_end); MAX(tree_nodes); MAX(tree_slots); MAX(tree_demand_nodes); MAX(tree_demand_slots);
     MAX(tree_demand_slots6);
 #undef ADD

@@ -3,8 +3,9 @@
 # 256x256, one frame, split 3x3x3 (1/27), ROUNDS (default 3) interleaved rounds of
 # `cube5 render --model rtl --threads 1` and `--threads N` (N = the online CPUs, at least 2).
 # Reported per scene: the median wall time of c5_board_render at each count, the speed-up, M
-# sample positions/s per core and per machine, and that both runs drew the same frame (image
-# CRC, cycles, cache misses); for brain_mirrors' speed-up and the slowest scene per core, the
+# sample positions/s per core and per machine, the visits that had to wake a sleeping helper
+# (host_helper_wakes), and that both runs drew the same frame (image CRC, cycles, cache
+# misses); for brain_mirrors' speed-up and the slowest scene per core, the
 # same from the fastest round of each count too. Beside it, what this machine gives two copies of the one-thread
 # frame run at once (pinned to two CPUs with taskset when there is one): the throughput of two
 # against one, the ceiling of any split of one frame over two cores of this machine.
@@ -50,7 +51,8 @@ for line in open(sys.argv[1]):
         o = json.loads(text)
         b = o["board"]
         runs.setdefault((scene, int(t)), []).append({"wall_s": o["wall_s"], "passed": o["samples"] + b["samples_leaped"],
-            "frame": (crc, b["cycles"], b["cache_misses"], o["samples"]), "helper_runs": b["host_helper_runs"]})
+            "frame": (crc, b["cycles"], b["cache_misses"], o["samples"]), "helper_runs": b["host_helper_runs"],
+            "helper_wakes": b["host_helper_wakes"]})
     else:
         a, b = rest.split("|", 1)
         pairs.append(max(json.loads(a)["wall_s"], json.loads(b)["wall_s"]))
@@ -69,17 +71,19 @@ for scene in dict.fromkeys(s for s, _ in runs):
                  "msample_positions_per_s_machine_n": passed / wn / 1e6,
                  "fastest_wall_s_1": f1, "fastest_wall_s_n": fn, "fastest_speedup": f1 / fn,
                  "fastest_msample_positions_per_s_per_core_1": passed / f1 / 1e6,
-                 "helper_runs": statistics.median(r["helper_runs"] for r in many), "same_frame": same,
+                 "helper_runs": statistics.median(r["helper_runs"] for r in many),
+                 "helper_wakes": statistics.median(r["helper_wakes"] for r in many), "same_frame": same,
                  "rounds": len(one)})
 bm1 = statistics.median(r["wall_s"] for r in runs[("brain_mirrors", 1)])
 pair = statistics.median(pairs)
 print("rtl host threads, 256x256, split 3x3x3, median of %d interleaved rounds" % rows[0]["rounds"])
-print("%-16s %9s %9s %8s %13s %13s %12s %6s" % ("scene", "1 thr s", "%d thr s" % n, "speed-up", "M pos/s/core 1",
-                                               "M pos/s/core %d" % n, "helper runs", "same"))
+print("%-16s %9s %9s %8s %13s %13s %12s %6s %6s" % ("scene", "1 thr s", "%d thr s" % n, "speed-up", "M pos/s/core 1",
+                                                    "M pos/s/core %d" % n, "helper runs", "wakes", "same"))
 for r in rows:
-    print("%-16s %9.3f %9.3f %7.2fx %13.2f %13.2f %12d %6s" % (
+    print("%-16s %9.3f %9.3f %7.2fx %13.2f %13.2f %12d %6d %6s" % (
         r["scene"], r["wall_s_1"], r["wall_s_n"], r["speedup"], r["msample_positions_per_s_per_core_1"],
-        r["msample_positions_per_s_per_core_n"], r["helper_runs"], "yes" if r["same_frame"] else "NO"))
+        r["msample_positions_per_s_per_core_n"], r["helper_runs"], r["helper_wakes"],
+        "yes" if r["same_frame"] else "NO"))
 bm = next(r for r in rows if r["scene"] == "brain_mirrors")
 ceiling = 2 * bm1 / pair
 print("  brain_mirrors 1/27: 1 -> %d threads %.2fx (target: 1.7x); between the fastest rounds %.2fx"

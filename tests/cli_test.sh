@@ -206,10 +206,10 @@ expect render_cells_needs_rtl 2 "--cells: only with --model rtl" -- "$cube5" ren
 expect render_rtl_threads_not_with_boards 2 "--threads: not with --boards" -- \
     "$cube5" render default --model rtl --boards 2 --loopback --threads 2
 # The board model on 1 and 3 host threads: the same image and the same board figures (all but
-# the host's: its time and the runs its helpers made).
+# the host's: its time, the runs its helpers made and the times they were woken).
 board_figures() {
     "$cube5" render brain_mirrors --model rtl --size 48x48 --cells 2 --frames 1 --threads "$1" --json |
-        python3 -c 'import json, sys; o = json.load(sys.stdin); b = o["board"]; h = b.pop("host_helper_runs")
+        python3 -c 'import json, sys; o = json.load(sys.stdin); b = o["board"]; h = b.pop("host_helper_runs"); b.pop("host_helper_wakes")
 print(json.dumps([o["frames"][0]["crc32"], o["samples"], o["rays"], b], sort_keys=True), h > 0)'
 }
 one=$(board_figures 1) three=$(board_figures 3)
