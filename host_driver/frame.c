@@ -1,6 +1,5 @@
 /* A frame (docs/host-protocol.md, "A frame"): load the scene into host memory, program the
  * registers and start, serve fetch requests until frame_done, read the result. */
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -284,7 +283,7 @@ int c5drv_read_frame(c5drv *d, c5drv_image *out)
     const uint8_t *p = d->hm.fb.data;
     for (size_t i = 0; i < n; i++, p += 4) {
         uint32_t word = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-        out->rgb[i] = (float)ldexp((double)word, -C5_RGB_F); /* as c5_board_render: frame_acc UQ20.12 */
+        out->rgb[i] = c5_rgb_float(word); /* as c5_board_render: frame_acc UQ20.12 */
     }
     return C5DRV_OK;
 }

@@ -530,7 +530,7 @@ int c5_board_render_keep(const c5_scene *s, const c5_supervol *sv, int frame, co
             b.fb[i] = UINT32_MAX;
             b.proc.st.saturations++;
         }
-        out->rgb[i] = (float)ldexp((double)b.fb[i], -C5_RGB_F);
+        out->rgb[i] = c5_rgb_float(b.fb[i]);
     }
     if (o.taps && o.taps->frame)
         o.taps->frame(o.taps->ctx, b.fb, s->render.width, s->render.height);

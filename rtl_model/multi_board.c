@@ -414,7 +414,7 @@ static int to_image(const c5_scene *s, const uint64_t *acc, c5_image *out, uint6
             v = UINT32_MAX;
             (*saturations)++;
         }
-        out->rgb[i] = (float)ldexp((double)v, -C5_RGB_F);
+        out->rgb[i] = c5_rgb_float(v);
     }
     return 0;
 }

@@ -15,6 +15,9 @@
 #define C5_ONE15 (1 << 15)/* 1.0 in UQ1.15 (contribution, opacity, table entries) */
 #define C5_RGB_F 12       /* red/green/blue: UQ2.12 */
 #define C5_RGB_MAX ((1 << 14) - 1)
+/* A frame accumulator's word (UQ20.12; below 2^53) as the image's float: exactly v 2^-12,
+ * rounded once to float (the same as ldexp, without its call at every channel). */
+static inline float c5_rgb_float(uint64_t v) { return (float)((double)v * (1.0 / (1 << C5_RGB_F))); }
 #define C5_LIFE_NONE 4095u /* lifetime: unbounded */
 #define C5_LIFE_MAX 4094u
 #define C5_SURF_NONE 31u   /* interaction: no surface at the ray's end */

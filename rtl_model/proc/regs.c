@@ -10,7 +10,9 @@
 
 int64_t c5_regs_fx(double x, int frac_bits, int64_t lo, int64_t hi)
 {
-    double v = nearbyint(ldexp(x, frac_bits)); /* default rounding mode: half to even */
+    /* x 2^frac_bits is exact (or inf, as ldexp gives it) for 0 <= frac_bits < 63: no call at
+     * every eye ray's direction */
+    double v = nearbyint(x * (double)((uint64_t)1 << frac_bits)); /* default rounding mode: half to even */
     if (!(v >= (double)lo))
         return lo;
     if (v > (double)hi)

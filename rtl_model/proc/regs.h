@@ -71,8 +71,8 @@ int c5_regs_build(const c5_scene *s, const c5_supervol *sv, const c5_board_opts 
 /* The stages the scene needs (the summary's "what ran"). */
 c5_board_stages c5_regs_stages(const c5_scene *s, const c5_supervol *sv, int cells);
 
-/* Double -> raw fixed point, half to even, saturated (counted nowhere: set-up values are
- * range-checked before conversion). */
+/* Double -> raw fixed point with frac_bits 0..62, half to even, saturated (counted nowhere:
+ * set-up values are range-checked before conversion). */
 int64_t c5_regs_fx(double x, int frac_bits, int64_t lo, int64_t hi);
 
 /* A world point in geom coordinates (world / min spacing from the grid origin, SQ13.15);
