@@ -679,7 +679,8 @@ static int run_frame(const sched_args *a, const c5_scene *s, const c5_supervol *
     c5_image mw_img = {0}, ct_img = {0};
     c5_board_stats mw;
     int g = row->group;
-    c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group}};
+    c5_board_opts o = {.tree = &trees[0], .tree_group = {g, g, g}, .schedule_group = {prev_group, prev_group, prev_group},
+                       .time_tree = 1}; /* the report's build host_s */
     c5_camera cam = c5_motion_camera(&s->camera, &a->mv.m, f);
     if (a->mv.given)
         o.camera = &cam;

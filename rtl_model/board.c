@@ -80,7 +80,8 @@ typedef struct {
  * from another cell (a spill of the active cell's own ray is not an arrival). */
 static void dsp_queue(c5_bd *b, const handed *h, int arrival)
 {
-    unsigned long long t0 = c5_ticks();
+    const int timed = b->o->time_tree;
+    unsigned long long t0 = timed ? c5_ticks() : 0;
     const int cell = (int)h->cell;
     uint32_t node, id = C5_NODE_NONE, from_id = h->node; /* the nodes' ids in the tree's store */
     if (b->sdram) {
@@ -92,7 +93,8 @@ static void dsp_queue(c5_bd *b, const handed *h, int arrival)
     } else {
         node = id = c5_ctree_tag(b->tree, h->node, tree_unit(b, cell));
     }
-    b->tree_ticks += c5_ticks() - t0;
+    if (timed)
+        b->tree_ticks += c5_ticks() - t0;
     /* The rays each node brings to its cell's queue (stale_plan.h); a spill of the active
      * cell's own ray is not an arrival. */
     if (b->keep->node_rays && node != C5_NODE_NONE && arrival) {

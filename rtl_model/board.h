@@ -173,6 +173,10 @@ typedef struct {
     /* With threads > 1: the calling thread runs no ray a helper could run, it waits for the
      * helper's log and replays it (tests of the replay: every item takes that path). */
     int threads_replay_all;
+    /* The DSP's Cell Tree tags timed on the host into stats.tree_wall_s (the schedule report's
+     * build host_s). 0: not timed, tree_wall_s 0: two reads of the time-stamp counter a tag,
+     * some 12 ns each on the VM, on the board's thread, which every other thread waits on. */
+    int time_tree;
 } c5_board_opts;
 
 /* What a frame leaves beside its image and counters, each where the caller gives room for it
@@ -261,7 +265,7 @@ typedef struct c5_board_stats {
     uint64_t tree_demand_sum_maxgen; /* the frame's proven lower bound on any order of loads from
                                       * that tree (c5_demand_sum_maxgen); 0: no memory for it */
     uint64_t tree_tags, tree_reads, tree_writes; /* DSP work building it: packets, node accesses */
-    double tree_wall_s;      /* host time of building it */
+    double tree_wall_s;      /* host time of building it (opts.time_tree; else 0) */
     c5_board_stages stages;
     int cells;               /* cells in the split */
     double wall_s;           /* host time of the model */

@@ -170,6 +170,32 @@ TEST(board_fast_paths_same_bits_every_builtin_scene)
               (unsigned long long)samples, (unsigned long long)traverse_calls);
 }
 
+/* The Cell Tree's tags timed (cube5 schedule's build host_s) and not: the same frame, and a
+ * tag time only where asked for. */
+TEST(board_tree_timing_changes_no_bit)
+{
+    c5_scene s;
+    c5_supervol sv;
+    c5_err err;
+    CHECK_MSG(c5_scene_parse(c5_builtin_scenes[0].json, NULL, "test", &s, &err) == 0 &&
+                  c5_supervol_build(&s, &sv, &err) == 0, "%s", err.msg);
+    s.render.width = s.render.height = 48;
+    c5_image img[2];
+    c5_board_stats st[2];
+    seen sn[2];
+    for (int timed = 0; timed < 2; timed++)
+        CHECK(render(&s, &sv, (c5_board_opts){.cells = {2, 2, 2}, .time_tree = timed}, 0, &img[timed], &st[timed],
+                     &sn[timed]) == 0);
+    CHECK(c5t_board_stats_equal("timed against not", &st[0], &st[1]) == 0);
+    CHECK(c5t_same_image(&img[0], &img[1]));
+    CHECK(st[1].tree_tags > 0);
+    CHECK_MSG(st[0].tree_wall_s == 0 && st[1].tree_wall_s > 0, "tree_wall_s %g untimed, %g timed", st[0].tree_wall_s,
+              st[1].tree_wall_s);
+    for (int i = 0; i < 2; i++)
+        c5_image_free(&img[i]);
+    c5_supervol_free(&sv);
+}
+
 /* ---- the geometry's 64-bit paths -------------------------------------------------- */
 
 /* A component of 0 to 35 bits of either sign, now and then exactly at a boundary of the
