@@ -48,13 +48,6 @@ static long now_ns(void)
     return (long)t.tv_sec * 1000000000L + t.tv_nsec;
 }
 
-static inline void cpu_relax(void)
-{
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-}
-
 /* Until a job after `seen` is posted, or for ns at most (the clock read every 64 pauses). */
 static void spin_for_job(c5_pool *p, unsigned long seen, long ns)
 {
@@ -63,7 +56,7 @@ static void spin_for_job(c5_pool *p, unsigned long seen, long ns)
         for (int k = 0; k < 64; k++) {
             if (atomic_load_explicit(&p->posted, memory_order_relaxed) != seen)
                 return;
-            cpu_relax();
+            c5_cpu_relax();
         }
         if (now_ns() >= until)
             return;

@@ -34,6 +34,14 @@ void c5_pool_wait(c5_pool *p);
  * unless its helpers spin. Only for pools with no more threads than CPUs: a spinning helper
  * holds its CPU. */
 void c5_pool_set_spin(c5_pool *p, long ns);
+/* One wait of a spin loop (x86's pause: the core runs its other thread, and leaves the loop
+ * without a misspeculated exit). */
+static inline void c5_cpu_relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
 /* The default thread count: C5_THREADS when set (1..256), else the online CPUs. */
 int c5_pool_cpus(void);
 /* C5_THREADS checked: 0, or -1 with "C5_THREADS: ..." when set but not a count 1..256. */

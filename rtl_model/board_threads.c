@@ -39,13 +39,6 @@ enum { TODO, MINE, CLAIMED, DONE, FAILED }; /* an item: to run, the board's, a h
 #define SPIN_NS 250000L
 #define CHUNK_BYTES ((size_t)1 << 18)
 
-static inline void c5_cpu_relax(void)
-{
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-}
-
 /* A chunk is free again when every log written into it has been replayed: two counts that
  * only grow, each written by one thread on a line of its own, so that a log costs no
  * read-modify-write of a line both cores write. */
