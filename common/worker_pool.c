@@ -1,5 +1,7 @@
 /* A fixed set of host threads that run one indexed job at a time (worker_pool.h). */
+#define _GNU_SOURCE /* sched_getaffinity */
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <time.h>
@@ -187,6 +189,13 @@ void c5_pool_run(c5_pool *p, size_t n, size_t chunk, void (*fn)(void *ctx, size_
     (void)c5_pool_start(p, n, chunk, fn, ctx);
     take_share(p, 0);
     c5_pool_wait(p);
+}
+
+int c5_cpus_usable(void)
+{
+    cpu_set_t set;
+    long n = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 256 ? 256 : (int)n;
 }
 
 /* C5_THREADS as a count 1..256, or 0 when unset, -1 when not such a count. */

@@ -31,8 +31,8 @@ void c5_pool_wait(c5_pool *p);
  * sleeps (0, the default: it sleeps at once). Waking a sleeping thread takes tens of
  * microseconds on a virtual machine; a caller that posts short jobs in quick succession
  * (c5_pool_start, c5_pool_wait, a little work of its own, again) spends that at every job
- * unless its helpers spin. Only for pools with no more threads than CPUs: a spinning helper
- * holds its CPU. */
+ * unless its helpers spin. Only for pools with no more threads than usable CPUs
+ * (c5_cpus_usable): a spinning helper holds its CPU. */
 void c5_pool_set_spin(c5_pool *p, long ns);
 /* One wait of a spin loop (x86's pause: the core runs its other thread, and leaves the loop
  * without a misspeculated exit). */
@@ -42,6 +42,9 @@ static inline void c5_cpu_relax(void)
     __builtin_ia32_pause();
 #endif
 }
+/* The CPUs the calling thread may run on (its affinity mask: taskset), else the online CPUs;
+ * 1..256. */
+int c5_cpus_usable(void);
 /* The default thread count: C5_THREADS when set (1..256), else the online CPUs. */
 int c5_pool_cpus(void);
 /* C5_THREADS checked: 0, or -1 with "C5_THREADS: ..." when set but not a count 1..256. */

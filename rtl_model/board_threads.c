@@ -23,7 +23,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "board_internal.h"
 #include "ray_log.h"
@@ -228,8 +227,9 @@ int c5_bd_threads_init(c5_bd *b, int threads)
     pthread_cond_init(&t->ran, NULL);
     atomic_init(&t->waiting, -1);
     t->n_helpers = c5_pool_threads(t->pool) - 1; /* fewer if the system refused threads */
-    /* not with more threads than CPUs, where a spinning helper holds a CPU another needs */
-    if (c5_pool_threads(t->pool) <= sysconf(_SC_NPROCESSORS_ONLN))
+    /* not with more threads than CPUs to run on, where a spinning helper holds a CPU another
+     * needs */
+    if (c5_pool_threads(t->pool) <= c5_cpus_usable())
         c5_pool_set_spin(t->pool, SPIN_NS);
     t->cells = &b->cells;
     t->replay_all = b->o->threads_replay_all;

@@ -1,7 +1,9 @@
 /* The worker pool's helpers (common/worker_pool.h): every index of every job run once, whether
  * the helpers sleep between jobs or spin for the next; a job posted while they sleep says it
  * woke them, one posted while they spin does not; and a pool whose helpers spin is freed
- * without waiting out the spin. */
+ * without waiting out the spin. The usable CPUs follow the thread's affinity. */
+#define _GNU_SOURCE /* sched_setaffinity */
+#include <sched.h>
 #include <stdatomic.h>
 #include <time.h>
 
@@ -97,4 +99,20 @@ TEST(worker_pool_spin_ends_in_sleep)
     for (int i = 0; i < N_IDX; i++)
         CHECK_INT(atomic_load(&j.runs[i]), 1);
     c5_pool_free(p);
+}
+
+TEST(cpus_usable_follows_the_affinity_mask)
+{
+    cpu_set_t all, one;
+    CHECK(sched_getaffinity(0, sizeof all, &all) == 0);
+    CHECK_INT(c5_cpus_usable(), CPU_COUNT(&all));
+    int first = 0;
+    while (!CPU_ISSET(first, &all))
+        first++;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    CHECK(sched_setaffinity(0, sizeof one, &one) == 0);
+    int usable = c5_cpus_usable();
+    CHECK(sched_setaffinity(0, sizeof all, &all) == 0);
+    CHECK_INT(usable, 1); /* as under taskset -c 0, whatever the machine's count */
 }
