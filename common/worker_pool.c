@@ -219,7 +219,5 @@ int c5_pool_threads_env(c5_err *err)
 int c5_pool_cpus(void)
 {
     long n = env_threads();
-    if (n < 1)
-        n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > 256 ? 256 : (int)n;
+    return n >= 1 ? (int)n : c5_cpus_usable();
 }

@@ -45,7 +45,7 @@ static inline void c5_cpu_relax(void)
 /* The CPUs the calling thread may run on (its affinity mask: taskset), else the online CPUs;
  * 1..256. */
 int c5_cpus_usable(void);
-/* The default thread count: C5_THREADS when set (1..256), else the online CPUs. */
+/* The default thread count: C5_THREADS when set (1..256), else c5_cpus_usable(). */
 int c5_pool_cpus(void);
 /* C5_THREADS checked: 0, or -1 with "C5_THREADS: ..." when set but not a count 1..256. */
 int c5_pool_threads_env(c5_err *err);

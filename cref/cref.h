@@ -69,7 +69,8 @@ int c5_cref_render_long(const c5_scene *s, const c5_supervol *sv, int frame, con
 int c5_cref_render_raw(const c5_scene *s, const c5_supervol *sv, int frame, const c5_cref_opts *opts, int long_double,
                        c5_image *out, double *raw, c5_cref_stats *stats, c5_err *err);
 
-/* Threads a render uses for a request (<= 0: one per online CPU), within 1..256. */
+/* Threads a render uses for a request (<= 0: one per CPU it may run on, c5_cpus_usable),
+ * within 1..256. */
 int c5_cref_thread_count(int requested);
 
 /* Sample step and opacity unit actually used (resolving the scene's defaults). */

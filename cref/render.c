@@ -6,11 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "camera.h"
 #include "trace.h"
 #include "clock.h"
+#include "worker_pool.h"
 
 #include <tgmath.h>
 
@@ -218,8 +218,7 @@ int c5_cref_render_raw(const c5_scene *s, const c5_supervol *sv, int frame, cons
 
 int c5_cref_thread_count(int requested)
 {
-    long n = requested > 0 ? requested : sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > 256 ? 256 : (int)n;
+    return requested > 256 ? 256 : requested > 0 ? requested : c5_cpus_usable();
 }
 
 double c5_render_step(const c5_scene *s, const c5_supervol *sv)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The board model's host threads (docs/board-model.md, "Host threads"): every built-in scene at
 # 256x256, one frame, split 3x3x3 (1/27), ROUNDS (default 3) interleaved rounds of
-# `cube5 render --model rtl --threads 1` and `--threads N` (N = the online CPUs, at least 2).
+# `cube5 render --model rtl --threads 1` and `--threads N` (N = nproc: the CPUs it may run on, at least 2).
 # Reported per scene: the median wall time of c5_board_render at each count, the speed-up, M
 # sample positions/s per core and per machine, the visits that had to wake a sleeping helper
 # (host_helper_wakes), and that both runs drew the same frame (image CRC, cycles, cache

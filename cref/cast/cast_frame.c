@@ -8,12 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "cast_internal.h"
 #include "cast_sample.h"
 #include "rng.h"
 #include "clock.h"
+#include "worker_pool.h"
 
 static const char *const MODE_NAMES[C5_CAST_MODES] = {"plain", "ess", "approx", "approx+refine"};
 
@@ -397,7 +397,7 @@ int c5_cast_render(const c5_cast_volume *v, const c5_cast_tf *tf, const c5_cast_
     }
     /* auto: a producer thread beside as many workers as there are CPUs only takes CPU time
      * from them (docs/caster.md, "The producer thread"); the workers then produce every tile */
-    int producer = o->producer >= 0 ? o->producer : !o->self_produce || nw < sysconf(_SC_NPROCESSORS_ONLN);
+    int producer = o->producer >= 0 ? o->producer : !o->self_produce || nw < c5_cpus_usable();
     double t0 = c5_now_s();
     for (int i = 0; producer && i < ntiles && !failed; i++) {
         ring *r = &rings[i % nw];
