@@ -218,6 +218,19 @@ if [ -n "$one" ] && [ "${one% *}" = "${three% *}" ] && [ "${one##* }" = False ] 
 else
     bad render_rtl_threads_same_frame "1 thread: $one" "3 threads: $three"
 fi
+# The default thread count is the CPUs the process may run on: one under a one-CPU mask.
+if command -v taskset >/dev/null; then
+    first=$(python3 -c 'import os; print(min(os.sched_getaffinity(0)))')
+    n1=$(taskset -c "$first" "$cube5" render default --size 32x32 --frames 1 --json |
+        python3 -c 'import json, sys; print(json.load(sys.stdin)["threads"])')
+    n1rtl=$(taskset -c "$first" "$cube5" render default --model rtl --size 32x32 --frames 1 --json |
+        python3 -c 'import json, sys; print(json.load(sys.stdin)["threads"])')
+    if [ "$n1" = 1 ] && [ "$n1rtl" = 1 ]; then
+        ok render_default_threads_follow_affinity
+    else
+        bad render_default_threads_follow_affinity "cref $n1, rtl $n1rtl threads under taskset -c $first"
+    fi
+fi
 expect render_bad_queue_key 2 "--queue-key: expected morton or fifo" -- \
     "$cube5" render default --model rtl --queue-key lifo
 expect render_host_bw_needs_rtl 2 "--host-bw/--host-latency: only with --model rtl" -- \
