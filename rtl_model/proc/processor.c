@@ -64,8 +64,8 @@ static int64_t steps_to_exit(const int64_t pos[3], const int64_t S[3], const int
     return n < 1 ? 1 : n;
 }
 
-/* Advances pos by n steps without sampling (every one of them has alpha 0), n cut by the
- * lifetime; returns the steps taken. */
+/* Advances pos by n steps, n cut by the lifetime; returns the steps taken. (The lane batches'
+ * n are within the lifetime already: samples_ahead counts no more.) */
 static int64_t advance(int64_t pos[3], uint32_t *lifetime, const int64_t S[3], int64_t n)
 {
     if (*lifetime != C5_LIFE_NONE && n > (int64_t)*lifetime)
@@ -462,6 +462,17 @@ typedef struct {
     int rows_ready;
 } pending;
 
+/* A ray whose opacity reached the limit: a shadow ray is blocked, another delivered. */
+static void opaque_end(c5_proc *p, const c5_bray *ray, int shadow)
+{
+    if (shadow) {
+        p->st.ends[C5_END_BLOCKED]++;
+    } else {
+        p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
+        p->st.ends[C5_END_OPACITY]++;
+    }
+}
+
 /* The pending samples composited in order: 1 if one of them ended the ray (delivered). The
  * cache accesses of the samples up to each shaded one, then its compositing. */
 static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycles)
@@ -478,8 +489,7 @@ static int composite_pending(c5_proc *p, c5_bray *ray, pending *q, uint64_t cycl
         if (c5_composite(p->r, ray, q->alpha[j], q->lit.out[j], &p->st.saturations)) {
             p->st.samples += (uint64_t)i;
             p->st.cycles += (uint64_t)i * cycles;
-            p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
-            p->st.ends[C5_END_OPACITY]++;
+            opaque_end(p, ray, 0); /* a shaded run: not a shadow ray */
             return 1;
         }
     }
@@ -548,22 +558,8 @@ static int pend_values(c5_proc *p, c5_bray *ray, pending *q, const c5_value_lane
         if ((q->lit.n == C5_SHADE_LANES || q->n == PENDING_MAX) && composite_pending(p, ray, q, cycles))
             return 1;
     }
-    for (int a = 0; a < 3; a++)
-        ray->pos[a] += n * S[a];
-    if (ray->lifetime != C5_LIFE_NONE)
-        ray->lifetime -= (uint32_t)n;
+    advance(ray->pos, &ray->lifetime, S, n);
     return 0;
-}
-
-/* A ray whose opacity reached the limit: a shadow ray is blocked, another delivered. */
-static void opaque_end(c5_proc *p, const c5_bray *ray, int shadow)
-{
-    if (shadow) {
-        p->st.ends[C5_END_BLOCKED]++;
-    } else {
-        p->io.deliver(p->io.ctx, ray->u, ray->v, ray->rgb);
-        p->st.ends[C5_END_OPACITY]++;
-    }
 }
 
 /* The n samples of c5_value_wide's lanes (at ray->pos + j S) of a run that does not shade (a
@@ -584,10 +580,7 @@ static int plain_values(c5_proc *p, c5_bray *ray, const c5_value_lanes *vl, int 
             done = c5_composite(p->r, ray, vl->alpha[j], shadow ? NULL : c, &p->st.saturations);
         }
     }
-    for (int a = 0; a < 3; a++)
-        ray->pos[a] += j * S[a];
-    if (ray->lifetime != C5_LIFE_NONE)
-        ray->lifetime -= (uint32_t)j;
+    advance(ray->pos, &ray->lifetime, S, j);
     if (done)
         opaque_end(p, ray, shadow);
     return done;
